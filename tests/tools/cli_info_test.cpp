@@ -1,0 +1,78 @@
+// The gvkit binary as a user runs it: `gvkit info` on real files and on bad input.
+#include <gtest/gtest.h>
+
+#include "gvkit/core/atomic_file.hpp"
+#include "support/test_support.hpp"
+
+namespace gvkit {
+namespace {
+using testing::run_gvkit;
+using testing::TempDir;
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(CliInfo, VersionAndHelp) {
+  auto version = run_gvkit("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_TRUE(contains(version.output, "gvkit 0.")) << version.output;
+  auto help = run_gvkit("info --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_TRUE(contains(help.output, "Describe a file"));
+  EXPECT_NE(run_gvkit("").exit_code, 0);
+  EXPECT_NE(run_gvkit("no-such-command").exit_code, 0);
+}
+
+TEST(CliInfo, DescribesTheSlStudioCalibration) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto r = run_gvkit("info " + (data / "slstudio-skull-2x3" / "calibration.xml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "SLStudio"));
+  EXPECT_TRUE(contains(r.output, "1688x1352"));
+  EXPECT_TRUE(contains(r.output, "1824x1140"));
+  EXPECT_TRUE(contains(r.output, "2195.120"));    // camera focal length
+  EXPECT_TRUE(contains(r.output, "2601.525"));    // projector focal length
+  EXPECT_TRUE(contains(r.output, "-0.0580353"));  // camera distortion k1
+  EXPECT_TRUE(contains(r.output, "t cam_from_proj"));
+}
+
+TEST(CliInfo, DescribesTheIctMesh) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto r = run_gvkit("info " + (data / "ict-facekit" / "generic_neutral_mesh.obj").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "vertices        26719")) << r.output;
+  EXPECT_TRUE(contains(r.output, "genus"));
+}
+
+TEST(CliInfo, DescribesAnImage) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto r = run_gvkit("info " + (data / "slstudio-skull-2x3" / "frame_00.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "1688x1352"));
+}
+
+TEST(CliInfo, BadInputGivesOneLineAndNonZeroExit) {
+  TempDir dir;
+  auto missing = run_gvkit("info " + (dir / "missing.exr").string());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_TRUE(contains(missing.output, "missing.exr: no such file")) << missing.output;
+
+  ASSERT_TRUE(write_file_atomically(dir / "bad.exr", "garbage").is_ok());
+  auto bad = run_gvkit("info " + (dir / "bad.exr").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_TRUE(contains(bad.output, "bad.exr")) << bad.output;
+
+  ASSERT_TRUE(write_file_atomically(dir / "bad.yaml", "%YAML:1.0\ncamera_K: 3\n").is_ok());
+  auto calib = run_gvkit("info " + (dir / "bad.yaml").string());
+  EXPECT_EQ(calib.exit_code, 1);
+  EXPECT_TRUE(contains(calib.output, "camera_K")) << calib.output;
+
+  ASSERT_TRUE(write_file_atomically(dir / "x.weird", "x").is_ok());
+  auto weird = run_gvkit("info " + (dir / "x.weird").string());
+  EXPECT_EQ(weird.exit_code, 1);
+  EXPECT_TRUE(contains(weird.output, "unknown file type"));
+}
+
+}  // namespace
+}  // namespace gvkit

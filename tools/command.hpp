@@ -1,0 +1,33 @@
+#pragma once
+// Shared plumbing of the gvkit subcommands: each tools/<name>_command.cpp registers one
+// subcommand on the CLI11 app; failures travel as a Status and end the program with its message
+// and a non-zero exit code.
+
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::tools {
+
+// Thrown by a subcommand's callback to end the run with "error: <message>" and exit code 1.
+class CommandFailed : public std::runtime_error {
+ public:
+  explicit CommandFailed(const Status& status) : std::runtime_error(status.message()) {}
+};
+
+// Throws CommandFailed unless status is ok.
+inline void throw_if_error(const Status& status) {
+  if (!status.is_ok()) throw CommandFailed(status);
+}
+template <typename T>
+T value_or_throw(Result<T> result) {
+  if (!result.is_ok()) throw CommandFailed(result.status());
+  return std::move(result).value();
+}
+
+void add_info_command(CLI::App& app);
+
+}  // namespace gvkit::tools

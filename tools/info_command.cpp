@@ -1,0 +1,165 @@
+// gvkit info FILE: describes an EXR, a mesh, an image or a calibration file.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "command.hpp"
+#include "gvkit/core/calibration_io.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/image_io.hpp"
+#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/core/mesh_topology.hpp"
+
+namespace gvkit::tools {
+namespace {
+namespace fs = std::filesystem;
+
+std::string lower_extension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// Finite min/max/mean and the count of non-finite values of a CV_32F plane.
+void print_plane_range(const std::string& name, const cv::Mat& plane) {
+  double lo = INFINITY, hi = -INFINITY, sum = 0;
+  int64_t finite = 0;
+  for (int y = 0; y < plane.rows; ++y) {
+    const float* p = plane.ptr<float>(y);
+    for (int x = 0; x < plane.cols; ++x) {
+      if (!std::isfinite(p[x])) continue;
+      lo = std::min(lo, static_cast<double>(p[x]));
+      hi = std::max(hi, static_cast<double>(p[x]));
+      sum += p[x];
+      ++finite;
+    }
+  }
+  const int64_t non_finite = static_cast<int64_t>(plane.total()) - finite;
+  if (finite == 0) {
+    std::printf("  %-4s no finite values\n", name.c_str());
+    return;
+  }
+  std::printf("  %-4s min %12.5g  max %12.5g  mean %12.5g  non-finite %lld\n", name.c_str(), lo, hi,
+              sum / static_cast<double>(finite), static_cast<long long>(non_finite));
+}
+
+void describe_exr(const fs::path& path) {
+  ExrChannels channels = value_or_throw(read_exr(path));
+  const cv::Size size = channels.begin()->second.size();
+  std::printf("%s: OpenEXR, %dx%d, %zu channels\n", path.string().c_str(), size.width, size.height,
+              channels.size());
+  for (const auto& [name, plane] : channels) print_plane_range(name, plane);
+}
+
+void describe_mesh(const fs::path& path) {
+  Mesh mesh = value_or_throw(read_mesh(path));
+  const MeshTopology t = mesh_topology(mesh);
+  std::printf("%s: mesh\n", path.string().c_str());
+  std::printf("  vertices        %zu (%d isolated)\n", mesh.n_vertices(), t.isolated_vertices);
+  std::printf("  faces           %zu triangles\n", mesh.n_faces());
+  std::printf("  edges           %d\n", t.edges);
+  std::printf("  components      %d\n", t.components);
+  std::printf("  boundary loops  %d", t.boundary_loops);
+  if (!t.boundary_loop_lengths.empty()) {
+    std::printf(" (edges:");
+    for (int n : t.boundary_loop_lengths) std::printf(" %d", n);
+    std::printf(")");
+  }
+  std::printf("\n  euler           %d\n", t.euler_characteristic);
+  if (t.genus >= 0)
+    std::printf("  genus           %d\n", t.genus);
+  else
+    std::printf("  genus           n/a (%d components)\n", t.components);
+  std::printf("  colours         %s\n  texcoords       %s\n",
+              mesh.has_vertex_colors() ? "yes" : "no",
+              mesh.has_vertex_texcoords2D() ? "yes" : "no");
+  Mesh::Point lo(INFINITY, INFINITY, INFINITY), hi(-INFINITY, -INFINITY, -INFINITY);
+  for (auto v : mesh.vertices()) {
+    lo.minimize(mesh.point(v));
+    hi.maximize(mesh.point(v));
+  }
+  std::printf("  bounding box    [%.4g %.4g %.4g] .. [%.4g %.4g %.4g]\n", lo[0], lo[1], lo[2],
+              hi[0], hi[1], hi[2]);
+}
+
+void describe_image(const fs::path& path) {
+  cv::Mat image = value_or_throw(read_image(path));
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(image.reshape(1), &lo, &hi);
+  std::printf("%s: image, %dx%d, %d channel(s), %d-bit, values %g..%g\n", path.string().c_str(),
+              image.cols, image.rows, image.channels(), image.depth() == CV_16U ? 16 : 8, lo, hi);
+}
+
+void print_matrix(const char* name, const cv::Matx33d& m) {
+  std::printf("  %s\n", name);
+  for (int r = 0; r < 3; ++r)
+    std::printf("    [%14.6f %14.6f %14.6f]\n", m(r, 0), m(r, 1), m(r, 2));
+}
+
+void print_vector(const char* name, const std::vector<double>& v) {
+  std::printf("  %-28s", name);
+  if (v.empty()) std::printf(" none");
+  for (double x : v) std::printf(" %.6g", x);
+  std::printf("\n");
+}
+
+void describe_calibration(const fs::path& path) {
+  const LoadedCalibration loaded = value_or_throw(read_calibration(path));
+  const Calibration& c = loaded.calibration;
+  std::printf("%s: calibration (%s format)\n", path.string().c_str(),
+              loaded.format == CalibrationFormat::kSlStudio ? "SLStudio" : "gvkit");
+  std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
+  print_matrix("camera K (px)", c.camera_K);
+  print_vector("camera distortion", c.camera_dist);
+  std::printf("  projector   %dx%d px\n", c.projector_width, c.projector_height);
+  print_matrix("projector K (px)", c.projector_K);
+  print_vector("projector distortion", c.projector_dist);
+  print_matrix("R cam_from_proj", c.R_cam_from_proj);
+  std::printf("  t cam_from_proj (mm)         %.4f %.4f %.4f\n", c.t_cam_from_proj_mm[0],
+              c.t_cam_from_proj_mm[1], c.t_cam_from_proj_mm[2]);
+  std::printf("  baseline (mm)                %.4f\n", c.baseline_mm());
+  const cv::Vec3d axis(0, 0, 1);
+  const double angle = std::acos(std::clamp((c.R_cam_from_proj * axis).dot(axis), -1.0, 1.0));
+  std::printf("  angle between optical axes   %.3f deg\n", angle * 180.0 / CV_PI);
+  if (c.fringe_pitch_px > 0)
+    std::printf("  fringe pitch (px)            %.4f\n", c.fringe_pitch_px);
+  if (c.stereo_error_px >= 0)
+    std::printf("  reprojection error (px)      camera %.4f  projector %.4f  stereo %.4f\n",
+                c.camera_error_px, c.projector_error_px, c.stereo_error_px);
+}
+
+void describe(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw CommandFailed(not_found(path.string() + ": no such file"));
+  const std::string ext = lower_extension(path);
+  if (ext == ".exr") return describe_exr(path);
+  if (ext == ".ply" || ext == ".obj" || ext == ".off" || ext == ".stl") return describe_mesh(path);
+  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+      ext == ".tiff" || ext == ".pgm" || ext == ".ppm")
+    return describe_image(path);
+  if (ext == ".xml" || ext == ".yaml" || ext == ".yml" || ext == ".json")
+    return describe_calibration(path);
+  throw CommandFailed(unsupported(path.string() + ": unknown file type '" + ext +
+                                  "' (gvkit info reads .exr, .ply, .obj, .png, calibration "
+                                  ".xml/.yaml/.json)"));
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("info", "Describe a file: EXR, mesh (PLY/OBJ), image, calibration");
+  auto files = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("files", *files, "Files to describe")->required();
+  cmd->callback([files] {
+    for (const auto& f : *files) describe(f);
+  });
+}
+
+}  // namespace gvkit::tools

@@ -1,0 +1,38 @@
+// gvkit: one command-line program, one subcommand per file in tools/.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "command.hpp"
+#include "gvkit/core/log.hpp"
+#include "gvkit/core/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"gvkit: structured-light face capture to compact, playable geometry videos"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("gvkit ") + gvkit::version_string());
+  bool verbose = false, quiet = false;
+  app.add_flag("-v,--verbose", verbose, "Print debug messages");
+  app.add_flag("-q,--quiet", quiet, "Print only errors");
+  app.parse_complete_callback([&] {
+    gvkit::set_log_level(verbose ? gvkit::LogLevel::kDebug
+                         : quiet ? gvkit::LogLevel::kError
+                                 : gvkit::LogLevel::kInfo);
+  });
+
+  gvkit::tools::add_info_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const gvkit::tools::CommandFailed& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: internal: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
