@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
   }
   const gvkit::Calibration& c = loaded->calibration;
   const double fov_deg = 2 * std::atan(0.5 * c.camera_width / c.camera_K(0, 0)) * 180 / CV_PI;
-  std::printf("camera %dx%d, horizontal field of view %.1f deg\n", c.camera_width,
-              c.camera_height, fov_deg);
+  std::printf("camera %dx%d, horizontal field of view %.1f deg\n", c.camera_width, c.camera_height,
+              fov_deg);
   std::printf("projector %dx%d\n", c.projector_width, c.projector_height);
   std::printf("baseline %.1f mm\n", c.baseline_mm());
   return 0;
