@@ -29,5 +29,7 @@ T value_or_throw(Result<T> result) {
 }
 
 void add_info_command(CLI::App& app);
+void add_synth_command(CLI::App& app);
+void add_reconstruct_command(CLI::App& app);
 
 }  // namespace gvkit::tools

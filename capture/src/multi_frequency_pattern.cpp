@@ -1,0 +1,69 @@
+// mf<N>-f<P1>-...-f1: N-step phase shift at 2 or 3 frequencies, finest first, unwrapped
+// temporally from the one-period phase upwards (hierarchical temporal unwrapping).
+#include <string>
+
+#include "gvkit/capture/phase_unwrapping.hpp"
+#include "pattern_families.hpp"
+
+namespace gvkit::capture::detail {
+namespace {
+
+class MultiFrequencyPattern : public PatternSet {
+ public:
+  MultiFrequencyPattern(int steps, std::vector<int> periods, const PatternSetOptions& o)
+      : PatternSet(o), steps_(steps), periods_(std::move(periods)) {}
+
+  std::string name() const override {
+    std::string n = "mf" + std::to_string(steps_);
+    for (int p : periods_) n += "-f" + std::to_string(p);
+    return n;
+  }
+  int image_count() const override { return steps_ * static_cast<int>(periods_.size()); }
+  double pitch_px(int projector_width) const override {
+    return static_cast<double>(projector_width) / periods_.front();
+  }
+
+  std::vector<cv::Mat> generate(cv::Size size) const override {
+    std::vector<cv::Mat> images;
+    for (int p : periods_)
+      for (int k = 0; k < steps_; ++k)
+        images.push_back(
+            cosine_image(size, static_cast<double>(size.width) / p, 2 * CV_PI * k / steps_));
+    return images;
+  }
+
+  Result<PhaseMap> decode(const FringeSet& fringes, int projector_width) const override {
+    GVKIT_RETURN_IF_ERROR(check_fringes(fringes, image_count(), name()));
+    const int levels = static_cast<int>(periods_.size());
+    std::vector<WrappedPhase> w;
+    for (int i = 0; i < levels; ++i)
+      w.push_back(decode_steps(fringes.images, i * steps_, steps_, options_));
+    cv::Mat valid = valid_from(w[0], options_);
+    for (int i = 1; i < levels; ++i) valid &= valid_from(w[i], options_);
+    cv::Mat absolute = absolute_single_period(w[levels - 1].phase, valid);
+    for (int i = levels - 2; i >= 0; --i)
+      absolute = unwrap_temporal(absolute, static_cast<double>(periods_[i]) / periods_[i + 1],
+                                 w[i].phase, options_.unwrap_tolerance, valid);
+    PhaseMap out;
+    out.phase = absolute;
+    out.quality = w[0].modulation;
+    out.texture = w[0].mean;
+    out.valid = valid;
+    out.pitch_px = pitch_px(projector_width);
+    out.absolute = true;
+    return out;
+  }
+
+ private:
+  int steps_;
+  std::vector<int> periods_;
+};
+
+}  // namespace
+
+std::unique_ptr<PatternSet> make_multi_frequency(int steps, std::vector<int> periods,
+                                                 const PatternSetOptions& o) {
+  return std::make_unique<MultiFrequencyPattern>(steps, std::move(periods), o);
+}
+
+}  // namespace gvkit::capture::detail

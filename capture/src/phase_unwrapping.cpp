@@ -1,0 +1,210 @@
+#include "gvkit/capture/phase_unwrapping.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <utility>
+#include <vector>
+
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::capture {
+namespace {
+
+constexpr float kTwoPi = 6.28318530718f;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+inline float unwrap_against(float wrapped, float reference) {
+  return wrapped + kTwoPi * std::nearbyint((reference - wrapped) / kTwoPi);
+}
+
+void check_inputs(const cv::Mat& wrapped, const cv::Mat& quality, const cv::Mat& valid) {
+  GVKIT_CHECK(wrapped.type() == CV_32F && quality.type() == CV_32F && valid.type() == CV_8U);
+  GVKIT_CHECK(wrapped.size() == quality.size() && wrapped.size() == valid.size());
+  GVKIT_CHECK(wrapped.isContinuous() && quality.isContinuous() && valid.isContinuous());
+}
+
+// Clears regions smaller than min_region_px (pixels listed region by region in `order`).
+void drop_small_regions(const std::vector<int>& order, const std::vector<int>& starts,
+                        int min_region_px, SpatialUnwrap& out, cv::Mat& valid) {
+  float* phase = out.phase.ptr<float>();
+  int* region = out.region.ptr<int>();
+  uint8_t* ok = valid.ptr<uint8_t>();
+  int next_label = 0;
+  for (size_t r = 0; r + 1 < starts.size(); ++r) {
+    const int begin = starts[r], end = starts[r + 1];
+    if (end - begin < min_region_px) {
+      for (int i = begin; i < end; ++i) {
+        phase[order[i]] = kNaN;
+        region[order[i]] = 0;
+        ok[order[i]] = 0;
+      }
+    } else {
+      ++next_label;
+      for (int i = begin; i < end; ++i) region[order[i]] = next_label;
+    }
+  }
+  out.region_count = next_label;
+}
+
+SpatialUnwrap allocate(cv::Size size) {
+  SpatialUnwrap out;
+  out.phase = cv::Mat(size, CV_32F, cv::Scalar(kNaN));
+  out.region = cv::Mat(size, CV_32S, cv::Scalar(0));
+  return out;
+}
+
+}  // namespace
+
+SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quality, cv::Mat& valid,
+                                    int min_region_px) {
+  check_inputs(wrapped, quality, valid);
+  const int w = wrapped.cols, h = wrapped.rows, n = w * h;
+  SpatialUnwrap out = allocate(wrapped.size());
+  const float* wr = wrapped.ptr<float>();
+  const float* q = quality.ptr<float>();
+  uint8_t* ok = valid.ptr<uint8_t>();
+  float* phase = out.phase.ptr<float>();
+  int* region = out.region.ptr<int>();
+
+  constexpr int kBuckets = 64;
+  float q_max = 0;
+  for (int i = 0; i < n; ++i)
+    if (ok[i]) q_max = std::max(q_max, q[i]);
+  if (q_max <= 0) {
+    valid.setTo(0);
+    return out;
+  }
+  const float to_bucket = (kBuckets - 1e-3f) / q_max;
+  auto bucket_of = [&](int i) {
+    return std::min(kBuckets - 1, static_cast<int>(q[i] * to_bucket));
+  };
+
+  // Seeds in descending quality bucket (counting sort).
+  std::vector<int> count(kBuckets + 1, 0);
+  for (int i = 0; i < n; ++i)
+    if (ok[i]) ++count[bucket_of(i)];
+  std::vector<int> seed_start(kBuckets + 1, 0);
+  for (int b = kBuckets - 1; b >= 0; --b) seed_start[b] = seed_start[b + 1] + count[b + 1];
+  // seed_start[b] = number of pixels in buckets above b.
+  std::vector<int> seeds(seed_start[0] + count[0]);
+  {
+    std::vector<int> fill = seed_start;
+    for (int i = 0; i < n; ++i)
+      if (ok[i]) seeds[fill[bucket_of(i)]++] = i;
+  }
+
+  std::vector<std::vector<int>> buckets(kBuckets);
+  std::vector<int> order;
+  order.reserve(seeds.size());
+  std::vector<int> starts;
+  for (int seed : seeds) {
+    if (region[seed]) continue;
+    starts.push_back(static_cast<int>(order.size()));
+    region[seed] = 1;  // visited; final labels are set by drop_small_regions
+    phase[seed] = wr[seed];
+    int top = bucket_of(seed);
+    buckets[top].push_back(seed);
+    while (true) {
+      while (top >= 0 && buckets[top].empty()) --top;
+      if (top < 0) break;
+      const int p = buckets[top].back();
+      buckets[top].pop_back();
+      order.push_back(p);
+      const int px = p % w, py = p / w;
+      const int neighbours[4] = {px > 0 ? p - 1 : -1, px + 1 < w ? p + 1 : -1, py > 0 ? p - w : -1,
+                                 py + 1 < h ? p + w : -1};
+      for (int nb : neighbours) {
+        if (nb < 0 || !ok[nb] || region[nb]) continue;
+        region[nb] = 1;
+        phase[nb] = unwrap_against(wr[nb], phase[p]);
+        const int b = bucket_of(nb);
+        buckets[b].push_back(nb);
+        top = std::max(top, b);
+      }
+    }
+  }
+  starts.push_back(static_cast<int>(order.size()));
+  drop_small_regions(order, starts, min_region_px, out, valid);
+  return out;
+}
+
+SpatialUnwrap unwrap_quality_guided_reference(const cv::Mat& wrapped, const cv::Mat& quality,
+                                              cv::Mat& valid, int min_region_px) {
+  check_inputs(wrapped, quality, valid);
+  const int w = wrapped.cols, h = wrapped.rows, n = w * h;
+  SpatialUnwrap out = allocate(wrapped.size());
+  std::vector<int> seeds;
+  for (int i = 0; i < n; ++i)
+    if (valid.ptr<uint8_t>()[i]) seeds.push_back(i);
+  const float* q = quality.ptr<float>();
+  std::stable_sort(seeds.begin(), seeds.end(), [&](int a, int b) { return q[a] > q[b]; });
+  std::vector<char> visited(n, 0);
+  std::vector<int> order, starts;
+  for (int seed : seeds) {
+    if (visited[seed]) continue;
+    starts.push_back(static_cast<int>(order.size()));
+    visited[seed] = 1;
+    out.phase.ptr<float>()[seed] = wrapped.ptr<float>()[seed];
+    std::priority_queue<std::pair<float, int>> queue;
+    queue.push({q[seed], seed});
+    while (!queue.empty()) {
+      const int p = queue.top().second;
+      queue.pop();
+      order.push_back(p);
+      const int px = p % w, py = p / w;
+      for (auto [dx, dy] : {std::pair{-1, 0}, std::pair{1, 0}, std::pair{0, -1}, std::pair{0, 1}}) {
+        const int nx = px + dx, ny = py + dy;
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+        const int nb = ny * w + nx;
+        if (visited[nb] || !valid.ptr<uint8_t>()[nb]) continue;
+        visited[nb] = 1;
+        out.phase.ptr<float>()[nb] =
+            unwrap_against(wrapped.ptr<float>()[nb], out.phase.ptr<float>()[p]);
+        queue.push({q[nb], nb});
+      }
+    }
+  }
+  starts.push_back(static_cast<int>(order.size()));
+  drop_small_regions(order, starts, min_region_px, out, valid);
+  return out;
+}
+
+cv::Mat unwrap_temporal(const cv::Mat& coarse_absolute, double ratio, const cv::Mat& fine_wrapped,
+                        double tolerance, cv::Mat& valid) {
+  GVKIT_CHECK(coarse_absolute.type() == CV_32F && fine_wrapped.type() == CV_32F &&
+              valid.type() == CV_8U);
+  cv::Mat out(fine_wrapped.size(), CV_32F);
+  const float r = static_cast<float>(ratio), tol = static_cast<float>(tolerance);
+  for (int y = 0; y < out.rows; ++y) {
+    const float* coarse = coarse_absolute.ptr<float>(y);
+    const float* fine = fine_wrapped.ptr<float>(y);
+    float* abs = out.ptr<float>(y);
+    uint8_t* ok = valid.ptr<uint8_t>(y);
+    for (int x = 0; x < out.cols; ++x) {
+      const float periods = (coarse[x] * r - fine[x]) / kTwoPi;
+      const float k = std::nearbyint(periods);
+      if (!ok[x] || !(std::fabs(periods - k) <= tol)) {
+        ok[x] = 0;
+        abs[x] = kNaN;
+        continue;
+      }
+      abs[x] = fine[x] + kTwoPi * k;
+    }
+  }
+  return out;
+}
+
+cv::Mat absolute_single_period(const cv::Mat& wrapped, const cv::Mat& valid) {
+  cv::Mat out(wrapped.size(), CV_32F);
+  for (int y = 0; y < out.rows; ++y) {
+    const float* w = wrapped.ptr<float>(y);
+    const uint8_t* ok = valid.ptr<uint8_t>(y);
+    float* abs = out.ptr<float>(y);
+    for (int x = 0; x < out.cols; ++x) abs[x] = !ok[x] ? kNaN : (w[x] < 0 ? w[x] + kTwoPi : w[x]);
+  }
+  return out;
+}
+
+}  // namespace gvkit::capture

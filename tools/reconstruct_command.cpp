@@ -1,0 +1,200 @@
+// gvkit reconstruct INPUT -o SCANS: fringe images -> RangeScan EXRs (frame_NNNNNN.exr), optional
+// PLY meshes, and stats.json (valid share; depth error against ground truth when present).
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "gvkit/capture/fringe_folder.hpp"
+#include "gvkit/capture/ground_truth.hpp"
+#include "gvkit/capture/pattern_set.hpp"
+#include "gvkit/capture/range_scan_mesh.hpp"
+#include "gvkit/capture/reconstructor.hpp"
+#include "gvkit/capture/scan_accuracy.hpp"
+#include "gvkit/capture/session_reader.hpp"
+#include "gvkit/core/calibration_io.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/json_io.hpp"
+#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/core/progress.hpp"
+
+namespace gvkit::tools {
+namespace {
+namespace fs = std::filesystem;
+
+struct ReconstructArgs {
+  std::string input, output, pattern, calibration;
+  bool ply = false, quiet = false;
+  capture::ReconstructOptions options;
+  capture::PatternSetOptions pattern_options;
+};
+
+struct FrameStats {
+  int64_t index = 0;
+  double valid_share = 0;
+  std::optional<capture::ScanAccuracy> accuracy;
+};
+
+void run(const ReconstructArgs& args) {
+  const fs::path input = args.input, output = args.output;
+  std::optional<capture::SessionReader> session;
+  std::optional<capture::FringeFolder> folder;
+  Calibration calibration;
+  std::string pattern_name = args.pattern;
+  if (fs::exists(input / "session.json")) {
+    session = value_or_throw(capture::SessionReader::open(input));
+    calibration = session->calibration();
+    if (pattern_name.empty()) pattern_name = session->info().pattern;
+    if (!args.calibration.empty())
+      calibration = value_or_throw(read_calibration(args.calibration)).calibration;
+  } else {
+    if (pattern_name.empty() || args.calibration.empty())
+      throw CommandFailed(
+          invalid_argument(input.string() +
+                           ": not a session (no session.json); a folder of fringe images needs "
+                           "--pattern and --calibration"));
+    calibration = value_or_throw(read_calibration(args.calibration)).calibration;
+  }
+  auto patterns = value_or_throw(capture::create_pattern_set(pattern_name, args.pattern_options));
+  if (!session)
+    folder = value_or_throw(capture::list_fringe_folder(input, patterns->image_count()));
+  const capture::Reconstructor reconstructor =
+      value_or_throw(capture::Reconstructor::create(calibration, args.options));
+  throw_if_error(ensure_directory(output));
+
+  const size_t count = session ? session->frame_count() : folder->frames.size();
+  std::vector<FrameStats> stats(count);
+  Progress progress("reconstruct", static_cast<int64_t>(count), !args.quiet);
+  std::mutex error_mutex;
+  std::optional<Status> first_error;
+  tbb::parallel_for(size_t{0}, count, [&](size_t i) {
+    auto fail = [&](const Status& s) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!first_error) first_error = s;
+    };
+    Result<FringeSet> fringes =
+        session ? session->read_frame(i) : capture::read_fringe_frame(*folder, i);
+    if (!fringes) return fail(fringes.status());
+    Result<RangeScan> scan = reconstructor.reconstruct(*fringes, *patterns);
+    if (!scan) return fail(scan.status());
+    const int64_t index = fringes->index;
+    Status s = write_range_scan_exr(frame_path(output, index, ".exr"), *scan);
+    if (s && args.ply)
+      s = write_mesh(frame_path(output, index, ".ply"), capture::range_scan_mesh(*scan));
+    if (!s) return fail(s);
+    stats[i].index = index;
+    stats[i].valid_share = scan->valid_fraction();
+    if (session) {
+      if (auto gt_path = session->ground_truth_path(index)) {
+        Result<capture::GroundTruth> gt = capture::read_ground_truth_exr(*gt_path);
+        if (!gt) return fail(gt.status());
+        stats[i].accuracy = capture::scan_accuracy(*scan, *gt);
+      }
+    }
+    progress.advance();
+  });
+  progress.finish();
+  if (first_error) throw CommandFailed(*first_error);
+
+  nlohmann::json frames = nlohmann::json::array();
+  double valid_sum = 0, rms2_sum = 0, max_all = 0, interior2_sum = 0, interior_share_sum = 0;
+  int with_gt = 0;
+  for (const FrameStats& f : stats) {
+    nlohmann::json j = {{"index", f.index}, {"valid_share", f.valid_share}};
+    valid_sum += f.valid_share;
+    if (f.accuracy) {
+      const auto& a = *f.accuracy;
+      j["rms_depth_error_mm"] = a.rms_mm;
+      j["max_depth_error_mm"] = a.max_mm;
+      j["p99_depth_error_mm"] = a.p99_mm;
+      j["face_interior_rms_mm"] = a.face_interior_rms_mm;
+      j["face_interior_max_mm"] = a.face_interior_max_mm;
+      j["face_interior_valid_share"] = a.face_interior_valid_share;
+      rms2_sum += a.rms_mm * a.rms_mm;
+      interior2_sum += a.face_interior_rms_mm * a.face_interior_rms_mm;
+      interior_share_sum += a.face_interior_valid_share;
+      max_all = std::max(max_all, a.max_mm);
+      ++with_gt;
+    }
+    frames.push_back(j);
+  }
+  nlohmann::json summary = {{"frames", count},
+                            {"mean_valid_share", count ? valid_sum / count : 0.0}};
+  if (with_gt) {
+    summary["rms_depth_error_mm"] = std::sqrt(rms2_sum / with_gt);
+    summary["max_depth_error_mm"] = max_all;
+    summary["face_interior_rms_mm"] = std::sqrt(interior2_sum / with_gt);
+    summary["face_interior_valid_share"] = interior_share_sum / with_gt;
+  }
+  nlohmann::json stats_json = {{"command", "reconstruct"},
+                               {"input", input.string()},
+                               {"options",
+                                {{"pattern", patterns->name()},
+                                 {"calibration", args.calibration},
+                                 {"depth_prior_mm", args.options.depth_prior_mm},
+                                 {"min_modulation", args.pattern_options.min_modulation},
+                                 {"saturation_level", args.pattern_options.saturation_level},
+                                 {"unwrap_tolerance", args.pattern_options.unwrap_tolerance},
+                                 {"reference", args.options.reference},
+                                 {"ply", args.ply}}},
+                               {"summary", summary},
+                               {"frames", frames}};
+  throw_if_error(write_json(output / "stats.json", stats_json));
+  std::printf("reconstructed %zu frames into %s: mean valid share %.3f", count,
+              output.string().c_str(), count ? valid_sum / count : 0.0);
+  if (with_gt)
+    std::printf(", RMS depth error %.4f mm (face interior %.4f mm, valid %.4f)",
+                summary["rms_depth_error_mm"].get<double>(),
+                summary["face_interior_rms_mm"].get<double>(),
+                summary["face_interior_valid_share"].get<double>());
+  std::printf("\n");
+}
+
+}  // namespace
+
+void add_reconstruct_command(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("reconstruct",
+                         "Fringe images (a session, or a folder + --pattern + --calibration) -> "
+                         "range scans (frame_NNNNNN.exr) and stats.json");
+  auto args = std::make_shared<ReconstructArgs>();
+  cmd->add_option("input", args->input, "Session folder, or a folder of fringe images")->required();
+  cmd->add_option("-o,--output", args->output, "Output folder for the scans")->required();
+  cmd->add_option("--pattern", args->pattern,
+                  "Pattern set (default: the session's): " + capture::pattern_set_help());
+  cmd->add_option("--calibration", args->calibration,
+                  "Calibration file (gvkit YAML/JSON/XML or SLStudio calibration.xml)");
+  cmd->add_flag("--ply", args->ply, "Also write frame_NNNNNN.ply meshes with texture");
+  cmd->add_option("--depth-prior", args->options.depth_prior_mm,
+                  "Expected depth (mm) resolving spatially unwrapped regions")
+      ->capture_default_str();
+  cmd->add_option("--min-depth", args->options.min_depth_mm, "Nearest valid depth (mm)")
+      ->capture_default_str();
+  cmd->add_option("--max-depth", args->options.max_depth_mm, "Farthest valid depth (mm)")
+      ->capture_default_str();
+  cmd->add_option("--min-modulation", args->pattern_options.min_modulation,
+                  "Fringe modulation below which a pixel is invalid (fraction of the range)")
+      ->capture_default_str();
+  cmd->add_option("--unwrap-tolerance", args->pattern_options.unwrap_tolerance,
+                  "Temporal unwrapping tolerance (periods)")
+      ->capture_default_str();
+  cmd->add_flag("--reference", args->options.reference,
+                "Use the plain reference triangulation (slow)");
+  cmd->add_flag("--no-progress", args->quiet, "Do not show progress");
+  cmd->callback([args] {
+    args->pattern_options.reference = args->options.reference;
+    run(*args);
+  });
+}
+
+}  // namespace gvkit::tools
