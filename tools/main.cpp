@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
   });
 
   gvkit::tools::add_info_command(app);
+  // --- capture (live) ---
+  gvkit::tools::add_devices_command(app);
+  // --- end capture (live) ---
 
   try {
     app.parse(argc, argv);

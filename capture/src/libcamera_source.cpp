@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -26,6 +27,8 @@ Result<std::shared_ptr<lc::CameraManager>> shared_manager() {
   static std::weak_ptr<lc::CameraManager> current;
   std::lock_guard<std::mutex> lock(mutex);
   if (auto manager = current.lock()) return manager;
+  // libcamera logs INFO lines on stderr by default; keep errors only unless the user chose.
+  ::setenv("LIBCAMERA_LOG_LEVELS", "*:ERROR", /*overwrite=*/0);
   auto manager = std::make_shared<lc::CameraManager>();
   if (const int r = manager->start(); r < 0)
     return io_error(std::string("libcamera: the camera manager did not start: ") +

@@ -22,8 +22,9 @@ class V4l2Io {
   virtual int poll(int fd, int timeout_ms) = 0;
 };
 
-// The real devices: libv4l2 (v4l2_open, v4l2_ioctl, v4l2_mmap, ...) when gvkit is built with it,
-// else the plain system calls.
-std::shared_ptr<V4l2Io> make_system_v4l2_io();
+// The real devices: through libv4l2 (v4l2_open, v4l2_ioctl, v4l2_mmap, ...) when gvkit is built
+// with it and use_libv4l2 is true, else the plain system calls (no emulated formats, no libv4l2
+// messages on stderr: what a device listing wants).
+std::shared_ptr<V4l2Io> make_system_v4l2_io(bool use_libv4l2 = true);
 
 }  // namespace gvkit
