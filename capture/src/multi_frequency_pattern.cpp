@@ -41,9 +41,13 @@ class MultiFrequencyPattern : public PatternSet {
     cv::Mat valid = valid_from(w[0], options_);
     for (int i = 1; i < levels; ++i) valid &= valid_from(w[i], options_);
     cv::Mat absolute = absolute_single_period(w[levels - 1].phase, valid);
+    cv::Mat uncertain;
     for (int i = levels - 2; i >= 0; --i)
       absolute = unwrap_temporal(absolute, static_cast<double>(periods_[i]) / periods_[i + 1],
-                                 w[i].phase, options_.unwrap_tolerance, valid);
+                                 w[i].phase, options_.unwrap_tolerance, valid, &uncertain);
+    settle_uncertain(absolute, valid, uncertain);
+    correct_period_order(absolute, valid);
+    clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
     PhaseMap out;
     out.phase = absolute;
     out.quality = w[0].modulation;
