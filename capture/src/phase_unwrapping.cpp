@@ -80,9 +80,30 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
     return out;
   }
   const float to_bucket = (kBuckets - 1e-3f) / q_max;
-  auto bucket_of = [&](int i) {
-    return std::min(kBuckets - 1, static_cast<int>(q[i] * to_bucket));
+  std::vector<uint8_t> bucket(n);
+  for (int i = 0; i < n; ++i)
+    bucket[i] = static_cast<uint8_t>(std::clamp(q[i] * to_bucket, 0.0f, kBuckets - 1.0f));
+  auto bucket_of = [&](int i) { return static_cast<int>(bucket[i]); };
+  // Usable links to the 4 neighbours (bit 0 left, 1 right, 2 up, 3 down): both pixels valid and
+  // the wrapped jump small. The jump does not depend on the path (phase[p] = wrapped[p] + 2 pi k).
+  std::vector<uint8_t> links(n, 0);
+  auto small_jump = [&](int a, int b) {
+    const float d = std::fabs(wr[b] - wr[a]);  // in [0, 2 pi): the wrapped jump is min(d, 2pi-d)
+    return d <= kMaxJump || kTwoPi - d <= kMaxJump;
   };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int i = y * w + x;
+      if (!ok[i]) continue;
+      if (x + 1 < w && ok[i + 1] && small_jump(i, i + 1)) {
+        links[i] |= 2;
+        links[i + 1] |= 1;
+      }
+      if (y + 1 < h && ok[i + w] && small_jump(i, i + w)) {
+        links[i] |= 8;
+        links[i + w] |= 4;
+      }
+    }
 
   // Seeds in descending quality bucket (counting sort).
   std::vector<int> count(kBuckets + 1, 0);
@@ -99,6 +120,7 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
   }
 
   std::vector<std::vector<int>> buckets(kBuckets);
+  for (auto& b : buckets) b.reserve(1024);
   std::vector<int> order;
   order.reserve(seeds.size());
   std::vector<int> starts;
@@ -115,15 +137,13 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
       const int p = buckets[top].back();
       buckets[top].pop_back();
       order.push_back(p);
-      const int px = p % w, py = p / w;
-      const int neighbours[4] = {px > 0 ? p - 1 : -1, px + 1 < w ? p + 1 : -1, py > 0 ? p - w : -1,
-                                 py + 1 < h ? p + w : -1};
-      for (int nb : neighbours) {
-        if (nb < 0 || !ok[nb] || region[nb]) continue;
-        const float unwrapped = unwrap_against(wr[nb], phase[p]);
-        if (std::fabs(unwrapped - phase[p]) > kMaxJump) continue;  // unreliable edge
+      const int neighbours[4] = {p - 1, p + 1, p - w, p + w};
+      const uint8_t link = links[p];
+      for (int d = 0; d < 4; ++d) {
+        const int nb = neighbours[d];
+        if (!(link & (1 << d)) || region[nb]) continue;
         region[nb] = 1;
-        phase[nb] = unwrapped;
+        phase[nb] = unwrap_against(wr[nb], phase[p]);
         const int b = bucket_of(nb);
         buckets[b].push_back(nb);
         top = std::max(top, b);
