@@ -31,5 +31,6 @@ T value_or_throw(Result<T> result) {
 void add_info_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
 
 }  // namespace gvkit::tools

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_info_command(app);
   gvkit::tools::add_synth_command(app);
   gvkit::tools::add_reconstruct_command(app);
+  gvkit::tools::add_calibrate_command(app);
 
   try {
     app.parse(argc, argv);

@@ -78,5 +78,20 @@ TEST(CliCapture, ReconstructsAPlainFolderOfSkullImages) {
   EXPECT_TRUE(contains(bad.output, "not a multiple")) << bad.output;
 }
 
+TEST(CliCapture, CalibratesSyntheticBoardCaptures) {
+  TempDir dir;
+  const std::string session = (dir / "board").string(), out = (dir / "cal.yaml").string();
+  auto r = run_gvkit("calibrate --synth-board " + session + " --poses 6 --size 320x240 --pattern " +
+                     "mf3-f16-f1 " + session + " -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "calibrated from 6 captures")) << r.output;
+  auto info = run_gvkit("info " + out);
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "reprojection error")) << info.output;
+  auto bad = run_gvkit("calibrate " + session + " -o " + out + " --board 8");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "--board")) << bad.output;
+}
+
 }  // namespace
 }  // namespace gvkit
