@@ -18,8 +18,14 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 // such a jump is as likely a steep slope or a depth edge as it is fringe.
 constexpr float kMaxJump = 0.6f * 3.14159265f;
 
+// Nearest integer of a small float by truncation (one instruction on baseline x86-64, where
+// std::nearbyint is a library call); ties go away from zero.
+inline float round_small(float x) {
+  return static_cast<float>(static_cast<int>(x + (x >= 0 ? 0.5f : -0.5f)));
+}
+
 inline float unwrap_against(float wrapped, float reference) {
-  return wrapped + kTwoPi * std::nearbyint((reference - wrapped) / kTwoPi);
+  return wrapped + kTwoPi * round_small((reference - wrapped) * (1.0f / kTwoPi));
 }
 
 void check_inputs(const cv::Mat& wrapped, const cv::Mat& quality, const cv::Mat& valid) {
@@ -69,7 +75,6 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
   const float* q = quality.ptr<float>();
   uint8_t* ok = valid.ptr<uint8_t>();
   float* phase = out.phase.ptr<float>();
-  int* region = out.region.ptr<int>();
 
   constexpr int kBuckets = 64;
   float q_max = 0;
@@ -124,10 +129,11 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
   std::vector<int> order;
   order.reserve(seeds.size());
   std::vector<int> starts;
+  std::vector<uint8_t> visited(n, 0);  // region labels are set by drop_small_regions
   for (int seed : seeds) {
-    if (region[seed]) continue;
+    if (visited[seed]) continue;
     starts.push_back(static_cast<int>(order.size()));
-    region[seed] = 1;  // visited; final labels are set by drop_small_regions
+    visited[seed] = 1;
     phase[seed] = wr[seed];
     int top = bucket_of(seed);
     buckets[top].push_back(seed);
@@ -141,8 +147,8 @@ SpatialUnwrap unwrap_quality_guided(const cv::Mat& wrapped, const cv::Mat& quali
       const uint8_t link = links[p];
       for (int d = 0; d < 4; ++d) {
         const int nb = neighbours[d];
-        if (!(link & (1 << d)) || region[nb]) continue;
-        region[nb] = 1;
+        if (!(link & (1 << d)) || visited[nb]) continue;
+        visited[nb] = 1;
         phase[nb] = unwrap_against(wr[nb], phase[p]);
         const int b = bucket_of(nb);
         buckets[b].push_back(nb);
