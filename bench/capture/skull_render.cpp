@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   auto folder = capture::list_fringe_folder(dir, (*patterns)->image_count());
-  auto fringes = folder ? capture::read_fringe_frame(*folder, 0) : Result<FringeSet>(folder.status());
+  auto fringes =
+      folder ? capture::read_fringe_frame(*folder, 0) : Result<FringeSet>(folder.status());
   if (!fringes) {
     std::fprintf(stderr, "%s\n", fringes.status().message().c_str());
     return 1;
