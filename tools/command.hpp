@@ -32,5 +32,6 @@ void add_info_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
 
 }  // namespace gvkit::tools

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_synth_command(app);
   gvkit::tools::add_reconstruct_command(app);
   gvkit::tools::add_devices_command(app);
+  gvkit::tools::add_calibrate_command(app);
 
   try {
     app.parse(argc, argv);

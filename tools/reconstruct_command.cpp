@@ -116,6 +116,7 @@ void run(const ReconstructArgs& args) {
       const auto& a = *f.accuracy;
       j["rms_depth_error_mm"] = a.rms_mm;
       j["max_depth_error_mm"] = a.max_mm;
+      j["median_depth_error_mm"] = a.p50_mm;
       j["p99_depth_error_mm"] = a.p99_mm;
       j["face_interior_rms_mm"] = a.face_interior_rms_mm;
       j["face_interior_max_mm"] = a.face_interior_max_mm;

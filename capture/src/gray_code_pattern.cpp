@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "gvkit/capture/phase_unwrapping.hpp"
 #include "pattern_families.hpp"
 
 namespace gvkit::capture::detail {
@@ -65,10 +66,14 @@ class GrayCodePattern : public PatternSet {
           gray = (gray << 1) | (bit_images[b].ptr<float>(y)[x] > mean[x] ? 1 : 0);
         int stripe = 0;
         for (int g = gray; g; g >>= 1) stripe ^= g;
+        // Period order: the one whose centre is nearest; a tie (phase exactly 0 at the start of
+        // a period) belongs to this period, hence ceil(x - 0.5) rather than rounding to even.
         const float centre = two_pi * (static_cast<float>(stripe) + 0.5f);
-        abs[x] = phase[x] + two_pi * std::nearbyint((centre - phase[x]) / two_pi);
+        abs[x] = phase[x] + two_pi * std::ceil((centre - phase[x]) / two_pi - 0.5f);
       }
     }
+    correct_period_order(absolute, valid);
+    clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
     PhaseMap out;
     out.phase = absolute;
     out.quality = w.modulation;

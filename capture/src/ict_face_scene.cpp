@@ -45,17 +45,28 @@ std::vector<float> make_albedo(const IctFaceModel& model) {
   const auto brow_r = polyline(17, 21), brow_l = polyline(22, 26);
   const auto lips = polyline(48, 59), eye_r = polyline(36, 41), eye_l = polyline(42, 47);
   std::vector<cv::Point2f> lips_f(lips.begin(), lips.end());
-  // Iris centres: centroids of the two iris index ranges.
-  cv::Point2d iris_centre[2] = {{0, 0}, {0, 0}};
-  int iris_count[2] = {0, 0};
-  for (int v = 0; v < IctFaceModel::kVertexCount; ++v)
-    if (IctFaceModel::region_of(v) == IctRegion::kIris) {
-      const int e = v < 23791 ? 0 : 1;
-      iris_centre[e] += cv::Point2d(p[v][0], p[v][1]);
-      ++iris_count[e];
-    }
-  for (int e = 0; e < 2; ++e)
-    if (iris_count[e]) iris_centre[e] *= 1.0 / iris_count[e];
+  // The sclera and iris meshes are both whole eyeball shells: paint iris and pupil onto the
+  // front of both, around the eyeball's axis (the eyes look forward in the neutral pose).
+  // Sclera 21451-22220 + iris 22221-23020 are one eye, 23021-24590 the other.
+  auto eye_of = [](int v) { return v < 23021 ? 0 : 1; };
+  cv::Point2d eye_centre[2] = {{0, 0}, {0, 0}};
+  double eye_front_z[2] = {-INFINITY, -INFINITY};
+  int eye_count[2] = {0, 0};
+  for (int v = 21451; v < 24591; ++v) {
+    const int e = eye_of(v);
+    eye_centre[e] += cv::Point2d(p[v][0], p[v][1]);
+    eye_front_z[e] = std::max(eye_front_z[e], p[v][2]);
+    ++eye_count[e];
+  }
+  for (int e = 0; e < 2; ++e) eye_centre[e] *= 1.0 / std::max(1, eye_count[e]);
+  auto eye_albedo = [&](int v) {
+    const int e = eye_of(v);
+    const double r = cv::norm(cv::Point2d(p[v][0], p[v][1]) - eye_centre[e]);
+    if (p[v][2] < eye_front_z[e] - 6.0) return 0.88f;
+    if (r < 2.0) return 0.04f;
+    if (r < 5.8) return 0.22f;
+    return 0.88f;
+  };
 
   std::vector<float> albedo(p.size(), 0.7f);
   for (int v = 0; v < static_cast<int>(p.size()); ++v) {
@@ -89,13 +100,9 @@ std::vector<float> make_albedo(const IctFaceModel& model) {
         albedo[v] = 0.8f;
         break;
       case IctRegion::kSclera:
-        albedo[v] = 0.88f;
+      case IctRegion::kIris:
+        albedo[v] = eye_albedo(v);
         break;
-      case IctRegion::kIris: {
-        const int e = v < 23791 ? 0 : 1;
-        albedo[v] = cv::norm(q - iris_centre[e]) < 2.2 ? 0.04f : 0.2f;
-        break;
-      }
       default:
         albedo[v] = 0.5f;
     }

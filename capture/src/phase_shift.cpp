@@ -31,6 +31,7 @@ void decode_rows(const std::vector<cv::Mat>& images, int first, int steps, doubl
   const float amp_scale = 2.0f / static_cast<float>(steps) * scale;
   const float mean_scale = scale / static_cast<float>(steps);
   std::vector<const T*> rows(steps);
+  std::vector<float> s_row(out.phase.cols), c_row(out.phase.cols);
   for (int y = 0; y < out.phase.rows; ++y) {
     for (int k = 0; k < steps; ++k) rows[k] = images[first + k].ptr<T>(y);
     float* phase = out.phase.ptr<float>(y);
@@ -38,21 +39,26 @@ void decode_rows(const std::vector<cv::Mat>& images, int first, int steps, doubl
     float* mean = out.mean.ptr<float>(y);
     uint8_t* saturated = out.saturated.ptr<uint8_t>(y);
     if (steps == 3) {
-      // sin(2pi k/3) = {0, s, -s}, cos = {1, -1/2, -1/2}.
+      // sin(2pi k/3) = {0, s, -s}, cos = {1, -1/2, -1/2}. Separate simple loops vectorize.
       const float s3 = 0.8660254f;
       const T* r0 = rows[0];
       const T* r1 = rows[1];
       const T* r2 = rows[2];
-      for (int x = 0; x < out.phase.cols; ++x) {
+      float* sv = s_row.data();
+      float* cv = c_row.data();
+      const int w = out.phase.cols;
+      for (int x = 0; x < w; ++x) {
         const float i0 = r0[x], i1 = r1[x], i2 = r2[x];
-        const float s = s3 * (i1 - i2);
-        const float c = i0 - 0.5f * (i1 + i2);
-        phase[x] = fast_atan2(s, c);
-        modulation[x] = amp_scale * std::sqrt(s * s + c * c);
+        sv[x] = s3 * (i1 - i2);
+        cv[x] = i0 - 0.5f * (i1 + i2);
         mean[x] = mean_scale * (i0 + i1 + i2);
-        saturated[x] =
-            (r0[x] >= saturation || r1[x] >= saturation || r2[x] >= saturation) ? 255 : 0;
       }
+      for (int x = 0; x < w; ++x) phase[x] = fast_atan2(sv[x], cv[x]);
+      for (int x = 0; x < w; ++x) modulation[x] = sv[x] * sv[x] + cv[x] * cv[x];
+      for (int x = 0; x < w; ++x) modulation[x] = amp_scale * std::sqrt(modulation[x]);
+      for (int x = 0; x < w; ++x)
+        saturated[x] =
+            (r0[x] >= saturation) | (r1[x] >= saturation) | (r2[x] >= saturation) ? 255 : 0;
       continue;
     }
     for (int x = 0; x < out.phase.cols; ++x) {

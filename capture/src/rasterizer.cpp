@@ -63,12 +63,14 @@ DepthBuffer rasterize(const std::vector<cv::Vec3d>& points_mm,
     const cv::Vec3i& tri = triangles[t];
     const cv::Point2d &p0 = pixel[tri[0]], &p1 = pixel[tri[1]], &p2 = pixel[tri[2]];
     if (!(std::isfinite(p0.x) && std::isfinite(p1.x) && std::isfinite(p2.x))) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p0.x, p1.x, p2.x}) - margin)));
-    const int x1 =
-        std::min(w - 1, static_cast<int>(std::ceil(std::max({p0.x, p1.x, p2.x}) + margin)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p0.y, p1.y, p2.y}) - margin)));
-    const int y1 =
-        std::min(h - 1, static_cast<int>(std::ceil(std::max({p0.y, p1.y, p2.y}) + margin)));
+    // Pixel box, clamped in floating point first (vertices near the camera plane project far).
+    auto to_index = [](double v, int size) {
+      return static_cast<int>(std::clamp(v, -1.0, static_cast<double>(size)));
+    };
+    const int x0 = std::max(0, to_index(std::floor(std::min({p0.x, p1.x, p2.x}) - margin), w));
+    const int x1 = std::min(w - 1, to_index(std::ceil(std::max({p0.x, p1.x, p2.x}) + margin), w));
+    const int y0 = std::max(0, to_index(std::floor(std::min({p0.y, p1.y, p2.y}) - margin), h));
+    const int y1 = std::min(h - 1, to_index(std::ceil(std::max({p0.y, p1.y, p2.y}) + margin), h));
     if (x0 > x1 || y0 > y1) continue;
     // Edge functions in the normalized plane.
     const cv::Point2d &a = norm[tri[0]], &b = norm[tri[1]], &c = norm[tri[2]];

@@ -208,48 +208,97 @@ cv::Mat Reconstructor::triangulate_columns_reference(const cv::Mat& projector_u)
   return xyz;
 }
 
+// Regions are resolved largest first. The largest takes the period offset that puts its median
+// depth nearest the prior. Each further region that lies near resolved pixels (across a shadow
+// or a gap of low modulation) takes the offset that continues their depth best; isolated regions
+// fall back to the prior.
 void Reconstructor::resolve_regions(PhaseMap& phase) const {
   if (phase.absolute || phase.region_count == 0) return;
-  const int n = static_cast<int>(phase.phase.total());
+  const int w = phase.phase.cols, h = phase.phase.rows;
+  const int n = w * h;
   const int* region = phase.region.ptr<int>();
   float* ph = phase.phase.ptr<float>();
   std::vector<std::vector<int>> members(phase.region_count + 1);
   for (int i = 0; i < n; ++i)
     if (region[i] > 0) members[region[i]].push_back(i);
-  const double two_pi = 2 * CV_PI;
+  std::vector<int> order;
+  for (int r = 1; r <= phase.region_count; ++r) order.push_back(r);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return members[a].size() > members[b].size(); });
+
+  const float two_pi = static_cast<float>(2 * CV_PI);
   const float pitch = static_cast<float>(phase.pitch_px);
   const int periods = static_cast<int>(std::ceil(calibration_.projector_width / phase.pitch_px));
-  std::vector<double> offset(phase.region_count + 1, 0.0);
-  for (int r = 1; r <= phase.region_count; ++r) {
+  const float u_lo = -0.5f * pitch, u_hi = calibration_.projector_width + 0.5f * pitch;
+  std::vector<char> resolved(n, 0);
+  std::vector<float> resolved_depth(n, kNaN);
+  auto candidate_depth = [&](int i, int k) {
+    const float u = (ph[i] / two_pi + static_cast<float>(k)) * pitch;
+    return (u < u_lo || u > u_hi) ? kNaN : depth_at(i, u);
+  };
+  constexpr int kSamples = 63, kReach = 24;
+  for (int r : order) {
     const auto& m = members[r];
-    constexpr int kSamples = 63;
     const size_t stride = std::max<size_t>(1, m.size() / kSamples);
+    // Pairs (sample pixel, depth of the nearest resolved pixel along its row or column).
+    std::vector<std::pair<int, float>> pairs;
+    for (size_t j = 0; j < m.size(); j += std::max<size_t>(1, stride / 4)) {
+      const int i = m[j], x = i % w, y = i / w;
+      float best_depth = kNaN;
+      int best_distance = kReach + 1;
+      const int dirs[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (const auto& d : dirs)
+        for (int step = 1; step < best_distance; ++step) {
+          const int xx = x + d[0] * step, yy = y + d[1] * step;
+          if (xx < 0 || yy < 0 || xx >= w || yy >= h) break;
+          const int q = yy * w + xx;
+          if (region[q] == r) break;  // still inside this region: not a boundary direction
+          if (resolved[q] && std::isfinite(resolved_depth[q])) {
+            best_depth = resolved_depth[q];
+            best_distance = step;
+            break;
+          }
+        }
+      if (std::isfinite(best_depth)) pairs.emplace_back(i, best_depth);
+    }
     double best_error = INFINITY;
     int best_k = 0;
     bool found = false;
+    const bool by_neighbours = pairs.size() >= 5;
     for (int k = -periods - 1; k <= periods + 1; ++k) {
-      std::vector<float> depths;
+      std::vector<float> errors;
       int tried = 0;
-      for (size_t j = 0; j < m.size(); j += stride) {
-        ++tried;
-        const float u = (ph[m[j]] / static_cast<float>(two_pi) + static_cast<float>(k)) * pitch;
-        if (u < -0.5f * pitch || u > calibration_.projector_width + 0.5f * pitch) continue;
-        const float z = depth_at(m[j], u);
-        if (std::isfinite(z)) depths.push_back(z);
+      if (by_neighbours) {
+        for (const auto& [i, z_near] : pairs) {
+          ++tried;
+          const float z = candidate_depth(i, k);
+          if (std::isfinite(z)) errors.push_back(std::abs(z - z_near));
+        }
+      } else {
+        for (size_t j = 0; j < m.size(); j += stride) {
+          ++tried;
+          const float z = candidate_depth(m[j], k);
+          if (std::isfinite(z)) errors.push_back(z);
+        }
       }
-      if (static_cast<int>(depths.size()) * 2 < tried) continue;
-      std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-      const double error = std::abs(depths[depths.size() / 2] - options_.depth_prior_mm);
+      if (errors.empty() || static_cast<int>(errors.size()) * 2 < tried) continue;
+      std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+      const double median = errors[errors.size() / 2];
+      const double error = by_neighbours ? median : std::abs(median - options_.depth_prior_mm);
       if (error < best_error) {
         best_error = error;
         best_k = k;
         found = true;
       }
     }
-    offset[r] = found ? two_pi * best_k : NAN;
+    const float offset = found ? two_pi * static_cast<float>(best_k) : kNaN;
+    for (int i : m) {
+      ph[i] += offset;
+      resolved[i] = 1;
+    }
+    if (found && r != order.back())
+      for (int i : m) resolved_depth[i] = depth_at(i, ph[i] / two_pi * pitch);
   }
-  for (int i = 0; i < n; ++i)
-    if (region[i] > 0) ph[i] += static_cast<float>(offset[region[i]]);
 }
 
 RangeScan Reconstructor::triangulate(const PhaseMap& decoded) const {

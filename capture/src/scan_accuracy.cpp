@@ -50,6 +50,8 @@ ScanAccuracy scan_accuracy(const RangeScan& scan, const GroundTruth& truth, int 
     const size_t k = std::min(errors.size() - 1, static_cast<size_t>(0.99 * errors.size()));
     std::nth_element(errors.begin(), errors.begin() + k, errors.end());
     a.p99_mm = errors[k];
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.begin() + k);
+    a.p50_mm = errors[errors.size() / 2];
   }
   if (interior_valid > 0) a.face_interior_rms_mm = std::sqrt(interior_sum2 / interior_valid);
   if (a.face_interior_px > 0)

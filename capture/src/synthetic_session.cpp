@@ -10,6 +10,7 @@
 #include "gvkit/capture/ground_truth.hpp"
 #include "gvkit/capture/ict_face_scene.hpp"
 #include "gvkit/capture/pattern_set.hpp"
+#include "gvkit/capture/projector_gamma.hpp"
 #include "gvkit/capture/session_writer.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/frame_files.hpp"
@@ -67,8 +68,7 @@ Status write_synthetic_session(const std::filesystem::path& dir,
   calibration.fringe_pitch_px = patterns->pitch_px(calibration.projector_width);
   const cv::Size projector(calibration.projector_width, calibration.projector_height);
   std::vector<cv::Mat> images = patterns->generate(projector);
-  if (options.gamma_compensation > 0)
-    for (cv::Mat& im : images) cv::pow(im, 1.0 / options.gamma_compensation, im);
+  if (options.gamma_compensation > 0) compensate_gamma(images, options.gamma_compensation);
 
   SessionInfo info;
   info.pattern = patterns->name();

@@ -24,7 +24,8 @@ WrappedPhase decode_phase_shift(const std::vector<cv::Mat>& images, int first, i
 WrappedPhase decode_phase_shift_reference(const std::vector<cv::Mat>& images, int first, int steps,
                                           double saturation_level);
 
-// atan2 by a minimax polynomial, |error| < 2e-6 rad; result in [-pi, pi].
+// atan2 by a minimax polynomial, |error| < 2e-6 rad; result in [-pi, pi]. Branch-free (selects
+// only), so loops over it vectorize.
 inline float fast_atan2(float y, float x) {
   const float ax = x < 0 ? -x : x, ay = y < 0 ? -y : y;
   const float mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
@@ -34,8 +35,8 @@ inline float fast_atan2(float y, float x) {
       a * (0.99997726f +
            s * (-0.33262347f +
                 s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
-  if (ay > ax) r = 1.57079632679f - r;
-  if (x < 0) r = 3.14159265359f - r;
+  r = ay > ax ? 1.57079632679f - r : r;
+  r = x < 0 ? 3.14159265359f - r : r;
   return y < 0 ? -r : r;
 }
 

@@ -11,8 +11,8 @@
 namespace gvkit::capture {
 
 struct ScanAccuracy {
-  int64_t compared_px = 0;                    // valid in the scan and a surface in the truth
-  double rms_mm = 0, max_mm = 0, p99_mm = 0;  // |z - z_true| over compared pixels
+  int64_t compared_px = 0;  // valid in the scan and a surface in the truth
+  double rms_mm = 0, max_mm = 0, p50_mm = 0, p99_mm = 0;  // |z - z_true|, compared pixels
   // Face interior: lit pixels on the face area whose 8 neighbours are lit face pixels too (no
   // silhouette or shadow edge, where one pixel mixes two surfaces).
   int64_t face_interior_px = 0;
