@@ -31,6 +31,7 @@ T value_or_throw(Result<T> result) {
 void add_info_command(CLI::App& app);
 // --- capture (live) ---
 void add_devices_command(CLI::App& app);
+void add_record_command(CLI::App& app);
 // --- end capture (live) ---
 
 }  // namespace gvkit::tools

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_info_command(app);
   // --- capture (live) ---
   gvkit::tools::add_devices_command(app);
+  gvkit::tools::add_record_command(app);
   // --- end capture (live) ---
 
   try {
