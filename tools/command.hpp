@@ -33,5 +33,7 @@ void add_synth_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_calibrate_command(CLI::App& app);
+void add_record_command(CLI::App& app);
+// --- end capture (live) ---
 
 }  // namespace gvkit::tools

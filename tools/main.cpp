@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   gvkit::tools::add_reconstruct_command(app);
   gvkit::tools::add_devices_command(app);
   gvkit::tools::add_calibrate_command(app);
+  gvkit::tools::add_record_command(app);
+  // --- end capture (live) ---
 
   try {
     app.parse(argc, argv);
