@@ -181,8 +181,9 @@ TEST(GeodesicDistance, IntrinsicDelaunayHelpsOnObtuseTriangles) {
   for (int k = 0; k < laplacian.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, k); it; ++it) {
       if (it.row() != it.col() && !(tri.mesh().is_boundary(tri.mesh().vertex_handle(it.row())) &&
-                                    tri.mesh().is_boundary(tri.mesh().vertex_handle(it.col()))))
+                                    tri.mesh().is_boundary(tri.mesh().vertex_handle(it.col())))) {
         EXPECT_LE(it.value(), 1e-9);  // interior edges; boundary edges cannot be flipped
+      }
     }
 }
 
