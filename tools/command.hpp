@@ -29,5 +29,8 @@ T value_or_throw(Result<T> result) {
 }
 
 void add_info_command(CLI::App& app);
+// `gvkit facemap` and its subcommands (tools/facemap_*_command.cpp).
+void add_facemap_command(CLI::App& app);
+void add_facemap_clean_command(CLI::App& facemap);
 
 }  // namespace gvkit::tools

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   });
 
   gvkit::tools::add_info_command(app);
+  gvkit::tools::add_facemap_command(app);
 
   try {
     app.parse(argc, argv);
