@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_calibrate_command(app);
   gvkit::tools::add_record_command(app);
   // --- end capture (live) ---
+  gvkit::tools::add_facemap_command(app);
 
   try {
     app.parse(argc, argv);
