@@ -14,6 +14,7 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(CHOLMOD REQUIRED)             # cmake/FindCHOLMOD.cmake: CHOLMOD::CHOLMOD
+find_package(dlib REQUIRED)                # dlib::dlib (face detector and 68-point landmarks)
 
 if(GVKIT_WITH_V4L2)
   pkg_check_modules(LIBV4L2 REQUIRED IMPORTED_TARGET libv4l2 libv4lconvert)

@@ -221,6 +221,7 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.boundaries.landmark_tolerance_mm = 1e9;  // pixels here; the holes are where the spec says
   options.boundaries.min_triangle_area_mm2 = 0;
   options.key_snap_fraction = 0.5;  // keys land on pixel centres
+  options.slide_along_start = true;
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
   GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_));

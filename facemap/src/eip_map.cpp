@@ -8,6 +8,19 @@
 
 namespace gvkit::facemap {
 
+DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
+  return [options](const Mesh& mesh,
+                   const std::vector<Mesh::VertexHandle>& sources) -> Result<std::vector<double>> {
+    GVKIT_RETURN_IF_ERROR(options.check());
+    const HeatGeodesics heat(mesh, options);
+    std::vector<double> d = heat.distance(sources);
+    for (double x : d)
+      if (!std::isfinite(x))
+        return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
+    return d;
+  };
+}
+
 std::vector<int> nearest_vertices(const Mesh& mesh, const FaceLandmarks& landmarks) {
   std::vector<int> out;
   for (const auto& q : landmarks.points_mm) {

@@ -61,9 +61,11 @@ Result<std::vector<SurfacePoint>> trace_cut(const Mesh& mesh, const std::vector<
                                             const std::vector<char>& target,
                                             const std::vector<char>& start_loop,
                                             const std::vector<char>& target_loop,
-                                            const DescentPathOptions& options) {
+                                            const DescentPathOptions& options,
+                                            bool slide_along_start) {
   auto may_touch = [&](Mesh::VertexHandle v) {
-    return (!start_loop.empty() && start_loop[v.idx()]) || target_loop[v.idx()];
+    return (slide_along_start && !start_loop.empty() && start_loop[v.idx()]) ||
+           target_loop[v.idx()];
   };
   GVKIT_ASSIGN_OR_RETURN(std::vector<SurfacePoint> path,
                          trace_descent_path(mesh, field, start, target, options, may_touch));
@@ -145,11 +147,11 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
   GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
   std::vector<char> is_39(cm.mesh.n_vertices(), 0);
   is_39[key_vertex[39].idx()] = 1;
-  GVKIT_ASSIGN_OR_RETURN(
-      std::vector<SurfacePoint> c_points,
-      trace_cut(cm.mesh, to_39, key_vertex[42], is_39,
-                loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]),
-                loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]), options.path));
+  GVKIT_ASSIGN_OR_RETURN(std::vector<SurfacePoint> c_points,
+                         trace_cut(cm.mesh, to_39, key_vertex[42], is_39,
+                                   loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]),
+                                   loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]),
+                                   options.path, options.slide_along_start));
   std::vector<Mesh::VertexHandle> c = insert_path(cm, c_points);
   if (c.size() < 2) return failed_precondition("face annulus: the cut between the eyes is empty");
   // Where the trimmed cut meets the eyes is where the keys 42 and 39 are from now on.
@@ -193,8 +195,9 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
   is_lip[lip.idx()] = 1;
   std::vector<char> is_mouth = loop_flags(cm.mesh, mouth_loop);
   is_mouth[key_vertex[60].idx()] = is_mouth[key_vertex[64].idx()] = 0;
-  GVKIT_ASSIGN_OR_RETURN(std::vector<SurfacePoint> d_points,
-                         trace_cut(cm.mesh, to_lip, mid, is_lip, {}, is_mouth, options.path));
+  GVKIT_ASSIGN_OR_RETURN(
+      std::vector<SurfacePoint> d_points,
+      trace_cut(cm.mesh, to_lip, mid, is_lip, {}, is_mouth, options.path, false));
   std::vector<Mesh::VertexHandle> d = insert_path(cm, d_points);
   const Mesh::VertexHandle d_end = d.back();
   const std::set<Mesh::VertexHandle> c_set(c.begin(), c.end());

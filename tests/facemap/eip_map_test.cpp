@@ -69,7 +69,9 @@ TEST(EipMap, IctExpressions) {
   for (const auto& e : exprs) {
     auto pos = model->evaluate(e);
     const Mesh mesh = model->face_mesh(pos);
-    auto mapped = map_face_eip(mesh, ict_landmarks(*model, pos), *domain, dijkstra);
+    auto mapped =
+        map_face_eip(mesh, ict_landmarks(*model, pos), *domain,
+                     std::getenv("FM2DIJ") ? DistanceFunction(dijkstra) : heat_geodesic_distance());
     ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
     auto h = map_face_hm(mesh, ict_landmarks(*model, pos), {n, n});
     ASSERT_TRUE(h.is_ok()) << h.status().message();

@@ -10,6 +10,7 @@
 #include "gvkit/core/status.hpp"
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/face_annulus.hpp"
+#include "gvkit/facemap/geodesic_distance.hpp"
 #include "gvkit/facemap/mapped_face.hpp"
 
 namespace gvkit::facemap {
@@ -26,6 +27,9 @@ struct EipOptions {
 Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks,
                                 const CanonicalDomain& domain, const DistanceFunction& distance,
                                 const EipOptions& options = {});
+
+// The geodesic distance the cuts follow in gvkit: the heat method (HeatGeodesics).
+DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options = {});
 
 // Fills the xyz (and texture) of domain pixels that no triangle covered from their nearest
 // filled neighbours; returns how many were filled.

@@ -30,6 +30,10 @@ struct FaceAnnulusOptions {
   // A landmark projected onto its boundary closer than this fraction of an edge to a vertex uses
   // that vertex; otherwise the boundary edge is split there. 0.5 always snaps.
   double key_snap_fraction = 0.1;
+  // Let c start by running along the eye boundary (its start then moves to where it leaves
+  // the boundary). Needed on the pixel-grid domain, whose jagged holes can leave a key vertex
+  // no other way out; off for faces, so c starts exactly at the landmark.
+  bool slide_along_start = false;
   Status check() const;
 };
 

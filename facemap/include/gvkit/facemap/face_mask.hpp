@@ -1,0 +1,60 @@
+#pragma once
+// The geodesic face mask (the seed's face segmentation): keep the part of the face within
+// geodesic radius R of the eyes and the mouth, then cut out the eye and mouth regions from their
+// landmark contours, so the result is one surface of genus 0 with exactly four boundary loops
+// (outer rim, two eyes, mouth) -- the input of the expression-invariant parameterization.
+//
+// Geodesics are expression-invariant (expressions are nearly isometric), so the mask rim covers
+// the same skin in every frame. Only the part of the mesh within the Euclidean ball of radius R
+// around the sources is solved (a geodesic ball lies inside the Euclidean ball of equal radius).
+
+#include <vector>
+
+#include "gvkit/core/face_landmarks.hpp"
+#include "gvkit/core/mesh.hpp"
+#include "gvkit/core/mesh_topology.hpp"
+#include "gvkit/core/status.hpp"
+#include "gvkit/facemap/face_features.hpp"
+#include "gvkit/facemap/geodesic_distance.hpp"
+
+namespace gvkit::facemap {
+
+struct FaceMaskOptions {
+  // Geodesic radius (mm) from the eye and mouth contours. 0: radius_factor x the distance between
+  // the eyes' midpoint and the mouth centre of the frame's own landmarks (about 70 mm on adults).
+  double radius_mm = 0.0;
+  double radius_factor = 1.0;
+  MouthContour mouth_contour = MouthContour::kInner;
+  // The removed regions are the contour polygons grown by these margins (mm), so a closed eye or
+  // mouth (a degenerate polygon) still becomes a thin hole.
+  double eye_margin_mm = 1.0;
+  double mouth_margin_mm = 2.0;
+  HeatGeodesicsOptions geodesics;
+  Status check() const;
+};
+
+struct FaceMask {
+  Mesh mesh;                 // genus 0, 4 boundary loops, colours kept
+  double radius_mm = 0.0;    // the radius used
+  int cropped_vertices = 0;  // vertices in the Euclidean crop that the geodesics solved on
+  MeshTopology topology;
+};
+
+// The eye and mouth regions are the surface enclosed by the closed shortest edge path through
+// their contour landmarks, grown geodesically by the margins; their boundaries and the outer rim
+// are cut along iso-lines of the geodesic distances (smooth curves, not triangle staircases).
+// landmarks.points_mm must hold 68 points on (or within a few mm of) the mesh. Fails (failed
+// precondition) with what was found when the result is not one component of genus 0 with 4
+// boundary loops, or when a feature contour lies off the mesh.
+Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                                    const FaceMaskOptions& options = {});
+
+// The default radius for these landmarks: factor x |eyes midpoint - mouth centre| (mm).
+double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor);
+
+// Geodesic sources: the vertices nearest to the eye and mouth contour landmarks.
+std::vector<Mesh::VertexHandle> feature_source_vertices(const Mesh& mesh,
+                                                        const FaceLandmarks& landmarks,
+                                                        MouthContour mouth);
+
+}  // namespace gvkit::facemap

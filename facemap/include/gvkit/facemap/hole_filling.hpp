@@ -1,0 +1,45 @@
+#pragma once
+// Filling of the interior holes of an open face surface (never the outer rim): each hole is
+// triangulated (greedy ear clipping), refined to the edge density of its rim (edge splits,
+// Delaunay flips, relaxation), and its new vertices are placed by a bi-Laplacian (thin-plate)
+// solve, Delta^2 x = 0, with the rim and one ring of neighbours fixed. That is the seed's minimal
+// surface with positions and gradients matching at the rim (C1). Vertex colours (texture) are
+// filled by the same solve.
+
+#include <vector>
+
+#include "gvkit/core/mesh.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::facemap {
+
+struct HoleFillingOptions {
+  // Holes with more rim edges than this are left open (0: no limit).
+  int max_hole_edges = 0;
+  // Target edge length of the new vertices as a multiple of the rim's mean edge length.
+  double density_factor = 1.0;
+  // Bi-Laplacian solves; the cotan weights of the patch are recomputed between them.
+  int solve_iterations = 2;
+  bool fill_colors = true;  // when the mesh has vertex colours
+  Status check() const;
+};
+
+struct HoleFillingReport {
+  int holes_filled = 0;
+  int holes_skipped = 0;  // larger than max_hole_edges
+  int vertices_added = 0;
+  int faces_added = 0;
+  std::vector<int> hole_rim_edges;  // per filled hole
+};
+
+// Fills every boundary loop except the outer rim (the loop with the largest length in mm).
+// Fails (failed precondition) when a hole shares a vertex with the outer rim, or when a hole
+// cannot be triangulated; the mesh is then left with the holes filled so far. New vertices and
+// faces are appended (existing handles stay valid).
+Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options = {});
+
+// Fills the single hole whose boundary contains the boundary halfedge `boundary_halfedge`.
+Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
+                 const HoleFillingOptions& options, HoleFillingReport* report);
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,42 @@
+#pragma once
+// Repair of triangle meshes from the world (scans, PLY/OBJ files): degenerate and duplicate faces
+// are removed, faces that would make an edge non-manifold (a third face on an edge) or a vertex
+// complex are dropped, unreferenced vertices are removed, and optionally only the largest
+// connected component is kept. Every change is counted in the report.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "gvkit/core/mesh.hpp"
+
+namespace gvkit::facemap {
+
+struct MeshRepairReport {
+  int degenerate_faces = 0;    // a repeated vertex or zero area
+  int duplicate_faces = 0;     // the same three vertices as an earlier face
+  int non_manifold_faces = 0;  // dropped: non-manifold edge or complex vertex
+  int components = 0;          // connected components before keeping the largest
+  int removed_component_faces = 0;
+  int removed_vertices = 0;  // unreferenced vertices dropped
+  bool changed() const;
+  std::string summary() const;  // e.g. "3 duplicate faces, 2 components (kept the largest)"
+};
+
+struct MeshRepairOptions {
+  bool keep_largest_component = true;
+};
+
+// A manifold mesh from a triangle soup: points (mm), optional per-point colours (same size or
+// empty), triangles as point indices. `original_index` (if given) receives each output vertex's
+// input point index.
+Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
+                         const std::vector<Mesh::Color>& colors,
+                         const std::vector<std::array<int, 3>>& triangles,
+                         const MeshRepairOptions& options, MeshRepairReport* report,
+                         std::vector<int>* original_index = nullptr);
+
+// Repairs `mesh` in place (rebuilding it from its faces); colours are kept when present.
+MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options = {});
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,75 @@
+#include "gvkit/facemap/face_features.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+namespace gvkit::facemap {
+
+std::vector<int> required_landmarks() {
+  std::vector<int> out{FaceLandmarks::kNoseTip};
+  for (int i = 36; i < 68; ++i) out.push_back(i);
+  return out;
+}
+
+Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double max_distance_px) {
+  if (static_cast<int>(landmarks->points_px.size()) != FaceLandmarks::kCount)
+    return invalid_argument("landmarks: expected 68 image points, got " +
+                            std::to_string(landmarks->points_px.size()));
+  const int rows = scan.valid.rows, cols = scan.valid.cols;
+  // Nearest valid pixel of every pixel: distance transform of the invalid set with labels.
+  cv::Mat invalid = scan.valid == 0, distance, labels;
+  cv::distanceTransform(invalid, distance, labels, cv::DIST_L2, cv::DIST_MASK_PRECISE,
+                        cv::DIST_LABEL_PIXEL);
+  std::vector<cv::Point> label_pixel(static_cast<size_t>(rows) * cols + 1);
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < cols; ++x)
+      if (scan.valid.at<uint8_t>(y, x)) label_pixel[labels.at<int>(y, x)] = {x, y};
+
+  std::vector<char> required(FaceLandmarks::kCount, 0);
+  for (int i : required_landmarks()) required[i] = 1;
+  landmarks->points_mm.assign(FaceLandmarks::kCount, cv::Vec3f());
+  for (int i = 0; i < FaceLandmarks::kCount; ++i) {
+    const cv::Point2f p = landmarks->points_px[i];
+    char where[96];
+    std::snprintf(where, sizeof where, "landmark %d at (%.1f, %.1f) px", i, p.x, p.y);
+    const bool inside = p.x >= 0 && p.y >= 0 && p.x <= cols - 1 && p.y <= rows - 1;
+    if (!inside) {
+      if (required[i]) return failed_precondition(std::string(where) + " is outside the image");
+    }
+    const int x0 = std::clamp(static_cast<int>(std::floor(p.x)), 0, cols - 1);
+    const int y0 = std::clamp(static_cast<int>(std::floor(p.y)), 0, rows - 1);
+    const int x1 = std::min(x0 + 1, cols - 1), y1 = std::min(y0 + 1, rows - 1);
+    const bool all_valid = scan.valid.at<uint8_t>(y0, x0) && scan.valid.at<uint8_t>(y0, x1) &&
+                           scan.valid.at<uint8_t>(y1, x0) && scan.valid.at<uint8_t>(y1, x1);
+    if (inside && all_valid) {
+      const float fx = p.x - x0, fy = p.y - y0;
+      const cv::Vec3f v = (1 - fx) * (1 - fy) * scan.xyz_mm.at<cv::Vec3f>(y0, x0) +
+                          fx * (1 - fy) * scan.xyz_mm.at<cv::Vec3f>(y0, x1) +
+                          (1 - fx) * fy * scan.xyz_mm.at<cv::Vec3f>(y1, x0) +
+                          fx * fy * scan.xyz_mm.at<cv::Vec3f>(y1, x1);
+      landmarks->points_mm[i] = v;
+      continue;
+    }
+    const int yr = std::clamp(static_cast<int>(std::lround(p.y)), 0, rows - 1);
+    const int xr = std::clamp(static_cast<int>(std::lround(p.x)), 0, cols - 1);
+    const cv::Point nearest = label_pixel[labels.at<int>(yr, xr)];
+    const double d = std::hypot(nearest.x - p.x, nearest.y - p.y);
+    if (!scan.valid.at<uint8_t>(nearest) || (required[i] && d > max_distance_px))
+      return failed_precondition(std::string(where) + " is outside the valid scan (nearest " +
+                                 "valid pixel " + std::to_string(static_cast<int>(d)) +
+                                 " px away)");
+    landmarks->points_mm[i] = scan.xyz_mm.at<cv::Vec3f>(nearest);
+  }
+  return Status::ok();
+}
+
+cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end) {
+  cv::Vec3d c(0, 0, 0);
+  for (const int* i = begin; i != end; ++i) c += cv::Vec3d(landmarks.points_mm[*i]);
+  return c / static_cast<double>(end - begin);
+}
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,254 @@
+#include "gvkit/facemap/face_mask.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <string>
+#include <unordered_map>
+
+#include "gvkit/facemap/level_set_clip.hpp"
+
+namespace gvkit::facemap {
+
+Status FaceMaskOptions::check() const {
+  if (radius_mm < 0 || !std::isfinite(radius_mm))
+    return invalid_argument("face mask: radius must be >= 0 mm (0: automatic), got " +
+                            std::to_string(radius_mm));
+  if (!(radius_factor > 0.2 && radius_factor < 5.0))
+    return invalid_argument("face mask: radius_factor must be in (0.2, 5), got " +
+                            std::to_string(radius_factor));
+  if (eye_margin_mm < 0 || mouth_margin_mm < 0)
+    return invalid_argument("face mask: margins must be >= 0 mm");
+  return geodesics.check();
+}
+
+namespace {
+
+using Point = Mesh::Point;
+
+Point to_point(const cv::Vec3f& p) { return Point(p[0], p[1], p[2]); }
+
+template <size_t N>
+std::vector<Point> contour_points(const FaceLandmarks& landmarks, const std::array<int, N>& ids) {
+  std::vector<Point> out;
+  for (int i : ids) out.push_back(to_point(landmarks.points_mm[i]));
+  return out;
+}
+
+std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mouth) {
+  return mouth == MouthContour::kInner ? contour_points(landmarks, kInnerMouthContour)
+                                       : contour_points(landmarks, kOuterMouthContour);
+}
+
+Point centroid(const std::vector<Point>& points) {
+  Point c(0, 0, 0);
+  for (const auto& p : points) c += p;
+  return c / static_cast<double>(points.size());
+}
+
+Mesh::VertexHandle nearest_vertex(const Mesh& mesh, const Point& p, double* distance) {
+  Mesh::VertexHandle best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (auto v : mesh.vertices()) {
+    const double d2 = (mesh.point(v) - p).sqrnorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = v;
+    }
+  }
+  if (distance) *distance = std::sqrt(best_d2);
+  return best;
+}
+
+// Shortest edge path (Dijkstra) from a to b, as vertices from a to b.
+std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHandle a,
+                                              Mesh::VertexHandle b) {
+  std::unordered_map<int, std::pair<double, int>> best;  // vertex -> (distance, previous)
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  best[a.idx()] = {0.0, -1};
+  queue.emplace(0.0, a.idx());
+  while (!queue.empty()) {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    if (d > best[i].first) continue;
+    if (i == b.idx()) break;
+    const auto v = mesh.vertex_handle(i);
+    for (auto h : mesh.voh_range(v)) {
+      const int j = mesh.to_vertex_handle(h).idx();
+      const double nd = d + mesh.calc_edge_length(h);
+      auto it = best.find(j);
+      if (it == best.end() || nd < it->second.first) {
+        best[j] = {nd, i};
+        queue.emplace(nd, j);
+      }
+    }
+  }
+  std::vector<Mesh::VertexHandle> path;
+  if (!best.count(b.idx())) return path;
+  for (int i = b.idx(); i >= 0; i = best[i].second) path.push_back(mesh.vertex_handle(i));
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// The vertices of the surface region enclosed by the closed edge path through the vertices
+// nearest to the contour points, the path included. A degenerate contour (a closed eye or mouth)
+// encloses nothing and gives the path alone. Regions cut off from the mesh boundary by the path
+// are inside, so folds under the contour (a rolled lip) are handled by connectivity, not by a
+// projection.
+std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
+                                               const std::vector<Point>& contour) {
+  std::vector<Mesh::VertexHandle> corners;
+  for (const auto& p : contour) corners.push_back(nearest_vertex(mesh, p, nullptr));
+  std::vector<char> on_path_edge(mesh.n_edges(), 0), in_region(mesh.n_vertices(), 0);
+  for (size_t k = 0; k < corners.size(); ++k) {
+    const auto path = shortest_path(mesh, corners[k], corners[(k + 1) % corners.size()]);
+    for (size_t i = 0; i < path.size(); ++i) {
+      in_region[path[i].idx()] = 1;
+      if (i + 1 < path.size()) {
+        const auto h = mesh.find_halfedge(path[i], path[i + 1]);
+        if (h.is_valid()) on_path_edge[mesh.edge_handle(h).idx()] = 1;
+      }
+    }
+  }
+  // Face components across edges that are not on the path; those that reach the mesh boundary
+  // are outside.
+  std::vector<int> component(mesh.n_faces(), -1);
+  std::vector<char> reaches_boundary;
+  for (auto f : mesh.faces()) {
+    if (component[f.idx()] >= 0) continue;
+    const int c = static_cast<int>(reaches_boundary.size());
+    reaches_boundary.push_back(0);
+    std::vector<Mesh::FaceHandle> stack{f};
+    component[f.idx()] = c;
+    while (!stack.empty()) {
+      const auto g = stack.back();
+      stack.pop_back();
+      for (auto h : mesh.fh_range(g)) {
+        const auto e = mesh.edge_handle(h);
+        if (mesh.is_boundary(e)) reaches_boundary[c] = 1;
+        if (on_path_edge[e.idx()]) continue;
+        const auto n = mesh.opposite_face_handle(h);
+        if (n.is_valid() && component[n.idx()] < 0) {
+          component[n.idx()] = c;
+          stack.push_back(n);
+        }
+      }
+    }
+  }
+  for (auto f : mesh.faces())
+    if (!reaches_boundary[component[f.idx()]])
+      for (auto v : mesh.fv_range(f)) in_region[v.idx()] = 1;
+  std::vector<Mesh::VertexHandle> region;
+  for (auto v : mesh.vertices())
+    if (in_region[v.idx()]) region.push_back(v);
+  return region;
+}
+
+std::string describe(const MeshTopology& t) {
+  std::string loops;
+  for (int n : t.boundary_loop_lengths) loops += (loops.empty() ? "" : ", ") + std::to_string(n);
+  return std::to_string(t.components) + " component(s), genus " + std::to_string(t.genus) + ", " +
+         std::to_string(t.boundary_loops) + " boundary loop(s)" +
+         (loops.empty() ? "" : " of " + loops + " edges");
+}
+
+}  // namespace
+
+double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor) {
+  Point eyes(0, 0, 0), mouth(0, 0, 0);
+  for (int i = 36; i < 48; ++i) eyes += to_point(landmarks.points_mm[i]);
+  for (int i = 48; i < 68; ++i) mouth += to_point(landmarks.points_mm[i]);
+  return radius_factor * (eyes / 12.0 - mouth / 20.0).norm();
+}
+
+std::vector<Mesh::VertexHandle> feature_source_vertices(const Mesh& mesh,
+                                                        const FaceLandmarks& landmarks,
+                                                        MouthContour mouth) {
+  std::vector<Point> points = contour_points(landmarks, kRightEyeContour);
+  for (const auto& p : contour_points(landmarks, kLeftEyeContour)) points.push_back(p);
+  for (const auto& p : mouth_points(landmarks, mouth)) points.push_back(p);
+  std::vector<Mesh::VertexHandle> out;
+  for (const auto& p : points) out.push_back(nearest_vertex(mesh, p, nullptr));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                                    const FaceMaskOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  if (static_cast<int>(landmarks.points_mm.size()) != FaceLandmarks::kCount)
+    return invalid_argument("face mask: expected 68 landmarks in mm, got " +
+                            std::to_string(landmarks.points_mm.size()));
+  FaceMask result;
+  result.radius_mm = options.radius_mm > 0
+                         ? options.radius_mm
+                         : default_mask_radius_mm(landmarks, options.radius_factor);
+  const double radius = result.radius_mm;
+
+  double mean_edge = 0.0;
+  for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
+  mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
+  // Every feature landmark must lie on the surface.
+  for (int i : required_landmarks()) {
+    double d = 0.0;
+    nearest_vertex(mesh, to_point(landmarks.points_mm[i]), &d);
+    if (d > std::max(5.0, 4.0 * mean_edge))
+      return failed_precondition("landmark " + std::to_string(i) + " lies " +
+                                 std::to_string(static_cast<int>(d)) + " mm off the mesh");
+  }
+
+  // Crop: the vertices within the Euclidean ball of radius R (+ a margin) around a source.
+  std::vector<Point> source_points = contour_points(landmarks, kRightEyeContour);
+  for (const auto& p : contour_points(landmarks, kLeftEyeContour)) source_points.push_back(p);
+  for (const auto& p : mouth_points(landmarks, options.mouth_contour)) source_points.push_back(p);
+  const double crop = radius + 3.0 * mean_edge;
+  std::vector<double> outside(mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& s : source_points) d = std::min(d, (mesh.point(v) - s).norm());
+    outside[v.idx()] = d;
+  }
+  LevelSetClipOptions crop_options;
+  crop_options.level = crop;
+  crop_options.snap = 0.0;
+  const Mesh cropped = clip_mesh_below(mesh, outside, crop_options);
+  result.cropped_vertices = static_cast<int>(cropped.n_vertices());
+  if (cropped.n_faces() == 0) return failed_precondition("face mask: nothing within the radius");
+
+  // The eye and mouth regions on the crop, their geodesic distances, and the distance from all
+  // three; one factorisation serves the four queries.
+  const HeatGeodesics geodesics(cropped, options.geodesics);
+  const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
+                                         contour_points(landmarks, kLeftEyeContour),
+                                         mouth_points(landmarks, options.mouth_contour)};
+  const double margins[] = {options.eye_margin_mm, options.eye_margin_mm, options.mouth_margin_mm};
+  // Keep f <= 0 with f = max(d_features - R, margin_k - d_k): inside the radius and outside the
+  // grown eye and mouth regions; one level-set cut gives all four boundaries.
+  std::vector<Mesh::VertexHandle> all_features;
+  std::vector<double> f(cropped.n_vertices(), -std::numeric_limits<double>::infinity());
+  for (int k = 0; k < 3; ++k) {
+    const auto region = contour_region(cropped, contours[k]);
+    all_features.insert(all_features.end(), region.begin(), region.end());
+    const std::vector<double> d = geodesics.distance(region);
+    for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
+  }
+  const std::vector<double> d_features = geodesics.distance(all_features);
+  for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
+  LevelSetClipOptions clip;
+  clip.level = 0.0;
+  Mesh masked = clip_mesh_below(cropped, f, clip);
+
+  result.topology = mesh_topology(masked);
+  const MeshTopology& t = result.topology;
+  if (t.components != 1 || t.genus != 0 || t.boundary_loops != 4)
+    return failed_precondition("face mask (radius " + std::to_string(static_cast<int>(radius)) +
+                               " mm): found " + describe(t) +
+                               "; expected 1 component, genus 0, 4 boundary loops");
+  result.mesh = std::move(masked);
+  return result;
+}
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,154 @@
+// Hole filling: holes punched into real face surfaces, filled, measured against the removed
+// true surface.
+#include "gvkit/facemap/hole_filling.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "gvkit/core/ict_face_model.hpp"
+#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/core/mesh_topology.hpp"
+#include "gvkit/facemap/surface_distance.hpp"
+#include "support/test_support.hpp"
+
+namespace gvkit::facemap {
+namespace {
+
+struct PunchedHole {
+  std::vector<Mesh::Point> removed_mm;  // true positions of the removed vertices
+};
+
+// Removes the faces with a vertex within radius_mm of center; returns the removed vertices.
+PunchedHole punch_hole(Mesh* mesh, const Mesh::Point& center, double radius_mm) {
+  PunchedHole hole;
+  for (auto f : mesh->faces()) {
+    bool inside = false;
+    for (auto v : mesh->fv_range(f)) inside |= (mesh->point(v) - center).norm() < radius_mm;
+    if (inside) mesh->delete_face(f, false);
+  }
+  for (auto v : mesh->vertices())
+    if (mesh->is_isolated(v)) {
+      hole.removed_mm.push_back(mesh->point(v));
+      mesh->delete_vertex(v, false);
+    }
+  mesh->garbage_collection();
+  return hole;
+}
+
+Mesh::Point nearest_vertex_point(const Mesh& mesh, const Mesh::Point& p) {
+  Mesh::Point best = mesh.point(mesh.vertex_handle(0));
+  for (auto v : mesh.vertices())
+    if ((mesh.point(v) - p).norm() < (best - p).norm()) best = mesh.point(v);
+  return best;
+}
+
+// RMS distance of the removed true points to the faces added by the fill.
+double fill_and_measure(Mesh* mesh, const PunchedHole& hole, int* holes_filled) {
+  const int first_new_face = static_cast<int>(mesh->n_faces());
+  auto report = fill_holes(mesh);
+  EXPECT_TRUE(report.is_ok()) << report.status().message();
+  if (!report.is_ok()) return 1e9;
+  *holes_filled = report->holes_filled;
+  std::vector<Mesh::FaceHandle> patch;
+  for (auto f : mesh->faces())
+    if (f.idx() >= first_new_face) patch.push_back(f);
+  double sum = 0.0;
+  for (const auto& p : hole.removed_mm) {
+    const double d = distance_to_faces(*mesh, patch, p);
+    sum += d * d;
+  }
+  return std::sqrt(sum / hole.removed_mm.size());
+}
+
+TEST(HoleFilling, IctFaceCheekHoleIsCloseToTheTrueSurface) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto model = IctFaceModel::load(data / "ict-facekit", {"jawOpen"});
+  ASSERT_TRUE(model.is_ok()) << model.status().message();
+  // The face without its eye and mouth holes: fill those first (they are interior holes too).
+  Mesh mesh = model->face_mesh(model->neutral_mm());
+  auto eyes_mouth = fill_holes(&mesh);
+  ASSERT_TRUE(eyes_mouth.is_ok()) << eyes_mouth.status().message();
+  EXPECT_EQ(eyes_mouth->holes_filled, 3);
+  EXPECT_EQ(mesh_topology(mesh).boundary_loops, 1);
+  EXPECT_EQ(mesh_topology(mesh).genus, 0);
+
+  // A 12 mm hole in the cheek, between the jaw landmark 3 and the nose landmark 31.
+  const auto& lm = model->landmark_vertices();
+  const cv::Vec3d c = 0.5 * (model->neutral_mm()[lm[3]] + model->neutral_mm()[lm[31]]);
+  const PunchedHole hole =
+      punch_hole(&mesh, nearest_vertex_point(mesh, Mesh::Point(c[0], c[1], c[2])), 12.0);
+  ASSERT_GT(hole.removed_mm.size(), 20u);
+  EXPECT_EQ(mesh_topology(mesh).boundary_loops, 2);
+  int filled = 0;
+  const double rms = fill_and_measure(&mesh, hole, &filled);
+  std::printf("ICT cheek hole: %zu vertices removed, RMS deviation %.3f mm\n",
+              hole.removed_mm.size(), rms);
+  EXPECT_EQ(filled, 1);
+  EXPECT_LT(rms, 0.3);
+  const MeshTopology t = mesh_topology(mesh);
+  EXPECT_EQ(t.boundary_loops, 1);
+  EXPECT_EQ(t.genus, 0);
+  EXPECT_EQ(t.components, 1);
+}
+
+TEST(HoleFilling, SpacetimeFaceHoleIsCloseToTheTrueSurface) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto read = read_mesh(data / "spacetime-faces" / "neutral.ply");
+  ASSERT_TRUE(read.is_ok()) << read.status().message();
+  Mesh mesh = std::move(read).value();
+  // Fill the data set's own interior hole first, then punch one in the middle of the face.
+  ASSERT_TRUE(fill_holes(&mesh).is_ok());
+  Mesh::Point center(0, 0, 0);
+  for (auto v : mesh.vertices()) center += mesh.point(v);
+  center /= static_cast<double>(mesh.n_vertices());
+  const PunchedHole hole =
+      punch_hole(&mesh, nearest_vertex_point(mesh, center + Mesh::Point(30, 0, 0)), 10.0);
+  ASSERT_GT(hole.removed_mm.size(), 10u);
+  int filled = 0;
+  const double rms = fill_and_measure(&mesh, hole, &filled);
+  std::printf("Spacetime face hole: %zu vertices removed, RMS deviation %.3f mm\n",
+              hole.removed_mm.size(), rms);
+  EXPECT_EQ(filled, 1);
+  EXPECT_LT(rms, 1.5);  // a real capture: the removed "truth" carries its own noise
+  EXPECT_EQ(mesh_topology(mesh).boundary_loops, 1);
+}
+
+TEST(HoleFilling, HoleTouchingTheRimIsAnError) {
+  // A 4x4 grid with the interior square removed next to the rim: shares rim vertices.
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) v.push_back(mesh.add_vertex(Mesh::Point(x, y, 0)));
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) {
+      if (x == 1 && y == 1) continue;  // hole in the middle: its corners are on the rim
+      mesh.add_face(v[y * 4 + x], v[y * 4 + x + 1], v[(y + 1) * 4 + x + 1]);
+      mesh.add_face(v[y * 4 + x], v[(y + 1) * 4 + x + 1], v[(y + 1) * 4 + x]);
+    }
+  // 4x4 grid: the middle square's corners (5, 6, 9, 10) are interior, so this hole is fine.
+  auto ok = fill_holes(&mesh);
+  ASSERT_TRUE(ok.is_ok()) << ok.status().message();
+  EXPECT_EQ(ok->holes_filled, 1);
+
+  // Remove a square touching the rim at one corner vertex: an error.
+  Mesh touching;
+  std::vector<Mesh::VertexHandle> w;
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) w.push_back(touching.add_vertex(Mesh::Point(x, y, 0)));
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      if ((x == 1 || x == 2) && (y == 1 || y == 2)) continue;  // 2x2 hole, corners interior
+      if (x == 0 && y == 0) continue;                          // and a notch at the corner
+      touching.add_face(w[y * 5 + x], w[y * 5 + x + 1], w[(y + 1) * 5 + x + 1]);
+      touching.add_face(w[y * 5 + x], w[(y + 1) * 5 + x + 1], w[(y + 1) * 5 + x]);
+    }
+  auto bad = fill_holes(&touching);
+  ASSERT_FALSE(bad.is_ok());
+  EXPECT_NE(bad.status().message().find("touches the outer rim"), std::string::npos)
+      << bad.status().message();
+}
+
+}  // namespace
+}  // namespace gvkit::facemap
