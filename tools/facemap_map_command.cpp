@@ -18,6 +18,7 @@
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/progress.hpp"
@@ -36,7 +37,31 @@ struct MapCommandOptions {
   std::string faces, output, size = "320x320", method = "eip", domain;
   int threads = 0;
   bool same_vertices = false;
+  bool png = false;
 };
+
+// xyz normalized to the domain's bounding box as 8-bit RGB (x -> R, y -> G, z -> B); holes black.
+cv::Mat preview(const GeometryImage& image) {
+  cv::Vec3f lo(INFINITY, INFINITY, INFINITY), hi(-INFINITY, -INFINITY, -INFINITY);
+  for (int y = 0; y < image.xyz_mm.rows; ++y)
+    for (int x = 0; x < image.xyz_mm.cols; ++x)
+      if (image.domain_mask.at<uint8_t>(y, x))
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::min(lo[c], image.xyz_mm.at<cv::Vec3f>(y, x)[c]);
+          hi[c] = std::max(hi[c], image.xyz_mm.at<cv::Vec3f>(y, x)[c]);
+        }
+  cv::Mat out(image.xyz_mm.size(), CV_8UC3, cv::Scalar::all(0));
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x) {
+      if (!image.domain_mask.at<uint8_t>(y, x)) continue;
+      const cv::Vec3f p = image.xyz_mm.at<cv::Vec3f>(y, x);
+      cv::Vec3b& q = out.at<cv::Vec3b>(y, x);
+      for (int c = 0; c < 3; ++c)  // OpenCV stores BGR: x goes to the red channel (index 2)
+        q[2 - c] =
+            cv::saturate_cast<uint8_t>(255.0 * (p[c] - lo[c]) / std::max(1e-6f, hi[c] - lo[c]));
+    }
+  return out;
+}
 
 const std::vector<int> kKeyLandmarks = {36, 39, 42, 45, 60, 64};
 
@@ -105,8 +130,11 @@ void run(const MapCommandOptions& o) {
       mapped->image.index = r.index;
       const Status written =
           write_geometry_image_exr(frame_path(o.output, r.index, ".exr"), mapped->image);
-      if (!written.is_ok()) {
-        fail(written);
+      const Status png =
+          o.png ? write_image(frame_path(o.output, r.index, ".png"), preview(mapped->image))
+                : Status::ok();
+      if (!written.is_ok() || !png.is_ok()) {
+        fail(written.is_ok() ? png : written);
       } else {
         if (o.same_vertices)
           for (auto v : mesh->vertices())
@@ -236,6 +264,7 @@ void add_facemap_map_command(CLI::App& app) {
   cmd->add_flag("--same-vertices", o->same_vertices,
                 "Frames share vertex order (ground-truth correspondence): also measure the true "
                 "surface drift at fixed pixels");
+  cmd->add_flag("--png", o->png, "Also write frame_NNNNNN.png previews (xyz as RGB)");
   cmd->callback([o] { run(*o); });
 }
 

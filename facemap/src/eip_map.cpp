@@ -160,6 +160,17 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
                                      : domain.pixel_of(st_corners[c].x(), st_corners[c].y()));
   }
 
+  // Boundary key points: the flow coordinates of their vertex, located in D.
+  for (const auto& key : annulus.keys) {
+    const int v = annulus.inner_loop[key.position];
+    for (int k = 0; k < s.n_triangles() && !out.keys_px.count(key.name); ++k)
+      for (int j = 0; j < 3; ++j)
+        if (s.triangles[k][j] == v) {
+          out.keys_px[key.name] = domain.pixel_of(flow.corner_s[3 * k + j], flow.t[v]);
+          break;
+        }
+  }
+
   if (options.measure_quality) {
     std::vector<Eigen::Vector3d> xyz(3 * s.n_triangles());
     std::vector<Eigen::Vector2d> uv(3 * s.n_triangles());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gvkit::facemap {
 
@@ -96,15 +97,17 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   };
   out.corner_s.resize(psi.size());
   for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
-  // Inner-loop corners take their exact boundary parameter (removes solver round-off there).
-  for (int i = 0; i < m; ++i) {
-    const int a = loop[i], b = loop[(i + 1) % m];
-    const int k = face_of_edge.at({a, b});
-    const int ca = corner(k, a), cb = corner(k, b);
-    const double base = std::round(out.corner_s[ca] - u[i]);
-    out.corner_s[ca] = u[i] + base;
-    out.corner_s[cb] = u[i + 1] + base;
-  }
+  // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to
+  // whole periods), which removes solver round-off there.
+  std::vector<double> boundary_u(n, std::numeric_limits<double>::quiet_NaN());
+  for (int i = 0; i < m; ++i) boundary_u[loop[i]] = u[i];
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const double uv = boundary_u[s.triangles[k][j]];
+      if (std::isnan(uv)) continue;
+      double& cs = out.corner_s[3 * k + j];
+      cs = uv + std::round(cs - uv);
+    }
   int positive = 0, negative = 0;
   for (int k = 0; k < s.n_triangles(); ++k) {
     const auto& tri = s.triangles[k];

@@ -2,10 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <queue>
-
 #include "gvkit/core/ict_face_model.hpp"
-#include "gvkit/facemap/block_matching.hpp"
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
 #include "gvkit/facemap/map_metrics.hpp"
@@ -14,28 +11,6 @@
 namespace gvkit::facemap {
 namespace {
 
-// Test-only distance: Dijkstra along edges.
-Result<std::vector<double>> dijkstra(const Mesh& mesh,
-                                     const std::vector<Mesh::VertexHandle>& sources) {
-  std::vector<double> d(mesh.n_vertices(), INFINITY);
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
-  for (auto source : sources) {
-    d[source.idx()] = 0;
-    q.emplace(0, source.idx());
-  }
-  while (!q.empty()) {
-    auto [dv, v] = q.top();
-    q.pop();
-    if (dv > d[v]) continue;
-    for (auto w : mesh.vv_range(Mesh::VertexHandle(v))) {
-      const double nd = dv + (mesh.point(w) - mesh.point(Mesh::VertexHandle(v))).norm();
-      if (nd < d[w.idx()]) d[w.idx()] = nd, q.emplace(nd, w.idx());
-    }
-  }
-  return d;
-}
-
 FaceLandmarks ict_landmarks(const IctFaceModel& model, const std::vector<cv::Vec3d>& pos) {
   FaceLandmarks lm;
   for (int v : model.landmark_vertices())
@@ -43,74 +18,156 @@ FaceLandmarks ict_landmarks(const IctFaceModel& model, const std::vector<cv::Vec
   return lm;
 }
 
-TEST(EipMap, IctExpressions) {
-  GVKIT_REQUIRE_SHARED_DATA(data);
-  auto model = IctFaceModel::load(data / "ict-facekit", {"jawOpen", "mouthSmile_L", "mouthSmile_R",
-                                                         "eyeBlink_L", "browInnerUp_L"});
-  ASSERT_TRUE(model.is_ok());
-  auto spec = CanonicalDomainSpec::from_ict(*model);
-  ASSERT_TRUE(spec.is_ok()) << spec.status().message();
-  const int n = std::getenv("FM2N") ? std::atoi(std::getenv("FM2N")) : 64;
-  auto domain = CanonicalDomain::create(*spec, {n, n});
-  ASSERT_TRUE(domain.is_ok()) << domain.status().message();
-  std::printf("domain extrema %d nonmono %d flipped %d\n",
-              domain->flow().field_report.interior_extrema, domain->flow().boundary_nonmonotone,
-              domain->flow().flipped);
-  std::vector<std::map<std::string, double>> exprs = {
-      {},
-      {{"jawOpen", 0.3}},
-      {{"jawOpen", 0.7}},
-      {{"mouthSmile_L", 0.8}, {"mouthSmile_R", 0.8}},
-      {{"eyeBlink_L", 0.6}},
-      {{"browInnerUp_L", 1.0}},
-      {{"browInnerUp_L", 0.001}}};
-  std::vector<MappedFace> eip, hm;
-  std::vector<std::vector<cv::Vec3d>> positions;
-  for (const auto& e : exprs) {
-    auto pos = model->evaluate(e);
-    const Mesh mesh = model->face_mesh(pos);
-    auto mapped =
-        map_face_eip(mesh, ict_landmarks(*model, pos), *domain,
-                     std::getenv("FM2DIJ") ? DistanceFunction(dijkstra) : heat_geodesic_distance());
+// One 64x64 domain and the ICT model shared by the tests of this file (built once).
+struct Fixture {
+  std::optional<IctFaceModel> model;
+  std::optional<CanonicalDomain> domain;
+};
+const Fixture& fixture() {
+  static Fixture f = [] {
+    Fixture out;
+    const auto data = testing::shared_data_dir();
+    if (data.empty()) return out;
+    auto model = IctFaceModel::load(data / "ict-facekit", {"jawOpen", "mouthSmile_L"});
+    if (!model.is_ok()) return out;
+    auto spec = CanonicalDomainSpec::load_default();
+    if (!spec.is_ok()) return out;
+    auto domain = CanonicalDomain::create(*spec, {64, 64});
+    if (!domain.is_ok()) return out;
+    out.model = std::move(*model);
+    out.domain = std::move(*domain);
+    return out;
+  }();
+  return f;
+}
+
+#define REQUIRE_FIXTURE()                                 \
+  GVKIT_REQUIRE_SHARED_DATA(data_dir);                    \
+  ASSERT_TRUE(fixture().domain.has_value()) << "fixture"; \
+  const IctFaceModel& model = *fixture().model;           \
+  const CanonicalDomain& domain = *fixture().domain
+
+TEST(CanonicalDomain, ShippedSpecMeshesIntoAFlipFreeAnnulus) {
+  REQUIRE_FIXTURE();
+  (void)model;
+  EXPECT_EQ(domain.flow().flipped, 0);
+  EXPECT_EQ(domain.flow().field_report.interior_extrema, 0);
+  EXPECT_GE(domain.flow().field_report.min_free, 0.0);
+  EXPECT_LE(domain.flow().field_report.max_free, 1.0);
+  // 3 holes: some pixels are masked, most are not.
+  const int inside = cv::countNonZero(domain.mask());
+  EXPECT_GT(inside, 64 * 64 * 8 / 10);
+  EXPECT_LT(inside, 64 * 64);
+  // Keys: 36, 45, 60, 64 once; 39, 42 and d's end twice (both sides of a cut); c's middle 3x.
+  EXPECT_EQ(domain.key_names().size(), 13u);
+  EXPECT_EQ(domain.key_names()[0], "36#0");
+}
+
+TEST(EipMap, IctFacesMapWithoutFlipsAndKeysOnTheirCanonicalPixels) {
+  REQUIRE_FIXTURE();
+  for (const auto& weights : std::vector<std::map<std::string, double>>{
+           {}, {{"jawOpen", 0.5}}, {{"mouthSmile_L", 0.8}}}) {
+    const auto pos = model.evaluate(weights);
+    auto mapped = map_face_eip(model.face_mesh(pos), ict_landmarks(model, pos), domain,
+                               heat_geodesic_distance());
     ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
-    auto h = map_face_hm(mesh, ict_landmarks(*model, pos), {n, n});
-    ASSERT_TRUE(h.is_ok()) << h.status().message();
-    std::printf(
-        "EIP stflip %d cornerflip %d/%d extrema %d nonmono %d angle %.3f area %.3f | HM flip %d "
-        "angle %.3f area %.3f\n",
-        mapped->st_flipped, mapped->quality.flipped, mapped->quality.triangles,
-        mapped->interior_extrema, mapped->boundary_nonmonotone, mapped->quality.eps_angle,
-        mapped->quality.eps_area, h->quality.flipped, h->quality.eps_angle, h->quality.eps_area);
-    eip.push_back(std::move(*mapped));
-    hm.push_back(std::move(*h));
-    positions.push_back(pos);
+    // Known shortfall: up to 3 near-zero-area triangles (|area| ~ 1e-6 in (s, t)) flip where the
+    // ICT rim runs down the neck and the flow converges onto it (plain cotan weights).
+    EXPECT_LE(mapped->st_flipped, 3);
+    EXPECT_EQ(mapped->interior_extrema, 0);
+    EXPECT_TRUE(mapped->image.check().is_ok());
+    EXPECT_EQ(cv::countNonZero(mapped->image.domain_mask != domain.mask()), 0);
+    ASSERT_EQ(mapped->keys_px.size(), domain.key_pixels().size());
+    for (const auto& [name, px] : domain.key_pixels()) {
+      ASSERT_TRUE(mapped->keys_px.count(name)) << name;
+      EXPECT_LT((mapped->keys_px.at(name) - px).norm(), 0.5) << name;
+    }
   }
-  for (size_t i = 1; i < exprs.size(); ++i) {
-    auto fd = feature_drift(eip[0].landmarks_px, eip[i].landmarks_px, {36, 39, 42, 45, 60, 62, 64});
-    auto fa = feature_drift(eip[0].landmarks_px, eip[i].landmarks_px,
-                            {17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33,
-                             34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49, 50,
-                             51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67});
-    auto hd = feature_drift(hm[0].landmarks_px, hm[i].landmarks_px, {36, 39, 42, 45, 60, 62, 64});
-    auto td = true_surface_drift(eip[0], eip[i], positions[i]);
-    auto htd = true_surface_drift(hm[0], hm[i], positions[i]);
-    auto bm = block_matching_error(eip[0].image, eip[i].image);
-    auto hbm = block_matching_error(hm[0].image, hm[i].image);
-    std::printf("HM lm8 %.2f %.2f -> %.2f %.2f; lm36 %.2f %.2f -> %.2f %.2f\n",
-                hm[0].landmarks_px[8].x(), hm[0].landmarks_px[8].y(), hm[i].landmarks_px[8].x(),
-                hm[i].landmarks_px[8].y(), hm[0].landmarks_px[36].x(), hm[0].landmarks_px[36].y(),
-                hm[i].landmarks_px[36].x(), hm[i].landmarks_px[36].y());
-    std::printf("EIP lm62 %.2f %.2f -> %.2f %.2f; lm42 %.2f %.2f -> %.2f %.2f\n",
-                eip[0].landmarks_px[62].x(), eip[0].landmarks_px[62].y(),
-                eip[i].landmarks_px[62].x(), eip[i].landmarks_px[62].y(),
-                eip[0].landmarks_px[42].x(), eip[0].landmarks_px[42].y(),
-                eip[i].landmarks_px[42].x(), eip[i].landmarks_px[42].y());
-    std::printf(
-        "expr %zu: EIP key drift mean %.3f max %.3f all-lm mean %.3f | true rms %.3f max %.3f | bm "
-        "%.4f (zero %.4f) || HM key drift mean %.3f max %.3f true rms %.3f bm %.4f (zero %.4f)\n",
-        i, fd.mean, fd.max, fa.mean, td.rms, td.max, bm->mean_mse_mm2, bm->zero_motion_mean_mse_mm2,
-        hd.mean, hd.max, htd.rms, hbm->mean_mse_mm2, hbm->zero_motion_mean_mse_mm2);
+}
+
+TEST(EipMap, SameFaceTwiceGivesTheSameImageAndNoDrift) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({{"jawOpen", 0.2}});
+  const Mesh mesh = model.face_mesh(pos);
+  auto a = map_face_eip(mesh, ict_landmarks(model, pos), domain, heat_geodesic_distance());
+  auto b = map_face_eip(mesh, ict_landmarks(model, pos), domain, heat_geodesic_distance());
+  ASSERT_TRUE(a.is_ok() && b.is_ok());
+  EXPECT_LT(true_surface_drift(*a, *b, pos).max, 1e-9);
+  EXPECT_LT(feature_drift(a->landmarks_px, b->landmarks_px, {36, 39, 42, 45}).max, 1e-9);
+}
+
+TEST(EipMap, MildExpressionKeepsLandmarksAndSurfaceInPlace) {
+  REQUIRE_FIXTURE();
+  const auto p0 = model.evaluate({});
+  const auto p1 = model.evaluate({{"mouthSmile_L", 0.3}});
+  auto a =
+      map_face_eip(model.face_mesh(p0), ict_landmarks(model, p0), domain, heat_geodesic_distance());
+  auto b =
+      map_face_eip(model.face_mesh(p1), ict_landmarks(model, p1), domain, heat_geodesic_distance());
+  ASSERT_TRUE(a.is_ok() && b.is_ok());
+  // Measured 0.85 px at 64x64 (the landmark vertices sit 1-3 mm off the eye boundary, so they
+  // are not pinned exactly); see docs/benchmarks.md for the full figures.
+  EXPECT_LT(feature_drift(a->landmarks_px, b->landmarks_px, {36, 39, 42, 45}).max, 1.0);
+  const DriftStats truth = true_surface_drift(*a, *b, p1);
+  EXPECT_GT(truth.count, 2000);
+  EXPECT_LT(truth.rms, 10.0);
+}
+
+TEST(EipMap, BadInputIsRejectedWithAReason) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({});
+  const FaceLandmarks landmarks = ict_landmarks(model, pos);
+  // A fifth boundary: one triangle removed from the cheek.
+  {
+    Mesh mesh = model.face_mesh(pos);
+    mesh.delete_face(Mesh::FaceHandle(100), false);
+    mesh.garbage_collection();
+    auto r = map_face_eip(mesh, landmarks, domain, heat_geodesic_distance());
+    ASSERT_FALSE(r.is_ok());
+    EXPECT_NE(r.status().message().find("5 boundary loops"), std::string::npos)
+        << r.status().message();
   }
+  // A degenerate triangle: one vertex moved onto its neighbour.
+  {
+    Mesh mesh = model.face_mesh(pos);
+    const auto v = Mesh::VertexHandle(500);
+    const auto w = *mesh.vv_range(v).begin();
+    mesh.set_point(v, mesh.point(w));
+    auto r = map_face_eip(mesh, landmarks, domain, heat_geodesic_distance());
+    ASSERT_FALSE(r.is_ok());
+    EXPECT_NE(r.status().message().find("degenerate triangle"), std::string::npos)
+        << r.status().message();
+  }
+  // A landmark far from the eye boundary it names.
+  {
+    FaceLandmarks moved = landmarks;
+    moved.points_mm[39][2] += 60.f;
+    auto r = map_face_eip(model.face_mesh(pos), moved, domain, heat_geodesic_distance());
+    ASSERT_FALSE(r.is_ok());
+    EXPECT_NE(r.status().message().find("landmark 39"), std::string::npos) << r.status().message();
+  }
+  // Too few landmarks.
+  {
+    FaceLandmarks few = landmarks;
+    few.points_mm.resize(10);
+    auto r = map_face_eip(model.face_mesh(pos), few, domain, heat_geodesic_distance());
+    ASSERT_FALSE(r.is_ok());
+    EXPECT_NE(r.status().message().find("68"), std::string::npos);
+  }
+}
+
+TEST(HarmonicMapBaseline, MapsTheFilledFaceOntoTheSquare) {
+  REQUIRE_FIXTURE();
+  (void)domain;
+  const auto pos = model.evaluate({{"jawOpen", 0.3}});
+  auto hm = map_face_hm(model.face_mesh(pos), ict_landmarks(model, pos), {64, 64});
+  ASSERT_TRUE(hm.is_ok()) << hm.status().message();
+  EXPECT_TRUE(hm->image.check().is_ok());
+  EXPECT_EQ(cv::countNonZero(hm->image.domain_mask), 64 * 64);
+  // The subject's right eye (36) is on the image's left, the chin (8) near the bottom middle.
+  EXPECT_LT(hm->landmarks_px[36].x(), hm->landmarks_px[45].x());
+  EXPECT_GT(hm->landmarks_px[8].y(), 32.0);
+  EXPECT_NEAR(hm->landmarks_px[8].x(), 31.5, 3.0);
 }
 
 }  // namespace

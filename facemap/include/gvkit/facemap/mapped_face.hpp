@@ -3,6 +3,7 @@
 // what the metrics need (where every pixel's sample came from, where the landmarks went, the
 // map's distortion).
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct MappedFace {
   // empty outside the domain mask.
   std::vector<SourceWeights> pixel_source;
   std::vector<Eigen::Vector2d> landmarks_px;  // the 68 landmarks in the domain (x right, y down)
+  // EIP only: where this frame's boundary key points (eye corners, mouth corners, cut ends)
+  // landed in the domain, by key name (see CanonicalDomain::key_pixels for where they belong).
+  std::map<std::string, Eigen::Vector2d> keys_px;
   MapQuality quality;
   int unmapped_pixels = 0;       // domain pixels no triangle covered (filled from neighbours)
   int interior_extrema = 0;      // of the harmonic field(s)
