@@ -39,4 +39,19 @@ void add_record_command(CLI::App& app);
 void add_facemap_command(CLI::App& app);
 void add_facemap_clean_command(CLI::App& facemap);
 
+// The `gvkit facemap` subcommand group, created by whichever facemap subcommand registers first.
+inline CLI::App* facemap_group(CLI::App& app) {
+  try {
+    return app.get_subcommand("facemap");
+  } catch (const CLI::OptionNotFound&) {
+    auto* group = app.add_subcommand("facemap", "Face meshes to geometry images on one domain");
+    group->require_subcommand(1);
+    return group;
+  }
+}
+void add_facemap_map_command(CLI::App& app);
+void add_facemap_compare_command(CLI::App& app);
+void add_facemap_make_domain_command(CLI::App& app);
+void add_facemap_ict_sequence_command(CLI::App& app);
+
 }  // namespace gvkit::tools

@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
   gvkit::tools::add_record_command(app);
   // --- end capture (live) ---
   gvkit::tools::add_facemap_command(app);
+  gvkit::tools::add_facemap_map_command(app);
+  gvkit::tools::add_facemap_compare_command(app);
+  gvkit::tools::add_facemap_make_domain_command(app);
+  gvkit::tools::add_facemap_ict_sequence_command(app);
 
   try {
     app.parse(argc, argv);

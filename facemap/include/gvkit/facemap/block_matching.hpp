@@ -1,0 +1,30 @@
+#pragma once
+// Temporal coherence of a geometry video as in the seed's Fig. 8.6: the mean squared error per
+// channel (X, Y, Z, mm^2) left after full-search block matching of each block of the current
+// frame against the previous frame. Only pixels inside both frames' domain masks count.
+
+#include <array>
+
+#include "gvkit/core/geometry_image.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::facemap {
+
+struct BlockMatchingOptions {
+  int block_size = 16;    // px, H.264's macroblock
+  int search_range = 16;  // px either way: a 32x32 full-search window
+  Status check() const;
+};
+
+struct BlockMatchingError {
+  std::array<double, 3> mse_mm2{};      // X, Y, Z
+  double mean_mse_mm2 = 0;              // mean of the three
+  double zero_motion_mean_mse_mm2 = 0;  // the same without motion search, for reference
+};
+
+// Fails when the images differ in size or type.
+Result<BlockMatchingError> block_matching_error(const GeometryImage& reference,
+                                                const GeometryImage& current,
+                                                const BlockMatchingOptions& options = {});
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,36 @@
+#pragma once
+// The flow coordinates (s, t) of an annulus (steps 5-8 of the seed's Algorithm 1): t = f, the
+// harmonic field that is 0 on the outer and 1 on the inner boundary, and s = where the integral
+// curve of grad f through the point meets the inner boundary, as a boundary parameter in [0, 1).
+// The integral curves are the level sets of f's harmonic conjugate psi, so s = Phi(psi) with
+// Phi the inner boundary's map from psi to the boundary parameter. The boundary parameter is
+// piecewise arc length between key points with given canonical parameters (the boundary
+// correspondence h), or plain arc length when none are given.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gvkit/core/status.hpp"
+#include "gvkit/facemap/face_annulus.hpp"
+#include "gvkit/facemap/harmonic_field.hpp"
+
+namespace gvkit::facemap {
+
+struct FlowCoordinates {
+  std::vector<double> t;  // per surface vertex, in [0, 1]
+  // Per triangle corner [3k + j]: s, continuous within each triangle (it may leave [0, 1) by
+  // less than one period for triangles on the seam; s and s +- 1 are the same curve).
+  std::vector<double> corner_s;
+  std::map<std::string, double> key_u;  // boundary parameter of each key
+  HarmonicFieldReport field_report;
+  int boundary_nonmonotone = 0;  // inner-boundary steps where psi did not increase
+  int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
+};
+
+// key_u: canonical boundary parameter of every key of annulus (from the canonical domain); the
+// names must match annulus.key_names() exactly. Empty: plain arc length from keys[0].
+Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
+                                         const std::map<std::string, double>& key_u = {});
+
+}  // namespace gvkit::facemap

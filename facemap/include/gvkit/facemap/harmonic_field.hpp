@@ -1,0 +1,46 @@
+#pragma once
+// Harmonic fields on a TriSurface with the cotangent Laplacian: the Dirichlet problem (f = 0 on
+// one boundary, 1 on another: step 5 of the seed's Algorithm 1) and the harmonic conjugate of
+// such an f on an annulus, whose level sets are the integral curves of grad f.
+
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "gvkit/core/status.hpp"
+#include "gvkit/facemap/tri_surface.hpp"
+
+namespace gvkit::facemap {
+
+// Cotangent stiffness matrix L (symmetric positive semi-definite: L_ij = -w_ij, L_ii = sum w_ij,
+// w_ij = (cot alpha + cot beta) / 2).
+Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface);
+
+// Solves L f = 0 at free vertices with f = value at the fixed ones (fixed[i] >= 0 marks vertex
+// i fixed to value[i]). Fails when the factorization fails (a singular system).
+Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
+                                            const std::vector<char>& fixed,
+                                            const std::vector<double>& value);
+
+// How well a discrete harmonic field keeps the maximum principle.
+struct HarmonicFieldReport {
+  int interior_extrema = 0;  // free vertices that are a strict local min or max among neighbours
+  double min_free = 0, max_free = 0;  // range over free vertices (inside [0, 1] when it holds)
+  double residual = 0;                // max |L f| over free vertices
+};
+HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
+                                         const Eigen::SparseMatrix<double>& laplacian,
+                                         const std::vector<char>& fixed,
+                                         const std::vector<double>& f);
+
+// The harmonic conjugate of the Dirichlet field f (0 outer, 1 inner) on an annulus, up to scale, as
+// per-corner values psi (triangle k, corner j at [3k + j]): psi is harmonic with zero normal
+// derivative on both boundaries and jumps by 1 across a seam from inner_loop[0] to the outer
+// boundary, so it is single-valued per triangle. Its values increase by exactly 1 around inner_loop
+// in loop order.
+Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
+                                               const Eigen::SparseMatrix<double>& laplacian,
+                                               const std::vector<int>& inner_loop,
+                                               const std::vector<int>& outer_loop);
+
+}  // namespace gvkit::facemap

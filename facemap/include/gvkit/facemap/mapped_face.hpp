@@ -1,0 +1,45 @@
+#pragma once
+// MappedFace: one frame mapped onto a parameter domain and resampled as a geometry image, with
+// what the metrics need (where every pixel's sample came from, where the landmarks went, the
+// map's distortion).
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gvkit/core/geometry_image.hpp"
+#include "gvkit/facemap/tri_surface.hpp"
+
+namespace gvkit::facemap {
+
+// Quality of a map from a triangle surface (mm) to the domain (px). Distortions follow the
+// seed (section 4): with sigma1 >= sigma2 the singular values of each triangle's Jacobian
+// (scaled so the total areas agree), eps_angle = mean of (s1/s2 + s2/s1) / 2 and eps_area =
+// mean of (s1 s2 + 1/(s1 s2)) / 2, weighted by surface area; both are 1 for an isometry.
+struct MapQuality {
+  int triangles = 0;
+  int flipped = 0;   // triangles mapped with reversed orientation or zero area
+  int unmapped = 0;  // triangles or pixels the map could not place (see the producer)
+  double eps_angle = 1, eps_area = 1;
+};
+
+struct MappedFace {
+  GeometryImage image;
+  // Per pixel (row-major), the input-mesh vertices and weights of the sampled surface point;
+  // empty outside the domain mask.
+  std::vector<SourceWeights> pixel_source;
+  std::vector<Eigen::Vector2d> landmarks_px;  // the 68 landmarks in the domain (x right, y down)
+  // EIP only: where this frame's boundary key points (eye corners, mouth corners, cut ends)
+  // landed in the domain, by key name (see CanonicalDomain::key_pixels for where they belong).
+  std::map<std::string, Eigen::Vector2d> keys_px;
+  MapQuality quality;
+  int unmapped_pixels = 0;       // domain pixels no triangle covered (filled from neighbours)
+  int interior_extrema = 0;      // of the harmonic field(s)
+  int boundary_nonmonotone = 0;  // inner-boundary steps where the conjugate did not increase
+  int st_flipped = 0;  // triangles flipped in the flow coordinates (s, t) before resampling
+  std::vector<std::string> warnings;
+};
+
+}  // namespace gvkit::facemap

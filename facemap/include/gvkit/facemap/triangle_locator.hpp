@@ -1,0 +1,34 @@
+#pragma once
+// Point location among 2D triangles (a triangulation's image in a parameter plane): a uniform
+// grid of bins, each listing the triangles whose bounding box overlaps it.
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gvkit::facemap {
+
+class TriangleLocator {
+ public:
+  struct Hit {
+    int triangle = -1;
+    std::array<double, 3> barycentric{};  // of the point in that triangle
+  };
+
+  // corners[3k + j] is corner j of triangle k. bins_per_side ~ sqrt(#triangles) when 0.
+  explicit TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_per_side = 0);
+
+  // The triangle containing p (barycentrics >= -tolerance); among several, the one whose
+  // smallest barycentric is largest. triangle = -1 when none.
+  Hit locate(const Eigen::Vector2d& p, double tolerance = 1e-9) const;
+  int n_triangles() const { return static_cast<int>(corners_.size() / 3); }
+
+ private:
+  std::vector<Eigen::Vector2d> corners_;
+  Eigen::Vector2d lo_, hi_;
+  int nx_ = 1, ny_ = 1;
+  std::vector<int> bin_start_, bin_items_;
+};
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,188 @@
+#include "gvkit/facemap/eip_map.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "gvkit/facemap/map_metrics.hpp"
+#include "gvkit/facemap/triangle_locator.hpp"
+
+namespace gvkit::facemap {
+
+DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
+  return [options](const Mesh& mesh,
+                   const std::vector<Mesh::VertexHandle>& sources) -> Result<std::vector<double>> {
+    GVKIT_RETURN_IF_ERROR(options.check());
+    const HeatGeodesics heat(mesh, options);
+    std::vector<double> d = heat.distance(sources);
+    for (double x : d)
+      if (!std::isfinite(x))
+        return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
+    return d;
+  };
+}
+
+std::vector<int> nearest_vertices(const Mesh& mesh, const FaceLandmarks& landmarks) {
+  std::vector<int> out;
+  for (const auto& q : landmarks.points_mm) {
+    const Mesh::Point p(q[0], q[1], q[2]);
+    double best = std::numeric_limits<double>::infinity();
+    int best_v = -1;
+    for (auto v : mesh.vertices()) {
+      const double d = (mesh.point(v) - p).sqrnorm();
+      if (d < best) best = d, best_v = v.idx();
+    }
+    out.push_back(best_v);
+  }
+  return out;
+}
+
+int fill_unmapped_pixels(GeometryImage& image, const cv::Mat& filled_in) {
+  cv::Mat filled = filled_in.clone();
+  const cv::Mat& mask = image.domain_mask;
+  int count = 0;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (mask.at<uint8_t>(y, x) && !filled.at<uint8_t>(y, x)) ++count;
+  int remaining = count;
+  while (remaining > 0) {
+    int progress = 0;
+    cv::Mat next = filled.clone();
+    for (int y = 0; y < mask.rows; ++y)
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!mask.at<uint8_t>(y, x) || filled.at<uint8_t>(y, x)) continue;
+        cv::Vec3f sum(0, 0, 0);
+        float tex = 0;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int yy = y + dy, xx = x + dx;
+            if (yy < 0 || xx < 0 || yy >= mask.rows || xx >= mask.cols) continue;
+            if (!filled.at<uint8_t>(yy, xx)) continue;
+            sum += image.xyz_mm.at<cv::Vec3f>(yy, xx);
+            if (!image.texture.empty()) tex += image.texture.at<float>(yy, xx);
+            ++n;
+          }
+        if (n == 0) continue;
+        image.xyz_mm.at<cv::Vec3f>(y, x) = sum / n;
+        if (!image.texture.empty()) image.texture.at<float>(y, x) = tex / n;
+        next.at<uint8_t>(y, x) = 255;
+        ++progress;
+      }
+    filled = next;
+    remaining -= progress;
+    if (progress == 0) break;
+  }
+  return count;
+}
+
+Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks,
+                                const CanonicalDomain& domain, const DistanceFunction& distance,
+                                const EipOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  GVKIT_ASSIGN_OR_RETURN(FaceAnnulus annulus,
+                         make_face_annulus(mesh, landmarks, distance, options.annulus));
+  MappedFace out;
+  if (annulus.key_names() != domain.key_names()) {
+    annulus.reverse_orientation();
+    if (annulus.key_names() != domain.key_names())
+      return failed_precondition(
+          "boundary correspondence: the key points (eye corners, mouth, cut ends) lie in a "
+          "different order on this face than on the canonical domain");
+    out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
+  }
+  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow, flow_coordinates(annulus, domain.key_u()));
+  out.interior_extrema = flow.field_report.interior_extrema;
+  out.boundary_nonmonotone = flow.boundary_nonmonotone;
+  out.st_flipped = flow.flipped;
+  const TriSurface& s = annulus.surface;
+
+  std::vector<Eigen::Vector2d> st_corners(3 * s.n_triangles());
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j)
+      st_corners[3 * k + j] = {flow.corner_s[3 * k + j], flow.t[s.triangles[k][j]]};
+  const TriangleLocator locator(st_corners);
+
+  const cv::Size size = domain.size();
+  GeometryImage& image = out.image;
+  image.xyz_mm = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
+  const bool colours = !s.colour.empty();
+  if (colours) image.texture = cv::Mat(size, CV_32F, cv::Scalar(0));
+  image.domain_mask = domain.mask().clone();
+  out.pixel_source.resize(size.area());
+  cv::Mat filled = cv::Mat::zeros(size, CV_8U);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      if (!image.domain_mask.at<uint8_t>(y, x)) continue;
+      const Eigen::Vector2d st = domain.st(x, y);
+      TriangleLocator::Hit best;
+      double best_min = -INFINITY;
+      for (double shift : {0.0, 1.0, -1.0}) {
+        const auto hit = locator.locate({st.x() + shift, st.y()}, 1e-6);
+        if (hit.triangle < 0) continue;
+        const double mn = std::min({hit.barycentric[0], hit.barycentric[1], hit.barycentric[2]});
+        if (mn > best_min) best_min = mn, best = hit;
+        if (mn >= 0) break;
+      }
+      if (best.triangle < 0) continue;
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      float tex = 0;
+      SourceWeights src;
+      for (int j = 0; j < 3; ++j) {
+        const int v = s.triangles[best.triangle][j];
+        const double w = std::clamp(best.barycentric[j], 0.0, 1.0);
+        p += w * s.xyz[v];
+        if (colours)
+          tex += static_cast<float>(w) * (s.colour[v][0] + s.colour[v][1] + s.colour[v][2]) / 3.f;
+        for (const auto& sw : s.source[v]) src.push_back({sw.vertex, sw.weight * w});
+      }
+      double wsum = 0;
+      for (int j = 0; j < 3; ++j) wsum += std::clamp(best.barycentric[j], 0.0, 1.0);
+      p /= wsum;
+      for (auto& sw : src) sw.weight /= wsum;
+      image.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(p.x(), p.y(), p.z());
+      if (colours) image.texture.at<float>(y, x) = tex / static_cast<float>(wsum);
+      out.pixel_source[y * size.width + x] = std::move(src);
+      filled.at<uint8_t>(y, x) = 255;
+    }
+  out.unmapped_pixels = fill_unmapped_pixels(image, filled);
+
+  // Landmarks: the flow coordinates of their nearest vertex, located in D.
+  std::vector<int> corner_of_input(mesh.n_vertices(), -1);
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const auto& src = s.source[s.triangles[k][j]];
+      if (src.size() == 1 && corner_of_input[src[0].vertex] < 0)
+        corner_of_input[src[0].vertex] = 3 * k + j;
+    }
+  for (int v : nearest_vertices(mesh, landmarks)) {
+    const int c = v >= 0 ? corner_of_input[v] : -1;
+    out.landmarks_px.push_back(c < 0 ? Eigen::Vector2d::Constant(NAN)
+                                     : domain.pixel_of(st_corners[c].x(), st_corners[c].y()));
+  }
+
+  // Boundary key points: the flow coordinates of their vertex, located in D.
+  for (const auto& key : annulus.keys) {
+    const int v = annulus.inner_loop[key.position];
+    for (int k = 0; k < s.n_triangles() && !out.keys_px.count(key.name); ++k)
+      for (int j = 0; j < 3; ++j)
+        if (s.triangles[k][j] == v) {
+          out.keys_px[key.name] = domain.pixel_of(flow.corner_s[3 * k + j], flow.t[v]);
+          break;
+        }
+  }
+
+  if (options.measure_quality) {
+    std::vector<Eigen::Vector3d> xyz(3 * s.n_triangles());
+    std::vector<Eigen::Vector2d> uv(3 * s.n_triangles());
+    for (int k = 0; k < s.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j) {
+        xyz[3 * k + j] = s.xyz[s.triangles[k][j]];
+        uv[3 * k + j] = domain.pixel_of(st_corners[3 * k + j].x(), st_corners[3 * k + j].y());
+      }
+    // Counter-clockwise seen from the front is clockwise in pixels (y down): negative area.
+    out.quality = measure_map_quality(xyz, uv, -1);
+  }
+  return out;
+}
+
+}  // namespace gvkit::facemap

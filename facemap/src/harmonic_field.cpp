@@ -1,0 +1,279 @@
+#include "gvkit/facemap/harmonic_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <queue>
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+
+namespace gvkit::facemap {
+namespace {
+
+// Half cotangents of the three angles of a triangle: [k] is for the angle at corner k.
+std::array<double, 3> half_cotangents(const TriSurface& s, const std::array<int, 3>& t) {
+  std::array<double, 3> c{};
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d a = s.xyz[t[(k + 1) % 3]] - s.xyz[t[k]];
+    const Eigen::Vector3d b = s.xyz[t[(k + 2) % 3]] - s.xyz[t[k]];
+    const double sin2 = a.cross(b).norm();
+    c[k] = sin2 > 0 ? 0.5 * a.dot(b) / sin2 : 0.0;
+  }
+  return c;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(surface.triangles.size() * 12);
+  for (const auto& t : surface.triangles) {
+    const auto c = half_cotangents(surface, t);
+    for (int k = 0; k < 3; ++k) {
+      // The edge opposite corner k joins i and j.
+      const int i = t[(k + 1) % 3], j = t[(k + 2) % 3];
+      triplets.emplace_back(i, j, -c[k]);
+      triplets.emplace_back(j, i, -c[k]);
+      triplets.emplace_back(i, i, c[k]);
+      triplets.emplace_back(j, j, c[k]);
+    }
+  }
+  Eigen::SparseMatrix<double> l(surface.n_vertices(), surface.n_vertices());
+  l.setFromTriplets(triplets.begin(), triplets.end());
+  return l;
+}
+
+Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
+                                            const std::vector<char>& fixed,
+                                            const std::vector<double>& value) {
+  const int n = static_cast<int>(laplacian.rows());
+  GVKIT_CHECK(static_cast<int>(fixed.size()) == n && static_cast<int>(value.size()) == n);
+  std::vector<int> index(n, -1);
+  int n_free = 0;
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) index[i] = n_free++;
+  std::vector<double> f(n);
+  for (int i = 0; i < n; ++i)
+    if (fixed[i]) f[i] = value[i];
+  if (n_free == 0) return f;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
+  for (int col = 0; col < n; ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it) {
+      const int row = static_cast<int>(it.row());
+      if (fixed[row]) continue;
+      if (fixed[col])
+        rhs[index[row]] -= it.value() * value[col];
+      else
+        triplets.emplace_back(index[row], index[col], it.value());
+    }
+  Eigen::SparseMatrix<double> a(n_free, n_free);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
+  if (solver.info() != Eigen::Success)
+    return failed_precondition("harmonic field: the Laplacian system could not be factorized");
+  const Eigen::VectorXd x = solver.solve(rhs);
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) f[i] = x[index[i]];
+  if (!x.allFinite()) return failed_precondition("harmonic field: the solution is not finite");
+  return f;
+}
+
+HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
+                                         const Eigen::SparseMatrix<double>& laplacian,
+                                         const std::vector<char>& fixed,
+                                         const std::vector<double>& f) {
+  HarmonicFieldReport r;
+  const int n = surface.n_vertices();
+  std::vector<double> lo(n, std::numeric_limits<double>::infinity()),
+      hi(n, -std::numeric_limits<double>::infinity());
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k)
+      for (int m = 1; m < 3; ++m) {
+        const int i = t[k], j = t[(k + m) % 3];
+        lo[i] = std::min(lo[i], f[j]);
+        hi[i] = std::max(hi[i], f[j]);
+      }
+  r.min_free = std::numeric_limits<double>::infinity();
+  r.max_free = -std::numeric_limits<double>::infinity();
+  Eigen::VectorXd fv = Eigen::Map<const Eigen::VectorXd>(f.data(), n);
+  const Eigen::VectorXd lf = laplacian * fv;
+  for (int i = 0; i < n; ++i) {
+    if (fixed[i]) continue;
+    r.min_free = std::min(r.min_free, f[i]);
+    r.max_free = std::max(r.max_free, f[i]);
+    if (f[i] < lo[i] || f[i] > hi[i]) ++r.interior_extrema;
+    r.residual = std::max(r.residual, std::abs(lf[i]));
+  }
+  return r;
+}
+
+Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
+                                               const Eigen::SparseMatrix<double>& laplacian,
+                                               const std::vector<int>& inner_loop,
+                                               const std::vector<int>& outer_loop) {
+  const int n = surface.n_vertices();
+  // Seam: shortest path (by length) from inner_loop[0] through interior vertices to the outer
+  // boundary.
+  std::vector<char> on_inner(n, 0), on_outer(n, 0);
+  for (int v : inner_loop) on_inner[v] = 1;
+  for (int v : outer_loop) on_outer[v] = 1;
+  std::vector<std::vector<int>> neighbours(n);
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) neighbours[t[k]].push_back(t[(k + 1) % 3]);
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  std::vector<int> parent(n, -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  const int start = inner_loop[0];
+  dist[start] = 0;
+  queue.emplace(0.0, start);
+  int end = -1;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v]) continue;
+    if (on_outer[v]) {
+      end = v;
+      break;
+    }
+    for (int w : neighbours[v]) {
+      if (on_inner[w]) continue;
+      const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
+      if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+    }
+  }
+  // neighbours holds only the successor of each vertex per triangle; walk both directions.
+  if (end < 0) {
+    for (const auto& t : surface.triangles)
+      for (int k = 0; k < 3; ++k) neighbours[t[(k + 1) % 3]].push_back(t[k]);
+    std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
+    dist[start] = 0;
+    queue = {};
+    queue.emplace(0.0, start);
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > dist[v]) continue;
+      if (on_outer[v]) {
+        end = v;
+        break;
+      }
+      for (int w : neighbours[v]) {
+        if (on_inner[w]) continue;
+        const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
+        if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+      }
+    }
+  }
+  if (end < 0)
+    return failed_precondition(
+        "harmonic conjugate: the inner and outer boundaries are not "
+        "connected");
+  std::vector<int> seam;
+  for (int v = end; v >= 0; v = parent[v]) seam.push_back(v);
+  std::reverse(seam.begin(), seam.end());  // seam[0] = start on the inner boundary
+
+  // Corners at seam vertices on the left of the seam (seen along its direction) get +1.
+  std::map<std::pair<int, int>, int> face_of_directed_edge;
+  for (int k = 0; k < surface.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j)
+      face_of_directed_edge[{surface.triangles[k][j], surface.triangles[k][(j + 1) % 3]}] = k;
+  std::map<std::pair<int, int>, char> is_seam_edge;
+  for (size_t i = 1; i < seam.size(); ++i) {
+    is_seam_edge[{seam[i - 1], seam[i]}] = 1;
+    is_seam_edge[{seam[i], seam[i - 1]}] = 1;
+  }
+  std::vector<double> jump(surface.n_triangles() * 3, 0.0);
+  for (size_t i = 0; i < seam.size(); ++i) {
+    const int v = seam[i];
+    // A face left of the seam at v: left of (v -> next), or of (prev -> v) at the end.
+    auto it = i + 1 < seam.size() ? face_of_directed_edge.find({v, seam[i + 1]})
+                                  : face_of_directed_edge.find({seam[i - 1], v});
+    GVKIT_CHECK(it != face_of_directed_edge.end());
+    // Flood the fan of v from that face across edges at v that are neither seam nor boundary.
+    std::vector<int> stack = {it->second};
+    std::map<int, char> visited;
+    while (!stack.empty()) {
+      const int k = stack.back();
+      stack.pop_back();
+      if (visited[k]) continue;
+      visited[k] = 1;
+      const auto& t = surface.triangles[k];
+      int slot = 0;
+      while (t[slot] != v) ++slot;
+      jump[3 * k + slot] = 1.0;
+      for (int w : {t[(slot + 1) % 3], t[(slot + 2) % 3]}) {
+        if (is_seam_edge.count({v, w})) continue;
+        for (auto e : {std::make_pair(v, w), std::make_pair(w, v)}) {
+          auto f = face_of_directed_edge.find(e);
+          if (f != face_of_directed_edge.end() && !visited[f->second]) stack.push_back(f->second);
+        }
+      }
+    }
+  }
+
+  // Minimize sum_t sum_edges w (theta_i + J_i - theta_j - J_j)^2 with theta pinned at start.
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (int k = 0; k < surface.n_triangles(); ++k) {
+    const auto& t = surface.triangles[k];
+    const auto c = half_cotangents(surface, t);
+    for (int m = 0; m < 3; ++m) {
+      const int a = (m + 1) % 3, b = (m + 2) % 3;
+      const double dj = jump[3 * k + a] - jump[3 * k + b];
+      rhs[t[a]] -= c[m] * dj;
+      rhs[t[b]] += c[m] * dj;
+    }
+  }
+  std::vector<char> fixed(n, 0);
+  fixed[start] = 1;
+  std::vector<int> index(n, -1);
+  int n_free = 0;
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) index[i] = n_free++;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::VectorXd b(n_free);
+  for (int i = 0; i < n; ++i)
+    if (!fixed[i]) b[index[i]] = rhs[i];
+  for (int col = 0; col < n; ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
+      if (!fixed[it.row()] && !fixed[col])
+        triplets.emplace_back(index[it.row()], index[col], it.value());
+  Eigen::SparseMatrix<double> a(n_free, n_free);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
+  if (solver.info() != Eigen::Success)
+    return failed_precondition("harmonic conjugate: the system could not be factorized");
+  const Eigen::VectorXd x = solver.solve(b);
+  if (!x.allFinite()) return failed_precondition("harmonic conjugate: solution not finite");
+  std::vector<double> psi(surface.n_triangles() * 3);
+  for (int k = 0; k < surface.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const int v = surface.triangles[k][j];
+      psi[3 * k + j] = (fixed[v] ? 0.0 : x[index[v]]) + jump[3 * k + j];
+    }
+  // Orient: psi must increase by +1 going once around inner_loop in loop order.
+  double total = 0;
+  const int m = static_cast<int>(inner_loop.size());
+  for (int i = 0; i < m; ++i) {
+    const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
+    auto it = face_of_directed_edge.find({u, w});
+    GVKIT_CHECK(it != face_of_directed_edge.end(), "inner loop follows boundary halfedges");
+    const auto& t = surface.triangles[it->second];
+    int su = 0, sw = 0;
+    while (t[su] != u) ++su;
+    while (t[sw] != w) ++sw;
+    total += psi[3 * it->second + sw] - psi[3 * it->second + su];
+  }
+  if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
+    return failed_precondition("harmonic conjugate: period around the inner boundary is " +
+                               std::to_string(total) + ", not +-1");
+  if (total < 0)
+    for (double& p : psi) p = -p;
+  return psi;
+}
+
+}  // namespace gvkit::facemap

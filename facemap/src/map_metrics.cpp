@@ -1,0 +1,109 @@
+#include "gvkit/facemap/map_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+namespace gvkit::facemap {
+
+MapQuality measure_map_quality(const std::vector<Eigen::Vector3d>& xyz,
+                               const std::vector<Eigen::Vector2d>& uv, int orientation) {
+  GVKIT_CHECK(xyz.size() == uv.size() && xyz.size() % 3 == 0);
+  MapQuality q;
+  q.triangles = static_cast<int>(xyz.size() / 3);
+  struct Tri {
+    double area3d;
+    Eigen::Matrix2d jacobian;  // of uv with respect to the triangle's own 2D frame
+  };
+  std::vector<Tri> good;
+  double total3d = 0, total_uv = 0;
+  for (int k = 0; k < q.triangles; ++k) {
+    const Eigen::Vector3d& p0 = xyz[3 * k];
+    const Eigen::Vector2d& u0 = uv[3 * k];
+    if (!u0.allFinite() || !uv[3 * k + 1].allFinite() || !uv[3 * k + 2].allFinite()) {
+      ++q.unmapped;
+      continue;
+    }
+    const Eigen::Vector2d du1 = uv[3 * k + 1] - u0, du2 = uv[3 * k + 2] - u0;
+    const double signed_uv = 0.5 * (du1.x() * du2.y() - du1.y() * du2.x()) * orientation;
+    if (!(signed_uv > 0)) {
+      ++q.flipped;
+      continue;
+    }
+    const Eigen::Vector3d e1 = xyz[3 * k + 1] - p0, e2 = xyz[3 * k + 2] - p0;
+    const double len1 = e1.norm();
+    const Eigen::Vector3d n = e1.cross(e2);
+    const double area = 0.5 * n.norm();
+    if (!(area > 0) || !(len1 > 0)) continue;
+    const Eigen::Vector3d ax = e1 / len1, ay = n.normalized().cross(ax);
+    Eigen::Matrix2d x;  // columns: e1, e2 in the local frame
+    x << len1, e2.dot(ax), 0, e2.dot(ay);
+    Eigen::Matrix2d u;
+    u << du1.x(), du2.x(), du1.y(), du2.y();
+    good.push_back({area, u * x.inverse()});
+    total3d += area;
+    total_uv += signed_uv;
+  }
+  if (good.empty() || !(total_uv > 0)) return q;
+  const double scale = std::sqrt(total3d / total_uv);  // uv -> mm so that the areas agree
+  double angle = 0, area_d = 0;
+  for (const Tri& t : good) {
+    Eigen::JacobiSVD<Eigen::Matrix2d> svd(t.jacobian * scale);
+    const double s1 = svd.singularValues()[0], s2 = std::max(svd.singularValues()[1], 1e-300);
+    angle += t.area3d * 0.5 * (s1 / s2 + s2 / s1);
+    area_d += t.area3d * 0.5 * (s1 * s2 + 1.0 / (s1 * s2));
+  }
+  q.eps_angle = angle / total3d;
+  q.eps_area = area_d / total3d;
+  return q;
+}
+
+namespace {
+
+DriftStats summarize(const std::vector<double>& d) {
+  DriftStats s;
+  s.count = static_cast<int>(d.size());
+  if (d.empty()) return s;
+  double sum = 0, sum2 = 0;
+  for (double x : d) sum += x, sum2 += x * x, s.max = std::max(s.max, x);
+  s.mean = sum / s.count;
+  s.rms = std::sqrt(sum2 / s.count);
+  return s;
+}
+
+}  // namespace
+
+DriftStats feature_drift(const std::vector<Eigen::Vector2d>& a,
+                         const std::vector<Eigen::Vector2d>& b, const std::vector<int>& indices) {
+  std::vector<double> d;
+  for (int i : indices) {
+    if (i < 0 || i >= static_cast<int>(a.size()) || i >= static_cast<int>(b.size())) continue;
+    if (!a[i].allFinite() || !b[i].allFinite()) continue;
+    d.push_back((a[i] - b[i]).norm());
+  }
+  return summarize(d);
+}
+
+DriftStats true_surface_drift(const MappedFace& a, const MappedFace& b,
+                              const std::vector<cv::Vec3d>& positions_b_mm) {
+  GVKIT_CHECK(a.pixel_source.size() == b.pixel_source.size(), "same domain size");
+  auto point = [&](const SourceWeights& w) {
+    cv::Vec3d p(0, 0, 0);
+    for (const auto& s : w) {
+      GVKIT_CHECK(s.vertex >= 0 && s.vertex < static_cast<int>(positions_b_mm.size()),
+                  "correspondence needs the same vertex indices in both frames");
+      p += s.weight * positions_b_mm[s.vertex];
+    }
+    return p;
+  };
+  std::vector<double> d;
+  for (size_t i = 0; i < a.pixel_source.size(); ++i) {
+    if (a.pixel_source[i].empty() || b.pixel_source[i].empty()) continue;
+    d.push_back(cv::norm(point(a.pixel_source[i]) - point(b.pixel_source[i])));
+  }
+  return summarize(d);
+}
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,51 @@
+#include <gtest/gtest.h>
+
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/json_io.hpp"
+#include "support/test_support.hpp"
+
+namespace gvkit {
+namespace {
+
+TEST(FacemapCli, MapsAnIctSequenceWithBothMethodsAndCompares) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  testing::TempDir dir;
+  const std::string faces = (dir / "faces").string();
+  auto r = testing::run_gvkit("facemap ict-sequence " + (data / "ict-facekit").string() + " -o " +
+                              faces + " --frames 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const std::string method : {"eip", "hm"}) {
+    r = testing::run_gvkit("facemap map " + faces + " -o " + (dir / method).string() +
+                           " --size 64x64 --same-vertices --method " + method);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto image = read_geometry_image_exr(dir / method / "frame_000001.exr");
+    ASSERT_TRUE(image.is_ok()) << image.status().message();
+    EXPECT_EQ(image->size(), cv::Size(64, 64));
+    auto stats = read_json(dir / method / "stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["summary"]["mapped"], 2);
+    EXPECT_TRUE((*stats)["summary"].contains("temporal_mse_mean_mm2"));
+    EXPECT_TRUE((*stats)["summary"].contains("true_drift_rms_mm"));
+    EXPECT_EQ((*stats)["options"]["method"], method);
+  }
+  r = testing::run_gvkit("facemap compare " + (dir / "eip").string() + " " + (dir / "hm").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("temporal MSE mean"), std::string::npos) << r.output;
+}
+
+TEST(FacemapCli, BadOptionsAndMissingInputFailWithAMessage) {
+  testing::TempDir dir;
+  auto r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " +
+                              (dir / "out").string() + " --size 12");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
+  r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no frame_NNNNNN.ply"), std::string::npos) << r.output;
+  r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string() +
+                         " --method xyz");
+  EXPECT_NE(r.exit_code, 0);
+}
+
+}  // namespace
+}  // namespace gvkit

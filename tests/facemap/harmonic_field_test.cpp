@@ -1,0 +1,93 @@
+#include "gvkit/facemap/harmonic_field.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gvkit/facemap/flow_coordinates.hpp"
+
+namespace gvkit::facemap {
+namespace {
+
+// A planar ring 1 <= r <= 3, rings x sectors vertices, triangles counter-clockwise.
+FaceAnnulus ring(int rings, int sectors) {
+  FaceAnnulus a;
+  TriSurface& s = a.surface;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double r = 1.0 + 2.0 * i / (rings - 1), phi = 2 * M_PI * j / sectors;
+      s.xyz.emplace_back(r * std::cos(phi), r * std::sin(phi), 0.0);
+      s.source.push_back({{static_cast<int>(s.xyz.size()) - 1, 1.0}});
+      s.uncut_vertex.push_back(static_cast<int>(s.xyz.size()) - 1);
+    }
+  auto id = [&](int i, int j) { return i * sectors + (j % sectors); };
+  for (int i = 0; i + 1 < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      s.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  for (const auto& loop : tri_surface_boundary_loops(s)) {
+    if (s.xyz[loop[0]].norm() < 2)
+      a.inner_loop = loop;
+    else
+      a.outer_loop = loop;
+  }
+  return a;
+}
+
+TEST(HarmonicField, DirichletOnARingIsTheLogarithm) {
+  const FaceAnnulus a = ring(17, 96);
+  ASSERT_EQ(a.inner_loop.size(), 96u);
+  ASSERT_EQ(a.outer_loop.size(), 96u);
+  auto flow = flow_coordinates(a);
+  ASSERT_TRUE(flow.is_ok()) << flow.status().message();
+  // Boundary values exact, maximum principle, no interior extrema.
+  for (int v : a.inner_loop) EXPECT_EQ(flow->t[v], 1.0);
+  for (int v : a.outer_loop) EXPECT_EQ(flow->t[v], 0.0);
+  EXPECT_EQ(flow->field_report.interior_extrema, 0);
+  EXPECT_GT(flow->field_report.min_free, 0.0);
+  EXPECT_LT(flow->field_report.max_free, 1.0);
+  EXPECT_LT(flow->field_report.residual, 1e-9);
+  // f = log(3 / r) / log 3 on the exact ring.
+  double worst = 0;
+  for (int v = 0; v < a.surface.n_vertices(); ++v) {
+    const double r = a.surface.xyz[v].norm();
+    worst = std::max(worst, std::abs(flow->t[v] - std::log(3.0 / r) / std::log(3.0)));
+  }
+  EXPECT_LT(worst, 0.01);
+}
+
+TEST(HarmonicField, ConjugateLevelSetsAreTheRadialIntegralCurves) {
+  const FaceAnnulus a = ring(9, 64);
+  auto flow = flow_coordinates(a);
+  ASSERT_TRUE(flow.is_ok()) << flow.status().message();
+  EXPECT_EQ(flow->flipped, 0);
+  EXPECT_EQ(flow->boundary_nonmonotone, 0);
+  // The gradient of f is radial, so s is constant along each ray (same sector index).
+  const TriSurface& s = a.surface;
+  std::vector<double> vertex_s(s.n_vertices(), NAN);
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      double x = flow->corner_s[3 * k + j];
+      vertex_s[s.triangles[k][j]] = x - std::floor(x);
+    }
+  double worst = 0;
+  for (int v = 64; v < s.n_vertices(); ++v) {
+    double d = std::abs(vertex_s[v] - vertex_s[v % 64]);
+    worst = std::max(worst, std::min(d, 1.0 - d));
+  }
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(HarmonicField, SolveDirichletRejectsNothingFreeAndKeepsFixedValues) {
+  const FaceAnnulus a = ring(3, 8);
+  const auto l = cotan_laplacian(a.surface);
+  std::vector<char> fixed(a.surface.n_vertices(), 1);
+  std::vector<double> value(a.surface.n_vertices(), 0.25);
+  auto f = solve_dirichlet(l, fixed, value);
+  ASSERT_TRUE(f.is_ok());
+  for (double x : *f) EXPECT_EQ(x, 0.25);
+}
+
+}  // namespace
+}  // namespace gvkit::facemap
