@@ -29,5 +29,7 @@ T value_or_throw(Result<T> result) {
 }
 
 void add_info_command(CLI::App& app);
+void add_encode_command(CLI::App& app);
+void add_decode_command(CLI::App& app);
 
 }  // namespace gvkit::tools

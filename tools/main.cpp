@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   });
 
   gvkit::tools::add_info_command(app);
+  gvkit::tools::add_encode_command(app);
+  gvkit::tools::add_decode_command(app);
 
   try {
     app.parse(argc, argv);
