@@ -92,6 +92,57 @@ TEST(GvidStream, LossyErrorIsWithinTheQuantizerBound) {
     }
 }
 
+TEST(GvidStream, TexturePlaneRoundTripsAt8Bits) {
+  auto frames = small_video(2);
+  for (auto& f : frames) {
+    f.texture.create(f.xyz_mm.size(), CV_32F);
+    for (int y = 0; y < f.texture.rows; ++y)
+      for (int x = 0; x < f.texture.cols; ++x)
+        f.texture.at<float>(y, x) = ((x * 7 + y * 3) % 256) / 255.0f;
+  }
+  const SequenceInfo info = info_for(frames);
+  ASSERT_TRUE(info.has_texture);
+  EncoderOptions options;
+  options.lossless = true;
+  options.preset = Preset::kFast;
+  auto bytes = encode_gvid(frames, info, options);
+  ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
+  auto reader = open_bytes(*bytes);
+  ASSERT_TRUE(reader);
+  EXPECT_TRUE(reader->info().has_texture);
+  auto decoded = reader->decode_frame(1);
+  ASSERT_TRUE(decoded.is_ok()) << decoded.status().message();
+  ASSERT_EQ(decoded->texture.size(), frames[1].texture.size());
+  EXPECT_LE(cv::norm(decoded->texture, frames[1].texture, cv::NORM_INF), 0.5 / 255 + 1e-6);
+}
+
+TEST(GvidStream, IctFaceVideoRoundTripsLosslessly) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  testing::GeometryVideoOptions o;
+  o.size = 64;
+  o.frames = 2;
+  auto frames = testing::make_ict_face_video(data / "ict-facekit", o);
+  ASSERT_TRUE(frames.is_ok()) << frames.status().message();
+  const SequenceInfo info = info_for(*frames);
+  // The face fills most of its UV tile; the rest is the domain's outside.
+  EXPECT_GT(info.domain_pixels(), 64 * 64 * 8 / 10);
+  EXPECT_LT(info.domain_pixels(), 64 * 64);
+  EXPECT_GT(info.box_diagonal_mm(), 250.0);
+  EXPECT_LT(info.box_diagonal_mm(), 500.0);
+  EncoderOptions options;
+  options.lossless = true;
+  options.preset = Preset::kFast;
+  auto bytes = encode_gvid(*frames, info, options);
+  ASSERT_TRUE(bytes.is_ok());
+  auto reader = open_bytes(*bytes);
+  ASSERT_TRUE(reader);
+  for (int f = 0; f < 2; ++f) {
+    auto decoded = reader->decode_frame(f);
+    ASSERT_TRUE(decoded.is_ok());
+    EXPECT_LE(geometry_error((*frames)[f], *decoded).max_mm, info.step_mm());
+  }
+}
+
 TEST(GvidStream, GeometryModesFlagChangesTheStreamButBothDecode) {
   const auto frames = small_video(1);
   const SequenceInfo info = info_for(frames);
