@@ -4,7 +4,7 @@ namespace gvkit::codec {
 
 CabacDecoder::CabacDecoder(std::string_view data)
     : data_(data), data_bits_(static_cast<uint64_t>(data.size()) * 8) {
-  for (int i = 0; i < 9; ++i) offset_ = (offset_ << 1) | read_bit();
+  offset_ = read_bits(9);
 }
 
 int CabacDecoder::decode(CabacContext& ctx) {
@@ -19,15 +19,12 @@ int CabacDecoder::decode(CabacContext& ctx) {
     bin = ctx.mps;
   }
   cabac_update(ctx, bin);
-  while (range_ < 256) {
-    range_ <<= 1;
-    offset_ = (offset_ << 1) | read_bit();
-  }
+  renormalize();
   return bin;
 }
 
 int CabacDecoder::decode_bypass() {
-  offset_ = (offset_ << 1) | read_bit();
+  offset_ = (offset_ << 1) | read_bits(1);
   if (offset_ >= range_) {
     offset_ -= range_;
     return 1;
@@ -38,10 +35,7 @@ int CabacDecoder::decode_bypass() {
 int CabacDecoder::decode_terminate() {
   range_ -= 2;
   if (offset_ >= range_) return 1;
-  while (range_ < 256) {
-    range_ <<= 1;
-    offset_ = (offset_ << 1) | read_bit();
-  }
+  renormalize();
   return 0;
 }
 

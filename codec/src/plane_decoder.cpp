@@ -208,11 +208,12 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
   MacroblockData mb;
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
-      const std::string where =
-          "macroblock (" + std::to_string(mb_x) + ", " + std::to_string(mb_y) + ")";
+      const auto where = [&] {
+        return "macroblock (" + std::to_string(mb_x) + ", " + std::to_string(mb_y) + ")";
+      };
       const Status status = reader.read(mb_x, mb_y, mb);
-      if (!status.is_ok()) return status.with_context(where);
-      if (decoder.overrun()) return corrupt_data(where + ": CABAC data ends early");
+      if (!status.is_ok()) return status.with_context(where());
+      if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
       reconstruct_macroblock(plane, mb_x, mb_y, mb, params);
     }
   if (!decoder.decode_terminate() || decoder.overrun())

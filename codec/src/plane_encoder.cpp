@@ -155,8 +155,9 @@ class MacroblockEncoder {
     const bool coded = make_levels(n, best_pred, x0, y0, chosen_levels);
     const int64_t ssd = reconstruct(n, best_pred, chosen_levels, x0, y0);
     *chosen_mode = static_cast<int8_t>(best_mode);
-    const double bits =
-        count_block_bits(trial, n, best_mode, mpm, mode_count, chosen_levels, coded, gx, gy);
+    const double bits = p_.rdo ? count_block_bits(trial, n, best_mode, mpm, mode_count,
+                                                  chosen_levels, coded, gx, gy)
+                               : 0.0;
     for (int i = 0; i < n / 4; ++i)
       for (int j = 0; j < n / 4; ++j) {
         st_.mode_at(gx + j, gy + i) = static_cast<int8_t>(best_mode);

@@ -172,20 +172,21 @@ void dequantize(int n, const int32_t* levels, int qp, int64_t* coeffs) {
 double quantizer_step(int qp) { return 0.625 * std::pow(2.0, qp / 6.0); }
 
 int64_t satd4x4(const int32_t* d, int stride) {
-  int64_t t[16];
+  // |d| < 2^17, so every Hadamard sum stays below 2^21: 32-bit arithmetic is exact.
+  int32_t t[16];
   for (int i = 0; i < 4; ++i) {
     const int32_t* s = d + i * stride;
-    const int64_t a0 = s[0] + s[1], a1 = s[0] - s[1], a2 = s[2] + s[3], a3 = s[2] - s[3];
+    const int32_t a0 = s[0] + s[1], a1 = s[0] - s[1], a2 = s[2] + s[3], a3 = s[2] - s[3];
     t[4 * i + 0] = a0 + a2;
     t[4 * i + 1] = a1 + a3;
     t[4 * i + 2] = a0 - a2;
     t[4 * i + 3] = a1 - a3;
   }
-  int64_t sum = 0;
+  int32_t sum = 0;
   for (int j = 0; j < 4; ++j) {
-    const int64_t a0 = t[j] + t[4 + j], a1 = t[j] - t[4 + j];
-    const int64_t a2 = t[8 + j] + t[12 + j], a3 = t[8 + j] - t[12 + j];
-    sum += std::llabs(a0 + a2) + std::llabs(a1 + a3) + std::llabs(a0 - a2) + std::llabs(a1 - a3);
+    const int32_t a0 = t[j] + t[4 + j], a1 = t[j] - t[4 + j];
+    const int32_t a2 = t[8 + j] + t[12 + j], a3 = t[8 + j] - t[12 + j];
+    sum += std::abs(a0 + a2) + std::abs(a1 + a3) + std::abs(a0 - a2) + std::abs(a1 - a3);
   }
   return sum / 2;
 }

@@ -20,14 +20,34 @@ class CabacDecoder {
   bool overrun() const { return bit_pos_ > data_bits_ + 16; }
 
  private:
-  int read_bit() {
-    const uint64_t pos = bit_pos_++;
-    if (pos >= data_bits_) return 0;
-    return (static_cast<uint8_t>(data_[pos >> 3]) >> (7 - (pos & 7))) & 1;
+  // Next n bits (n <= 24) of the segment, MSB first; zeros past its end.
+  uint32_t read_bits(int n) {
+    if (cache_bits_ < n) refill();
+    cache_bits_ -= n;
+    bit_pos_ += static_cast<uint64_t>(n);
+    return static_cast<uint32_t>(cache_ >> cache_bits_) & ((1u << n) - 1);
+  }
+  void refill() {
+    while (cache_bits_ <= 56) {
+      const uint8_t byte = byte_pos_ < data_.size() ? static_cast<uint8_t>(data_[byte_pos_]) : 0;
+      ++byte_pos_;
+      cache_ = (cache_ << 8) | byte;
+      cache_bits_ += 8;
+    }
+  }
+  void renormalize() {
+    if (range_ < 256) {
+      const int n = __builtin_clz(range_) - 23;
+      range_ <<= n;
+      offset_ = (offset_ << n) | read_bits(n);
+    }
   }
   std::string_view data_;
   uint64_t data_bits_;
   uint64_t bit_pos_ = 0;
+  uint64_t cache_ = 0;
+  int cache_bits_ = 0;
+  size_t byte_pos_ = 0;
   uint32_t range_ = 510, offset_ = 0;
 };
 
