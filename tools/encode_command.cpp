@@ -86,6 +86,8 @@ void run_encode(const EncodeArgs& args) {
         {"bit_depth", options.bit_depth},
         {"geometry_modes", options.geometry_modes},
         {"intra_only", options.intra_only},
+        {"intra_period", options.intra_period},
+        {"search_range", options.search_range},
         {"preset", codec::preset_name(options.preset)},
         {"fps", args.fps}}},
       {"summary",
@@ -128,8 +130,11 @@ void add_encode_command(CLI::App& app) {
   qp->excludes(lossless);
   cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16");
   cmd->add_flag("--no-gv-modes", args->no_gv_modes, "Disable the four geometry intra modes");
-  cmd->add_flag("--intra-only", args->options.intra_only,
-                "Intra frames only (the only structure this version writes)");
+  cmd->add_flag("--intra-only", args->options.intra_only, "Intra frames only (no P frames)");
+  cmd->add_option("--intra-period,--gop", args->options.intra_period,
+                  "Frames from one intra frame to the next (P frames between); default 30");
+  cmd->add_option("--search-range", args->options.search_range,
+                  "Motion search range of P frames in samples, 0..32");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   cmd->callback([args] { run_encode(*args); });

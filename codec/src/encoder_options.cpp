@@ -18,8 +18,12 @@ Status EncoderOptions::check() const {
     return invalid_argument("qp " + std::to_string(qp) + " out of range (" +
                             std::to_string(qp_min) + "..51 at " + std::to_string(bit_depth) +
                             " bits)");
-  if (!intra_only)
-    return unsupported("inter frames are not implemented in this version (use intra_only)");
+  if (intra_period < 1 || intra_period > 100000)
+    return invalid_argument("intra period " + std::to_string(intra_period) +
+                            " out of range (1..100000)");
+  if (search_range < 0 || search_range > 32)
+    return invalid_argument("search range " + std::to_string(search_range) +
+                            " out of range (0..32)");
   return Status::ok();
 }
 

@@ -68,16 +68,48 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   if (index < 0 || index >= frame_count())
     return invalid_argument(where + ": out of range (" + std::to_string(frame_count()) +
                             " frames)");
-  const format::IndexEntry& e = index_[static_cast<size_t>(index)];
-  if (e.type != format::FrameType::kIntra)
-    return unsupported(where + ": frame type " + std::to_string(static_cast<int>(e.type)) +
-                       " (this version decodes intra frames only)");
-  const std::string_view packet = std::string_view(bytes_).substr(
-      e.offset,
-      std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
-  auto frame = decode_frame_packet(packet, info_, index);
-  if (!frame.is_ok()) return frame.status().with_context(where);
-  return frame;
+  if (index == cached_index_) {
+    GeometryImage copy = cached_image_;
+    copy.xyz_mm = cached_image_.xyz_mm.clone();
+    if (!cached_image_.texture.empty()) copy.texture = cached_image_.texture.clone();
+    return copy;
+  }
+  int64_t first = index;
+  while (first > 0 && index_[static_cast<size_t>(first)].type != format::FrameType::kIntra) {
+    // A P frame's reference is the packet with the previous frame number: a packet lost from
+    // a rebuilt index must not silently shift the chain.
+    if (index_[static_cast<size_t>(first) - 1].frame_number + 1 !=
+        index_[static_cast<size_t>(first)].frame_number)
+      return corrupt_data(where + ": reference frame of frame " + std::to_string(first) +
+                          " is missing");
+    --first;
+  }
+  if (index_[static_cast<size_t>(first)].type != format::FrameType::kIntra)
+    return corrupt_data(where + ": no intra frame before it");
+  int64_t start = first;
+  if (cached_index_ >= first && cached_index_ < index) start = cached_index_ + 1;
+  for (int64_t j = start; j <= index; ++j) {
+    const format::IndexEntry& e = index_[static_cast<size_t>(j)];
+    const std::string_view packet = std::string_view(bytes_).substr(
+        e.offset,
+        std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
+    std::vector<SamplePlane> planes;
+    auto frame =
+        decode_frame_packet(packet, info_, j, j == first ? nullptr : &cached_planes_, &planes);
+    if (!frame.is_ok()) {
+      cached_index_ = -1;
+      if (j == index) return frame.status().with_context(where);
+      return frame.status().with_context(where + ": reference frame " + std::to_string(j));
+    }
+    cached_planes_ = std::move(planes);
+    cached_index_ = j;
+    if (j == index) {
+      cached_image_ = *frame;
+      cached_image_.xyz_mm = frame->xyz_mm.clone();
+      return frame;
+    }
+  }
+  return corrupt_data(where + ": not decoded");
 }
 
 int64_t GvidReader::frame_bits(int64_t index) const {

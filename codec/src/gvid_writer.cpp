@@ -43,14 +43,17 @@ GvidWriter::~GvidWriter() {
 Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
   GVKIT_CHECK(!finished_, "write after finish");
   const auto number = static_cast<uint32_t>(index_.size());
-  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info_, options_, number));
+  const bool intra = options_.is_intra(number);
+  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info_, options_, number,
+                                                            intra ? nullptr : &reference_));
+  reference_ = std::move(encoded.planes);
   out_.write(encoded.packet.data(), static_cast<std::streamsize>(encoded.packet.size()));
   if (!out_) return io_error(path_.string() + ": write failed at frame " + std::to_string(number));
   format::IndexEntry entry;
   entry.offset = offset_;
   entry.frame_number = number;
   entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);
-  entry.type = format::FrameType::kIntra;
+  entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
   index_.push_back(entry);
   frame_bytes_.push_back(static_cast<int64_t>(encoded.packet.size()));
   offset_ += encoded.packet.size();
@@ -77,10 +80,15 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
   GVKIT_RETURN_IF_ERROR(info.check());
   std::string out = format::write_file_header(info);
   std::vector<format::IndexEntry> index;
+  std::vector<SamplePlane> reference;
   for (size_t i = 0; i < frames.size(); ++i) {
+    const bool intra = options.is_intra(static_cast<int64_t>(i));
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frames[i], info, options, static_cast<uint32_t>(i)));
+                           encode_frame(frames[i], info, options, static_cast<uint32_t>(i),
+                                        intra ? nullptr : &reference));
+    reference = std::move(encoded.planes);
     format::IndexEntry entry;
+    entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
     entry.offset = out.size();
     entry.frame_number = static_cast<uint32_t>(i);
     entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);

@@ -18,6 +18,47 @@ class MacroblockReader {
 
   Status read(int mb_x, int mb_y, MacroblockData& mb) {
     const int mb_index = mb_y * st_.mbs_x + mb_x;
+    if (st_.predicted) {
+      const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
+        int n = 0;
+        if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
+        if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
+        return n;
+      };
+      if (dec_.decode(
+              ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
+        mb.type = kMbInter;
+        st_.mb_type[mb_index] = kMbInter;
+        mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
+        st_.skip[mb_index] = mb.skip;
+        int px, py;
+        st_.mv_predictor(mb_x, mb_y, &px, &py);
+        mb.mv_x = px;
+        mb.mv_y = py;
+        if (!mb.skip) {
+          int dx, dy;
+          GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
+          GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
+          mb.mv_x += dx;
+          mb.mv_y += dy;
+          if (std::abs(mb.mv_x) > kMaxMotion || std::abs(mb.mv_y) > kMaxMotion)
+            return corrupt_data("motion vector out of range");
+        }
+        st_.mv_x[mb_index] = static_cast<int8_t>(mb.mv_x);
+        st_.mv_y[mb_index] = static_cast<int8_t>(mb.mv_y);
+        const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+        for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+        if (mb.skip) {
+          mb.cbp = 0;
+          for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+          for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+          for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+          return Status::ok();
+        }
+        return read_cbp_and_residuals(mb_x, mb_y, mb);
+      }
+      st_.skip[mb_index] = 0;
+    }
     const auto neighbour_type = [&](int dx, int dy, MbType t) {
       const int x = mb_x + dx, y = mb_y + dy;
       if (x < 0 || y < 0) return 0;
@@ -55,6 +96,26 @@ class MacroblockReader {
         st_.mode_at(gx, gy) = mb.modes[b];
       }
     }
+    return read_cbp_and_residuals(mb_x, mb_y, mb);
+  }
+
+ private:
+  Status read_mvd(int component, int& value) {
+    value = 0;
+    if (!dec_.decode(ctx_.mvd_zero[component])) return Status::ok();
+    const bool negative = dec_.decode_bypass();
+    int k = 0;
+    while (dec_.decode_bypass())
+      if (++k > 8) return corrupt_data("motion vector difference escape too long");
+    uint32_t v = (1u << k) - 1;
+    for (int b = k - 1; b >= 0; --b) v += static_cast<uint32_t>(dec_.decode_bypass()) << b;
+    value = static_cast<int>(v) + 1;
+    if (negative) value = -value;
+    return Status::ok();
+  }
+
+  Status read_cbp_and_residuals(int mb_x, int mb_y, MacroblockData& mb) {
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     mb.cbp = 0;
     const int cx0 = mb_x * 2, cy0 = mb_y * 2;
     for (int q = 0; q < 4; ++q) {
@@ -92,7 +153,6 @@ class MacroblockReader {
     return Status::ok();
   }
 
- private:
   Status read_mode(int mpm, int mode_count, const char* kind, int& mode) {
     if (dec_.decode(ctx_.prev_mode_flag[0])) {
       mode = mpm;
@@ -160,13 +220,17 @@ class MacroblockReader {
 };
 
 void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
-                            const PlaneCodingParams& p) {
+                            const PlaneCodingParams& p, const SamplePlane* reference) {
   const int max_value = (1 << p.bit_depth) - 1;
   int32_t pred[256];
-  if (mb.type == kMbI16x16) {
-    const IntraNeighbors nb =
-        block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
-    predict_intra(16, mb.i16_mode, nb, max_value, pred);
+  if (mb.type == kMbI16x16 || mb.type == kMbInter) {
+    if (mb.type == kMbInter) {
+      predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, pred);
+    } else {
+      const IntraNeighbors nb =
+          block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
+      predict_intra(16, mb.i16_mode, nb, max_value, pred);
+    }
     for (int b = 0; b < 16; ++b) {
       const int bx = block_x(b) * 4, by = block_y(b) * 4;
       int32_t sub[16];
@@ -195,13 +259,15 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
 }  // namespace
 
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
-                                 const PlaneCodingParams& params) {
+                                 const PlaneCodingParams& params, const SamplePlane* reference) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
+  GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
   SamplePlane plane;
   plane.width = width;
   plane.height = height;
   plane.samples.assign(static_cast<size_t>(width) * height, 0);
   PlaneState st(width, height);
+  st.predicted = reference != nullptr;
   ContextSet ctx{};
   CabacDecoder decoder(bytes);
   MacroblockReader reader(decoder, ctx, st, params);
@@ -214,7 +280,7 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
       const Status status = reader.read(mb_x, mb_y, mb);
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
-      reconstruct_macroblock(plane, mb_x, mb_y, mb, params);
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference);
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");

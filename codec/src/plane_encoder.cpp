@@ -1,6 +1,7 @@
 // Intra encoder of one plane: per macroblock, every candidate type (I16x16, I8x8, I4x4) is tried
 // with its best modes, chosen by rate-distortion cost (SSD + lambda * estimated CABAC bits) or,
 // in the fast path, by SATD plus a mode-bit penalty; the winner is written with CABAC.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -17,8 +18,13 @@ using namespace detail;
 class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
-                    const PlaneCodingParams& p)
-      : src_(source), recon_(recon), st_(st), p_(p), max_value_((1 << p.bit_depth) - 1) {
+                    const PlaneCodingParams& p, const SamplePlane* reference)
+      : src_(source),
+        recon_(recon),
+        st_(st),
+        p_(p),
+        ref_(reference),
+        max_value_((1 << p.bit_depth) - 1) {
     if (p.lossless) {
       lambda_ = 1.0;
       lambda_sad_ = 1.0;
@@ -42,8 +48,9 @@ class MacroblockEncoder {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
-      c.cost = type == kMbI16x16 ? try_i16(c.mb, trial)
-                                 : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
+      c.cost = type == kMbInter    ? try_inter(c.mb, trial)
+               : type == kMbI16x16 ? try_i16(c.mb, trial)
+                                   : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
       if (c.cost < best.cost) {
         for (int y = 0; y < 16; ++y)
           for (int x = 0; x < 16; ++x)
@@ -51,6 +58,7 @@ class MacroblockEncoder {
         best = c;
       }
     };
+    if (ref_) consider(kMbInter);
     consider(kMbI16x16);
     if (p_.allow_8x8) consider(kMbI8x8);
     consider(kMbI4x4);
@@ -60,6 +68,57 @@ class MacroblockEncoder {
   }
 
  private:
+  static int exp_golomb_bits(int v) {
+    if (v == 0) return 1;
+    int k = 0;
+    uint32_t a = static_cast<uint32_t>(std::abs(v)) - 1;
+    while (a >= (1u << k)) a -= 1u << k++;
+    return 2 + 2 * k + 1;
+  }
+
+  // Inter candidate: full search of integer motion within the search range around zero (and the
+  // predictor), by SAD + lambda * motion bits; then the residual as sixteen 4x4 blocks.
+  double try_inter(MacroblockData& mb, ContextSet& trial) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    const int r = p_.search_range;
+    double best = std::numeric_limits<double>::infinity();
+    int best_x = 0, best_y = 0;
+    int32_t pred[256];
+    const double lambda_mv = p_.lossless ? 1.0 : lambda_sad_;
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        int64_t sad = 0;
+        for (int y = 0; y < 16 && sad < best; ++y) {
+          const int sy = std::clamp(y0 + y + dy, 0, ref_->height - 1);
+          for (int x = 0; x < 16; ++x)
+            sad += std::abs(static_cast<int>(src_.at(x0 + x, y0 + y)) -
+                            ref_->at(std::clamp(x0 + x + dx, 0, ref_->width - 1), sy));
+        }
+        const double cost = sad + lambda_mv * (exp_golomb_bits(dx - px) + exp_golomb_bits(dy - py));
+        if (cost < best) {
+          best = cost;
+          best_x = dx;
+          best_y = dy;
+        }
+      }
+    mb.mv_x = best_x;
+    mb.mv_y = best_y;
+    predict_inter(*ref_, x0, y0, best_x, best_y, pred);
+    const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
+    double cost;
+    if (p_.rdo) {
+      cost = code_i16_residual(mb, pred, trial) + lambda_ * (mv_bits - 2);
+    } else {
+      cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
+      code_i16_residual(mb, pred, trial);
+    }
+    mb.skip = mb.cbp == 0 && best_x == px && best_y == py;
+    if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
+    return cost;
+  }
+
   // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
   bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels) const {
     int32_t residual[64];
@@ -244,6 +303,7 @@ class MacroblockEncoder {
   SamplePlane& recon_;
   PlaneState& st_;
   const PlaneCodingParams& p_;
+  const SamplePlane* ref_;
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
@@ -251,7 +311,8 @@ class MacroblockEncoder {
 
 }  // namespace
 
-PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params) {
+PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                               const SamplePlane* reference) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -260,10 +321,12 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   result.reconstruction.width = plane.width;
   result.reconstruction.height = plane.height;
   result.reconstruction.samples.assign(plane.samples.size(), 0);
+  GVKIT_CHECK(!reference || (reference->width == plane.width && reference->height == plane.height));
   PlaneState st(plane.width, plane.height);
+  st.predicted = reference != nullptr;
   ContextSet ctx{};
   CabacEncoder encoder;
-  MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params);
+  MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb = mb_encoder.encode(mb_x, mb_y, ctx);

@@ -28,7 +28,11 @@ struct GoldenCase {
 };
 
 std::vector<GoldenCase> cases() {
-  EncoderOptions lossless, fast, slow_no_gv, eight_bit;
+  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter;
+  for (EncoderOptions* o : {&lossless, &fast, &slow_no_gv, &eight_bit}) o->intra_only = true;
+  inter.qp = 0;
+  inter.preset = Preset::kFast;
+  inter.intra_period = 3;
   lossless.lossless = true;
   lossless.preset = Preset::kFast;
   fast.qp = 6;
@@ -40,7 +44,8 @@ std::vector<GoldenCase> cases() {
   return {{"analytic_lossless_48.gvid", 48, 2, lossless},
           {"analytic_qp6_fast_64.gvid", 64, 2, fast},
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},
-          {"analytic_8bit_qp20_64.gvid", 64, 3, eight_bit}};
+          {"analytic_8bit_qp20_64.gvid", 64, 3, eight_bit},
+          {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

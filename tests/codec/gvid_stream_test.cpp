@@ -207,12 +207,98 @@ TEST(GvidStream, OptionsOutOfRangeAreRejectedByName) {
   EXPECT_NE(o.check().message().find("bit depth"), std::string::npos);
 }
 
+TEST(GvidStream, PFramesFollowTheIntraPeriodAndDecodeInAnyOrder) {
+  const auto frames = small_video(5);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions options;
+  options.qp = -6;
+  options.intra_period = 3;  // I P P I P
+  options.preset = Preset::kFast;
+  auto bytes = encode_gvid(frames, info, options);
+  ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
+  auto sequential = open_bytes(*bytes);
+  auto random = open_bytes(*bytes);
+  ASSERT_TRUE(sequential && random);
+  const format::FrameType I = format::FrameType::kIntra, P = format::FrameType::kPredicted;
+  const format::FrameType expected[5] = {I, P, P, I, P};
+  for (int f = 0; f < 5; ++f) EXPECT_EQ(sequential->frame_type(f), expected[f]);
+  std::vector<GeometryImage> in_order;
+  for (int f = 0; f < 5; ++f) {
+    auto frame = sequential->decode_frame(f);
+    ASSERT_TRUE(frame.is_ok()) << frame.status().message();
+    in_order.push_back(*frame);
+  }
+  for (int f : {4, 2, 0, 1, 3, 2}) {
+    auto frame = random->decode_frame(f);
+    ASSERT_TRUE(frame.is_ok()) << frame.status().message();
+    EXPECT_EQ(geometry_error(in_order[f], *frame).max_mm, 0.0) << "frame " << f;
+  }
+  // P frames cost fewer bits than the intra frames of this slowly changing surface.
+  EXPECT_LT(sequential->frame_bits(1), sequential->frame_bits(0));
+}
+
+TEST(GvidStream, PFramesAreLosslessToo) {
+  const auto frames = small_video(3);
+  const SequenceInfo info = info_for(frames);
+  for (Preset preset : {Preset::kFast, Preset::kSlow}) {
+    EncoderOptions options;
+    options.lossless = true;
+    options.preset = preset;
+    auto bytes = encode_gvid(frames, info, options);
+    ASSERT_TRUE(bytes.is_ok());
+    auto reader = open_bytes(*bytes);
+    ASSERT_TRUE(reader);
+    ASSERT_EQ(reader->frame_type(2), format::FrameType::kPredicted);
+    for (int f = 0; f < 3; ++f) {
+      const GeometryImage expected =
+          dequantize_geometry(quantize_geometry(frames[f], info), info, f);
+      EXPECT_EQ(geometry_error(expected, reader->decode_frame(f).value()).max_mm, 0.0);
+    }
+  }
+}
+
+TEST(GvidStream, CorruptPFrameCostsFramesUpToTheNextIntraFrame) {
+  const auto frames = small_video(4);
+  EncoderOptions options;
+  options.preset = Preset::kFast;
+  options.intra_period = 2;  // I P I P
+  auto bytes = encode_gvid(frames, info_for(frames), options);
+  ASSERT_TRUE(bytes.is_ok());
+  auto clean = open_bytes(*bytes);
+  ASSERT_TRUE(clean);
+  const size_t frame1 = static_cast<size_t>(clean->header_bytes() + clean->frame_bits(0) / 8);
+  std::string bad = *bytes;
+  bad[frame1 + format::kPacketHeaderSize + 5] ^= 0x10;
+  auto reader = open_bytes(bad);
+  ASSERT_TRUE(reader);
+  auto f1 = reader->decode_frame(1);
+  ASSERT_FALSE(f1.is_ok());
+  EXPECT_NE(f1.status().message().find("frame 1: payload CRC mismatch"), std::string::npos);
+  EXPECT_TRUE(reader->decode_frame(2).is_ok());
+  EXPECT_TRUE(reader->decode_frame(3).is_ok());
+  // In I P P P the damage propagates to the end of the chain, named as such.
+  options.intra_period = 30;
+  bytes = encode_gvid(frames, info_for(frames), options);
+  bad = *bytes;
+  auto clean2 = open_bytes(*bytes);
+  const size_t frame1b = static_cast<size_t>(clean2->header_bytes() + clean2->frame_bits(0) / 8);
+  bad[frame1b + format::kPacketHeaderSize + 5] ^= 0x10;
+  auto reader2 = open_bytes(bad);
+  auto f3 = reader2->decode_frame(3);
+  ASSERT_FALSE(f3.is_ok());
+  EXPECT_NE(f3.status().message().find("frame 3: reference frame 1: payload CRC mismatch"),
+            std::string::npos)
+      << f3.status().message();
+  EXPECT_TRUE(reader2->decode_frame(0).is_ok());
+}
+
 class DamagedStream : public ::testing::Test {
  protected:
   void SetUp() override {
     frames_ = small_video(3);
     EncoderOptions options;
     options.preset = Preset::kFast;
+    options.intra_only = true;
     auto bytes = encode_gvid(frames_, info_for(frames_), options);
     ASSERT_TRUE(bytes.is_ok());
     bytes_ = *bytes;

@@ -76,6 +76,29 @@ TEST(PlaneCoding, LossyDecoderMatchesEncoderAndErrorIsBounded) {
     }
 }
 
+TEST(PlaneCoding, PredictedPlanesRoundTrip) {
+  for (bool lossless : {true, false})
+    for (bool rdo : {false, true}) {
+      const SamplePlane previous = test_plane(48, 32, 16, 5);
+      SamplePlane current = previous;
+      // Shift by 2 samples and add a value offset: motion plus value change.
+      for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 48; ++x)
+          current.at(x, y) = static_cast<uint16_t>(previous.at(std::max(0, x - 2), y) + 40);
+      PlaneCodingParams params;
+      params.lossless = lossless;
+      params.qp_prime = 60;
+      params.rdo = rdo;
+      const PlaneEncodeResult ref = encode_plane(previous, params);
+      const PlaneEncodeResult enc = encode_plane(current, params, &ref.reconstruction);
+      auto dec = decode_plane(enc.bytes, 48, 32, params, &ref.reconstruction);
+      ASSERT_TRUE(dec.is_ok()) << dec.status().message() << " lossless " << lossless;
+      ASSERT_EQ(dec->samples, enc.reconstruction.samples);
+      if (lossless) EXPECT_EQ(dec->samples, current.samples);
+      EXPECT_LT(enc.bytes.size(), ref.bytes.size());
+    }
+}
+
 TEST(PlaneCoding, EightBitLossyRoundTrip) {
   PlaneCodingParams params;
   params.bit_depth = 8;

@@ -29,7 +29,10 @@ class GvidReader {
 
   const SequenceInfo& info() const { return info_; }
   int64_t frame_count() const { return static_cast<int64_t>(index_.size()); }
-  // Decodes frame `index` (0-based), starting from the previous intra frame as needed.
+  // Decodes frame `index` (0-based): a P frame is decoded from the previous intra frame on
+  // (reusing the last decoded frame when it lies on that chain, so sequential reading decodes
+  // each frame once). A damaged frame fails this frame and the P frames after it up to the next
+  // intra frame.
   Result<GeometryImage> decode_frame(int64_t index);
   // Bits of the frame's packet (header + payload); 0 for an index out of range.
   int64_t frame_bits(int64_t index) const;
@@ -49,6 +52,10 @@ class GvidReader {
   size_t header_size_ = 0;
   std::vector<format::IndexEntry> index_;
   bool index_rebuilt_ = false;
+  // The last frame decoded and its planes: the reference for decoding the next P frame.
+  int64_t cached_index_ = -1;
+  std::vector<SamplePlane> cached_planes_;
+  GeometryImage cached_image_;
 };
 
 }  // namespace gvkit::codec

@@ -46,6 +46,7 @@ class GvidWriter {
   SequenceInfo info_;
   EncoderOptions options_;
   std::vector<format::IndexEntry> index_;
+  std::vector<SamplePlane> reference_;  // reconstruction of the last frame written
   std::vector<int64_t> frame_bytes_;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;

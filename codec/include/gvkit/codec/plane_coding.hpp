@@ -21,6 +21,7 @@ struct PlaneCodingParams {
   bool geometry_modes = true;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   bool rdo = true;        // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  int search_range = 4;   // encoder only: full-search motion range (samples) of P planes
 };
 
 // A plane of samples in [0, 2^bit_depth - 1], row-major.
@@ -36,12 +37,16 @@ struct PlaneEncodeResult {
   SamplePlane reconstruction;  // what the decoder will reconstruct
 };
 
-// plane.width and plane.height must be positive multiples of 16 (contract).
-PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params);
+// plane.width and plane.height must be positive multiples of 16 (contract). With a reference
+// (the previous frame's reconstruction of this plane, same size) the plane is coded as a P plane:
+// each macroblock is intra or inter (integer motion, skip).
+PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                               const SamplePlane* reference = nullptr);
 
 // Decodes a segment made by encode_plane with the same bit depth, QP and flags. Fails with a
 // message naming the macroblock and the field when the data cannot be a valid segment.
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
-                                 const PlaneCodingParams& params);
+                                 const PlaneCodingParams& params,
+                                 const SamplePlane* reference = nullptr);
 
 }  // namespace gvkit::codec
