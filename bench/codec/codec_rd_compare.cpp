@@ -4,6 +4,7 @@
 // bounding-box diagonal; bits per vertex per frame). Prints markdown tables.
 //
 // Usage: codec_rd_compare [--ict DIR | --analytic] [--size N] [--frames N] [--no-peers]
+//                         [--no-slow] [--gop N]
 #include <time.h>
 
 #include <chrono>
@@ -48,9 +49,7 @@ struct Material {
   double vertices = 0, peak = 0;
 };
 
-double seconds_since(Clock::time_point t) {
-  return (Clock::now() - t);
-}
+double seconds_since(Clock::time_point t) { return (Clock::now() - t); }
 
 // One encode + decode of our codec; returns (rate, psnr) and the speeds.
 RdPoint run_ours(const Material& m, const EncoderOptions& options, double* enc_fps, double* dec_fps,
@@ -120,6 +119,7 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit";
   bool analytic = false, peers = true, slow = true;
+  int gop = 1;  // our intra period: 1 = intra only (the peers are always intra only)
   testing::GeometryVideoOptions vo;
   vo.frames = 10;
   for (int i = 1; i < argc; ++i) {
@@ -136,10 +136,12 @@ int main(int argc, char** argv) {
       peers = false;
     else if (a == "--no-slow")
       slow = false;
+    else if (a == "--gop" && i + 1 < argc)
+      gop = std::atoi(argv[++i]);
     else {
       std::fprintf(stderr,
                    "usage: codec_rd_compare [--ict DIR | --analytic] [--size N] "
-                   "[--frames N] [--no-peers] [--no-slow]\n");
+                   "[--frames N] [--no-peers] [--no-slow] [--gop N]\n");
       return 2;
     }
   }
@@ -181,6 +183,8 @@ int main(int argc, char** argv) {
     for (int qp : our_qps) {
       codec::EncoderOptions o;
       o.qp = qp;
+      o.intra_period = gop;
+      o.intra_only = gop <= 1;
       o.geometry_modes = gv;
       o.preset = preset;
       double ef, df, mx;
@@ -195,6 +199,8 @@ int main(int argc, char** argv) {
   for (const auto& [gv, preset] : configs) {
     codec::EncoderOptions o;
     o.lossless = true;
+    o.intra_period = gop;
+    o.intra_only = gop <= 1;
     o.geometry_modes = gv;
     o.preset = preset;
     double ef, df, mx;
