@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
     }
     m.frames = std::move(frames).value();
   }
+  std::printf("gvid structure: %s\n",
+              gop <= 1
+                  ? "intra only"
+                  : ("I frame every " + std::to_string(gop) + " frames, P frames between").c_str());
   m.info = codec::make_sequence_info(m.frames, 16, vo.fps).value();
   m.vertices = static_cast<double>(m.info.domain_pixels());
   m.peak = m.info.box_diagonal_mm();
