@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "geometry_video_material.hpp"
+#include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
@@ -63,6 +64,31 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
                            cv::norm(a->xyz_mm.at<cv::Vec3f>(y, x) - b->xyz_mm.at<cv::Vec3f>(y, x)));
     EXPECT_LT(worst, 0.01);  // 16-bit quantization of a ~300 mm box: ~0.005 mm steps
   }
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
+}
+
+TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --intra-only --qp 0 --preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto bytes = read_file(gvid);
+  ASSERT_TRUE(bytes.is_ok());
+  std::string bad = *bytes;
+  bad.resize(bad.size() - 84);   // drops the index (72 bytes) and the trailer (12)
+  bad[bad.size() - 10] ^= 0x20;  // damages the last frame's payload
+  ASSERT_TRUE(write_file_atomically(gvid, bad).is_ok());
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "found by a scan")) << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  EXPECT_NE(dec.exit_code, 0);
+  EXPECT_TRUE(contains(dec.output, "frame 2: payload CRC mismatch")) << dec.output;
+  EXPECT_FALSE(std::filesystem::exists(frame_path(dir / "out", 2, ".exr")));
+  EXPECT_TRUE(std::filesystem::exists(frame_path(dir / "out", 0, ".exr")));
+  EXPECT_TRUE(std::filesystem::exists(frame_path(dir / "out", 1, ".exr")));
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
