@@ -18,6 +18,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.bit_depth = plane < 3 ? info.bit_depth : 8;
   p.lossless = (flags & format::kFrameLossless) != 0;
   p.geometry_modes = (flags & format::kFrameGeometryModes) != 0;
+  p.adaptive_levels = (flags & format::kFrameAdaptiveLevels) != 0;
   p.qp_prime = std::clamp(qp + 6 * (p.bit_depth - 8), 0, 51 + 6 * (p.bit_depth - 8));
   return p;
 }
@@ -37,8 +38,9 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   format::PacketHeader header;
   header.type = reference ? format::FrameType::kPredicted : format::FrameType::kIntra;
   GVKIT_CHECK(!reference || reference->size() == planes.size());
-  header.flags = static_cast<uint8_t>((options.lossless ? format::kFrameLossless : 0) |
-                                      (options.geometry_modes ? format::kFrameGeometryModes : 0));
+  header.flags = static_cast<uint8_t>(
+      (options.lossless ? format::kFrameLossless | format::kFrameAdaptiveLevels : 0) |
+      (options.geometry_modes ? format::kFrameGeometryModes : 0));
   header.qp = options.lossless ? 0 : options.qp;
   header.frame_number = frame_number;
   ByteWriter payload;
@@ -78,7 +80,7 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   const bool predicted = header.type == format::FrameType::kPredicted;
   if (predicted && (!reference || reference->size() != (info.has_texture ? 4u : 3u)))
     return corrupt_data("P frame without a reference frame");
-  if (header.flags > 3) return corrupt_data("frame flags " + std::to_string(header.flags));
+  if (header.flags > 7) return corrupt_data("frame flags " + std::to_string(header.flags));
   if (!(header.flags & format::kFrameLossless) &&
       (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");

@@ -36,7 +36,22 @@ struct ContextSet {
   CabacContext is_inter[3];
   CabacContext skip[3];
   CabacContext mvd_zero[2];
+  // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
+  // that follows a running mean of the magnitudes per category (16 x the mean).
+  bool adaptive_levels = false;
+  uint32_t level_mean16[2] = {};
 };
+
+inline int adaptive_order(uint32_t mean16) {
+  const uint32_t mean = mean16 >> 4;
+  int k = 0;
+  while (k < 20 && (2u << k) <= mean) ++k;
+  return k;
+}
+
+inline void update_level_mean(uint32_t& mean16, uint32_t abs_minus1) {
+  mean16 += std::min<uint32_t>(abs_minus1, 1u << 24) - (mean16 >> 4);
+}
 
 // Raster (x, y) in 4x4 units inside a macroblock of the z-order block index 0..15.
 inline int block_x(int idx) { return ((idx >> 2) & 1) * 2 + (idx & 1); }
@@ -133,8 +148,7 @@ void write_mode(Coder& coder, ContextSet& ctx, int mode, int mpm, int mode_count
 }
 
 template <class Coder>
-void write_exp_golomb0(Coder& coder, uint32_t value) {
-  int k = 0;
+void write_exp_golomb0(Coder& coder, uint32_t value, int k = 0) {
   while (value >= (1u << k)) {
     coder.encode_bypass(1);
     value -= 1u << k;
@@ -167,7 +181,11 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
     if (!v) continue;
     const uint32_t abs_minus1 = static_cast<uint32_t>(std::abs(v)) - 1;
     coder.encode(ctx.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)], abs_minus1 > 0);
-    if (abs_minus1 > 0) {
+    if (ctx.adaptive_levels) {
+      if (abs_minus1 > 0)
+        write_exp_golomb0(coder, abs_minus1 - 1, adaptive_order(ctx.level_mean16[cat]));
+      update_level_mean(ctx.level_mean16[cat], abs_minus1);
+    } else if (abs_minus1 > 0) {
       CabacContext& c = ctx.level[cat][5 + std::min(4, num_gt1)];
       uint32_t k = 1;
       for (; k < static_cast<uint32_t>(kLevelPrefixMax) && k < abs_minus1 + 1; ++k)

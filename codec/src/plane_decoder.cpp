@@ -188,7 +188,20 @@ class MacroblockReader {
     int num_gt1 = 0, num_eq1 = 0;
     for (int s = num_sig - 1; s >= 0; --s) {
       uint32_t abs_minus1 = dec_.decode(ctx_.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)]);
-      if (abs_minus1) {
+      if (ctx_.adaptive_levels) {
+        if (abs_minus1) {
+          const int k0 = adaptive_order(ctx_.level_mean16[cat]);
+          int k = k0;
+          while (dec_.decode_bypass())
+            if (++k > 24) return corrupt_data("residual level escape longer than 24 bits");
+          uint32_t value = (1u << k) - (1u << k0), tail = 0;
+          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec_.decode_bypass()) << b;
+          abs_minus1 = 1 + value + tail;
+          if (abs_minus1 >= static_cast<uint32_t>(kMaxAbsLevel))
+            return corrupt_data("residual level out of range");
+        }
+        update_level_mean(ctx_.level_mean16[cat], abs_minus1);
+      } else if (abs_minus1) {
         CabacContext& c = ctx_.level[cat][5 + std::min(4, num_gt1)];
         while (abs_minus1 < static_cast<uint32_t>(kLevelPrefixMax) && dec_.decode(c)) ++abs_minus1;
         if (abs_minus1 == static_cast<uint32_t>(kLevelPrefixMax)) {
@@ -269,6 +282,7 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
   PlaneState st(width, height);
   st.predicted = reference != nullptr;
   ContextSet ctx{};
+  ctx.adaptive_levels = params.adaptive_levels;
   CabacDecoder decoder(bytes);
   MacroblockReader reader(decoder, ctx, st, params);
   MacroblockData mb;

@@ -325,6 +325,7 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   PlaneState st(plane.width, plane.height);
   st.predicted = reference != nullptr;
   ContextSet ctx{};
+  ctx.adaptive_levels = params.adaptive_levels;
   CabacEncoder encoder;
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)

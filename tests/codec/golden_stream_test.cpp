@@ -28,7 +28,9 @@ struct GoldenCase {
 };
 
 std::vector<GoldenCase> cases() {
-  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter;
+  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter;
+  lossless_inter.lossless = true;  // version 1.1: adaptive level coding, with P frames
+  lossless_inter.preset = Preset::kFast;
   for (EncoderOptions* o : {&lossless, &fast, &slow_no_gv, &eight_bit}) o->intra_only = true;
   inter.qp = 0;
   inter.preset = Preset::kFast;
@@ -45,7 +47,8 @@ std::vector<GoldenCase> cases() {
           {"analytic_qp6_fast_64.gvid", 64, 2, fast},
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},
           {"analytic_8bit_qp20_64.gvid", 64, 3, eight_bit},
-          {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter}};
+          {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter},
+          {"analytic_lossless_ipp_v1_1_48.gvid", 48, 3, lossless_inter}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

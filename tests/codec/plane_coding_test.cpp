@@ -48,6 +48,7 @@ TEST(PlaneCoding, LosslessIsExactInEveryConfiguration) {
         params.lossless = true;
         params.rdo = rdo;
         params.geometry_modes = gv;
+        params.adaptive_levels = gv == rdo;
         const PlaneEncodeResult enc = encode_plane(plane, params);
         EXPECT_EQ(enc.reconstruction.samples, plane.samples);
         auto dec = decode_plane(enc.bytes, plane.width, plane.height, params);

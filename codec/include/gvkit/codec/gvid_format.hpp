@@ -18,7 +18,7 @@ inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
-inline constexpr uint8_t kMinorVersion = 0;
+inline constexpr uint8_t kMinorVersion = 1;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -27,7 +27,11 @@ inline constexpr int kMaxDimension = 16384;
 
 enum PlaneFlag : uint8_t { kPlaneX = 1, kPlaneY = 2, kPlaneZ = 4, kPlaneTexture = 8 };
 enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1 };
-enum FrameFlag : uint8_t { kFrameLossless = 1, kFrameGeometryModes = 2 };
+enum FrameFlag : uint8_t {
+  kFrameLossless = 1,
+  kFrameGeometryModes = 2,
+  kFrameAdaptiveLevels = 4,  // since 1.1
+};
 
 struct PacketHeader {
   FrameType type = FrameType::kIntra;

@@ -19,9 +19,10 @@ struct PlaneCodingParams {
   int qp_prime = 0;       // QP + 6 (B - 8), 0..99; ignored when lossless
   bool lossless = false;  // transform bypass: residuals coded as they are
   bool geometry_modes = true;
-  bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
-  bool rdo = true;        // encoder only: SSD + lambda * bits (else SATD-based decisions)
-  int search_range = 4;   // encoder only: full-search motion range (samples) of P planes
+  bool adaptive_levels = false;  // |level| - 2 as adaptive-order Exp-Golomb (for lossless)
+  bool allow_8x8 = true;         // encoder only: consider I8x8 macroblocks
+  bool rdo = true;               // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  int search_range = 4;          // encoder only: full-search motion range (samples) of P planes
 };
 
 // A plane of samples in [0, 2^bit_depth - 1], row-major.
