@@ -53,5 +53,7 @@ void add_facemap_map_command(CLI::App& app);
 void add_facemap_compare_command(CLI::App& app);
 void add_facemap_make_domain_command(CLI::App& app);
 void add_facemap_ict_sequence_command(CLI::App& app);
+void add_encode_command(CLI::App& app);
+void add_decode_command(CLI::App& app);
 
 }  // namespace gvkit::tools

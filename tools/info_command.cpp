@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "command.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/core/calibration_io.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/image_io.hpp"
@@ -134,11 +135,43 @@ void describe_calibration(const fs::path& path) {
                 c.camera_error_px, c.projector_error_px, c.stereo_error_px);
 }
 
+void describe_gvid(const fs::path& path) {
+  auto reader = value_or_throw(codec::GvidReader::open(path));
+  const codec::SequenceInfo& info = reader->info();
+  std::printf("%s: .gvid geometry video, %lld bytes\n", path.string().c_str(),
+              static_cast<long long>(reader->file_bytes()));
+  std::printf("  size            %dx%d, %d-bit xyz%s\n", info.width, info.height, info.bit_depth,
+              info.has_texture ? " + 8-bit texture" : "");
+  std::printf("  fps             %g\n", info.fps);
+  std::printf("  domain pixels   %lld\n", static_cast<long long>(info.domain_pixels()));
+  std::printf("  box (mm)        [%.4f %.4f %.4f] .. [%.4f %.4f %.4f], diagonal %.3f\n",
+              info.box_min_mm[0], info.box_min_mm[1], info.box_min_mm[2], info.box_max_mm[0],
+              info.box_max_mm[1], info.box_max_mm[2], info.box_diagonal_mm());
+  std::printf("  step (mm)       %.6g\n", info.step_mm());
+  std::printf("  header          %lld bytes\n", static_cast<long long>(reader->header_bytes()));
+  std::printf("  frames          %lld%s\n", static_cast<long long>(reader->frame_count()),
+              reader->index_rebuilt() ? " (index missing or damaged: found by a scan)" : "");
+  int64_t total = 0;
+  const double vertices = static_cast<double>(std::max<int64_t>(1, info.domain_pixels()));
+  for (int64_t i = 0; i < reader->frame_count(); ++i) {
+    const int64_t bits = reader->frame_bits(i);
+    total += bits;
+    std::printf("  frame %6lld    %c  %9lld bytes  %8.4f bits/vertex\n", static_cast<long long>(i),
+                reader->frame_type(i) == codec::format::FrameType::kIntra ? 'I' : 'P',
+                static_cast<long long>(bits / 8), bits / vertices);
+  }
+  if (reader->frame_count() > 0)
+    std::printf("  mean            %.4f bits/vertex/frame, %.1f kbit/s\n",
+                total / vertices / reader->frame_count(),
+                total / 1000.0 / reader->frame_count() * info.fps);
+}
+
 void describe(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw CommandFailed(not_found(path.string() + ": no such file"));
   const std::string ext = lower_extension(path);
   if (ext == ".exr") return describe_exr(path);
+  if (ext == ".gvid") return describe_gvid(path);
   if (ext == ".ply" || ext == ".obj" || ext == ".off" || ext == ".stl") return describe_mesh(path);
   if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
       ext == ".tiff" || ext == ".pgm" || ext == ".ppm")
@@ -146,15 +179,15 @@ void describe(const fs::path& path) {
   if (ext == ".xml" || ext == ".yaml" || ext == ".yml" || ext == ".json")
     return describe_calibration(path);
   throw CommandFailed(unsupported(path.string() + ": unknown file type '" + ext +
-                                  "' (gvkit info reads .exr, .ply, .obj, .png, calibration "
-                                  ".xml/.yaml/.json)"));
+                                  "' (gvkit info reads .exr, .gvid, .ply, .obj, .png, "
+                                  "calibration .xml/.yaml/.json)"));
 }
 
 }  // namespace
 
 void add_info_command(CLI::App& app) {
   auto* cmd =
-      app.add_subcommand("info", "Describe a file: EXR, mesh (PLY/OBJ), image, calibration");
+      app.add_subcommand("info", "Describe a file: EXR, .gvid, mesh (PLY/OBJ), image, calibration");
   auto files = std::make_shared<std::vector<std::string>>();
   cmd->add_option("files", *files, "Files to describe")->required();
   cmd->callback([files] {

@@ -1,0 +1,32 @@
+#pragma once
+// Peer codecs through libavcodec, intra-only, on the same quantized planes as ours: each frame
+// is three B-bit planes (X, Y, Z) given as Y, U, V (4:4:4) or G, B, R. The caller quantizes by
+// rounding (quantize_geometry), so no FFmpeg conversion or dithering is involved.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::bench {
+
+struct PeerConfig {
+  std::string encoder;  // "libx265", "libx264", "ffv1"
+  std::string pix_fmt;  // "yuv444p12le", "yuv444p10le", "gbrp16le"
+  int bit_depth = 12;
+  std::vector<std::pair<std::string, std::string>> options;  // private encoder options
+};
+
+struct PeerRun {
+  std::vector<int64_t> frame_bytes;
+  std::vector<std::vector<codec::SamplePlane>> decoded;  // per frame, 3 planes (width x height)
+  double encode_seconds = 0, decode_seconds = 0;
+};
+
+// frames[f][p]: plane p of frame f, at least width x height samples. Fails with libav's message.
+Result<PeerRun> run_peer(const std::vector<std::vector<codec::SamplePlane>>& frames, int width,
+                         int height, const PeerConfig& config);
+
+}  // namespace gvkit::bench

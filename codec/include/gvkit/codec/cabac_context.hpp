@@ -1,0 +1,31 @@
+#pragma once
+// CABAC probability state: H.264's 64-state LPS model (ITU-T H.264 clause 9.3, tables 9-44 and
+// 9-45), shared by the encoder, the decoder and the bit-cost estimator.
+
+#include <array>
+#include <cstdint>
+
+namespace gvkit::codec {
+
+struct CabacContext {
+  uint8_t state = 0;  // pStateIdx, 0..63 (0: p_LPS = 0.5)
+  uint8_t mps = 0;    // valMPS
+};
+
+// rangeTabLPS[pStateIdx][(range >> 6) & 3].
+extern const uint8_t kCabacRangeLps[64][4];
+extern const uint8_t kCabacNextStateMps[64];
+extern const uint8_t kCabacNextStateLps[64];
+// Cost in 1/256 bit of coding a bin in state s as the MPS ([s][0]) or the LPS ([s][1]).
+extern const std::array<std::array<uint16_t, 2>, 64> kCabacBitCost;
+
+inline void cabac_update(CabacContext& ctx, int bin) {
+  if (bin == ctx.mps) {
+    ctx.state = kCabacNextStateMps[ctx.state];
+  } else {
+    if (ctx.state == 0) ctx.mps = static_cast<uint8_t>(1 - ctx.mps);
+    ctx.state = kCabacNextStateLps[ctx.state];
+  }
+}
+
+}  // namespace gvkit::codec

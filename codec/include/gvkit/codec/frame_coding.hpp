@@ -1,0 +1,44 @@
+#pragma once
+// One frame <-> one .gvid frame packet (packet header + payload of per-plane CABAC segments).
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gvkit/codec/encoder_options.hpp"
+#include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/codec/sequence_info.hpp"
+#include "gvkit/core/geometry_image.hpp"
+
+namespace gvkit::codec {
+
+struct EncodedFrame {
+  std::string packet;               // header + payload
+  GeometryImage reconstruction;     // exactly what a decoder will output
+  std::vector<SamplePlane> planes;  // the reconstructed coded planes (reference of a P frame)
+};
+
+// Encodes an intra frame, or a P frame predicted from `reference` (the previous frame's
+// reconstructed planes) when given. Fails (naming the frame) when its size differs from the
+// header's.
+Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
+                                  const EncoderOptions& options, uint32_t frame_number,
+                                  const std::vector<SamplePlane>* reference = nullptr);
+
+// Limits a decoder puts on what a stream may ask of it.
+struct DecoderLimits {
+  int64_t max_pixels = int64_t{1} << 24;  // width * height
+};
+
+// Decodes a complete packet (header + payload). Fails naming the field on any inconsistency:
+// "packet header CRC mismatch", "payload CRC mismatch", "plane Y: macroblock (3, 1): ...".
+// A P packet needs `reference` (the previous frame's decoded planes); planes_out (optional)
+// receives this frame's decoded planes, the reference of the next.
+Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
+                                          int64_t frame_number,
+                                          const std::vector<SamplePlane>* reference = nullptr,
+                                          std::vector<SamplePlane>* planes_out = nullptr);
+
+}  // namespace gvkit::codec

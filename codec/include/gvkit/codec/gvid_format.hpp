@@ -1,0 +1,72 @@
+#pragma once
+// The .gvid byte layout shared by GvidWriter and GvidReader (the field-by-field specification is
+// docs/bitstream.md): file header, frame packet header, seek index and trailer. All integers are
+// little-endian.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gvkit/codec/sequence_info.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::codec::format {
+
+inline constexpr char kFileMagic[4] = {'G', 'V', 'I', 'D'};
+inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
+inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
+inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
+inline constexpr uint8_t kMajorVersion = 1;
+inline constexpr uint8_t kMinorVersion = 1;
+
+inline constexpr size_t kPacketHeaderSize = 24;
+inline constexpr size_t kIndexEntrySize = 20;
+inline constexpr size_t kTrailerSize = 12;
+inline constexpr int kMaxDimension = 16384;
+
+enum PlaneFlag : uint8_t { kPlaneX = 1, kPlaneY = 2, kPlaneZ = 4, kPlaneTexture = 8 };
+enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1 };
+enum FrameFlag : uint8_t {
+  kFrameLossless = 1,
+  kFrameGeometryModes = 2,
+  kFrameAdaptiveLevels = 4,  // since 1.1
+};
+
+struct PacketHeader {
+  FrameType type = FrameType::kIntra;
+  uint8_t flags = 0;
+  int qp = 0;  // QP in 8-bit units (signed)
+  uint32_t frame_number = 0;
+  uint32_t payload_size = 0;
+  uint32_t payload_crc = 0;
+};
+
+struct IndexEntry {
+  uint64_t offset = 0;  // of the packet header, from the start of the file
+  uint32_t frame_number = 0;
+  uint32_t payload_size = 0;
+  FrameType type = FrameType::kIntra;
+};
+
+// File header: magic, version, sequence fields, domain mask, CRC.
+std::string write_file_header(const SequenceInfo& info);
+// Parses the header at the start of bytes; on success *header_size is its length in bytes.
+// Fails naming the field that is missing, out of range or inconsistent.
+Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_size);
+
+std::string write_packet_header(const PacketHeader& header);
+// Parses a packet header (kPacketHeaderSize bytes); checks magic and header CRC only.
+Result<PacketHeader> read_packet_header(std::string_view bytes);
+
+// Index block followed by the trailer (which holds the index's offset).
+std::string write_index(const std::vector<IndexEntry>& entries, uint64_t index_offset);
+// Reads the index via the trailer at the end of file_bytes; fails if absent or inconsistent.
+Result<std::vector<IndexEntry>> read_index(std::string_view file_bytes, size_t header_size,
+                                           uint64_t* index_offset);
+
+// Domain mask (CV_8U, 0 / nonzero) as alternating run lengths, starting with an outside run.
+std::string encode_mask(const cv::Mat& mask);
+Result<cv::Mat> decode_mask(std::string_view bytes, int width, int height);
+
+}  // namespace gvkit::codec::format

@@ -1,0 +1,60 @@
+#pragma once
+// GvidWriter: encodes geometry images into a .gvid file. The stream goes to a temporary file
+// beside the target ("<path>.tmp-<pid>") and is renamed over the target by finish(), so a failed
+// or abandoned encode never leaves a partial .gvid behind.
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gvkit/codec/encoder_options.hpp"
+#include "gvkit/codec/frame_coding.hpp"
+#include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/sequence_info.hpp"
+#include "gvkit/core/geometry_image.hpp"
+
+namespace gvkit::codec {
+
+class GvidWriter {
+ public:
+  // Fails on invalid options or info (message names the option) or an unwritable path.
+  static Result<std::unique_ptr<GvidWriter>> create(const std::filesystem::path& path,
+                                                    const SequenceInfo& info,
+                                                    const EncoderOptions& options);
+  ~GvidWriter();
+  GvidWriter(const GvidWriter&) = delete;
+  GvidWriter& operator=(const GvidWriter&) = delete;
+
+  // Encodes and appends one frame; returns the decoder's reconstruction of it.
+  Result<GeometryImage> write(const GeometryImage& frame);
+  // Writes the seek index and trailer, closes and renames the file into place.
+  Status finish();
+
+  const SequenceInfo& info() const { return info_; }
+  int64_t frames_written() const { return static_cast<int64_t>(index_.size()); }
+  // Size of each frame's packet (header + payload) in bytes.
+  const std::vector<int64_t>& frame_bytes() const { return frame_bytes_; }
+  int64_t header_bytes() const { return header_bytes_; }
+
+ private:
+  GvidWriter() = default;
+  std::filesystem::path path_, temp_path_;
+  std::ofstream out_;
+  SequenceInfo info_;
+  EncoderOptions options_;
+  std::vector<format::IndexEntry> index_;
+  std::vector<SamplePlane> reference_;  // reconstruction of the last frame written
+  std::vector<int64_t> frame_bytes_;
+  uint64_t offset_ = 0;
+  int64_t header_bytes_ = 0;
+  bool finished_ = false;
+};
+
+// Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes.
+Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
+                                const EncoderOptions& options);
+
+}  // namespace gvkit::codec

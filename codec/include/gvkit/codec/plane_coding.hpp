@@ -1,0 +1,53 @@
+#pragma once
+// Intra coding of one sample plane (B-bit samples, width and height multiples of 16) into one
+// CABAC segment, and its mirror. The macroblock layer follows H.264's intra macroblocks: types
+// I4x4 (9 modes, or 13 with the geometry modes), I8x8 (9 modes) and I16x16 (4 modes), a 4-bit
+// coded block pattern, coded_block_flag per 4x4 block, and residual blocks coded with a
+// significance map and unary/Exp-Golomb levels. Syntax and contexts: docs/bitstream.md.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::codec {
+
+struct PlaneCodingParams {
+  int bit_depth = 16;     // 8..16
+  int qp_prime = 0;       // QP + 6 (B - 8), 0..99; ignored when lossless
+  bool lossless = false;  // transform bypass: residuals coded as they are
+  bool geometry_modes = true;
+  bool adaptive_levels = false;  // |level| - 2 as adaptive-order Exp-Golomb (for lossless)
+  bool allow_8x8 = true;         // encoder only: consider I8x8 macroblocks
+  bool rdo = true;               // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  int search_range = 4;          // encoder only: full-search motion range (samples) of P planes
+};
+
+// A plane of samples in [0, 2^bit_depth - 1], row-major.
+struct SamplePlane {
+  int width = 0, height = 0;
+  std::vector<uint16_t> samples;
+  uint16_t& at(int x, int y) { return samples[static_cast<size_t>(y) * width + x]; }
+  uint16_t at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
+};
+
+struct PlaneEncodeResult {
+  std::string bytes;           // the CABAC segment
+  SamplePlane reconstruction;  // what the decoder will reconstruct
+};
+
+// plane.width and plane.height must be positive multiples of 16 (contract). With a reference
+// (the previous frame's reconstruction of this plane, same size) the plane is coded as a P plane:
+// each macroblock is intra or inter (integer motion, skip).
+PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                               const SamplePlane* reference = nullptr);
+
+// Decodes a segment made by encode_plane with the same bit depth, QP and flags. Fails with a
+// message naming the macroblock and the field when the data cannot be a valid segment.
+Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
+                                 const PlaneCodingParams& params,
+                                 const SamplePlane* reference = nullptr);
+
+}  // namespace gvkit::codec

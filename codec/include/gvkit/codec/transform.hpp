@@ -1,0 +1,30 @@
+#pragma once
+// H.264 integer transforms (4x4 and 8x8, clauses 8.5.12 and 8.5.13), scalar quantization with
+// QP' = QP + 6 (B - 8) for B-bit samples, zig-zag scans, and the 4x4 Hadamard SATD used by the
+// fast mode decision. Blocks are row-major arrays of n*n values.
+
+#include <cstdint>
+
+namespace gvkit::codec {
+
+// Forward core transforms of a residual block (|residual| < 2^17).
+void forward_transform4x4(const int32_t* residual, int32_t* coeffs);
+void forward_transform8x8(const int32_t* residual, int32_t* coeffs);
+// Inverse transforms of dequantized coefficients, including the final (x + 32) >> 6.
+void inverse_transform4x4(const int64_t* coeffs, int32_t* residual);
+void inverse_transform8x8(const int64_t* coeffs, int32_t* residual);
+
+// qp_prime = QP + 6 (B - 8), 0 <= qp_prime <= 99. Intra dead zone (rounding offset 1/3).
+void quantize(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
+void dequantize(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
+// Quantizer step size (in sample units of the coded bit depth) of qp_prime: 0.625 * 2^(qp'/6).
+double quantizer_step(int qp_prime);
+
+// Scan position -> raster index of the zig-zag scans.
+extern const uint8_t kZigzag4x4[16];
+extern const uint8_t kZigzag8x8[64];
+
+// Sum of absolute 4x4 Hadamard-transformed differences, halved (x264's convention).
+int64_t satd4x4(const int32_t* diff, int stride);
+
+}  // namespace gvkit::codec

@@ -1,0 +1,129 @@
+#include "gvkit/codec/geometry_planes.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gvkit::codec {
+namespace {
+
+int padded(int n) { return (n + 15) / 16 * 16; }
+
+// Push-pull on (value * weight, weight) images: returns the filled values.
+void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int height) {
+  if (width <= 1 && height <= 1) {
+    if (w[0] > 0) v[0] /= w[0];
+    return;
+  }
+  const int cw = (width + 1) / 2, ch = (height + 1) / 2;
+  std::vector<double> cv_(static_cast<size_t>(cw) * ch, 0.0), cwt(cv_.size(), 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x,
+                   c = static_cast<size_t>(y / 2) * cw + x / 2;
+      cv_[c] += v[i];
+      cwt[c] += w[i];
+    }
+  push_pull(cv_, cwt, cw, ch);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      if (w[i] > 0) {
+        v[i] /= w[i];
+        continue;
+      }
+      // Bilinear from the coarse level at this pixel's centre.
+      const double fx = std::clamp((x + 0.5) / 2 - 0.5, 0.0, cw - 1.0);
+      const double fy = std::clamp((y + 0.5) / 2 - 0.5, 0.0, ch - 1.0);
+      const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+      const int x1 = std::min(x0 + 1, cw - 1), y1 = std::min(y0 + 1, ch - 1);
+      const double ax = fx - x0, ay = fy - y0;
+      const auto at = [&](int xx, int yy) { return cv_[static_cast<size_t>(yy) * cw + xx]; };
+      v[i] = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
+             ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+    }
+}
+
+SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value) {
+  SamplePlane p;
+  p.width = padded(width);
+  p.height = padded(height);
+  p.samples.resize(static_cast<size_t>(p.width) * p.height);
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      const double v =
+          values[static_cast<size_t>(std::min(y, height - 1)) * width + std::min(x, width - 1)];
+      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(std::lround(v), 0, max_value));
+    }
+  return p;
+}
+
+}  // namespace
+
+void fill_outside_domain(std::vector<double>& values, int width, int height, const cv::Mat& mask) {
+  std::vector<double> weights(values.size());
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      weights[i] = mask.at<uint8_t>(y, x) ? 1.0 : 0.0;
+      values[i] *= weights[i];
+    }
+  push_pull(values, weights, width, height);
+}
+
+std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const SequenceInfo& info) {
+  GVKIT_CHECK(image.xyz_mm.type() == CV_32FC3 && image.xyz_mm.rows == info.height &&
+              image.xyz_mm.cols == info.width);
+  const int w = info.width, h = info.height;
+  const double step = info.step_mm();
+  const int max_value = (1 << info.bit_depth) - 1;
+  std::vector<SamplePlane> planes;
+  std::vector<double> values(static_cast<size_t>(w) * h);
+  for (int a = 0; a < 3; ++a) {
+    for (int y = 0; y < h; ++y) {
+      const cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < w; ++x) {
+        const double q = (p[x][a] - info.box_min_mm[a]) / step;
+        values[static_cast<size_t>(y) * w + x] =
+            std::isfinite(q) ? std::clamp(std::round(q), 0.0, double(max_value)) : 0.0;
+      }
+    }
+    fill_outside_domain(values, w, h, info.domain_mask);
+    planes.push_back(to_plane(values, w, h, max_value));
+  }
+  if (info.has_texture) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float t = image.texture.empty() ? 0.f : image.texture.at<float>(y, x);
+        values[static_cast<size_t>(y) * w + x] =
+            std::isfinite(t) ? std::clamp(std::round(t * 255.0), 0.0, 255.0) : 0.0;
+      }
+    planes.push_back(to_plane(values, w, h, 255));
+  }
+  return planes;
+}
+
+GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                                  int64_t frame_number) {
+  GVKIT_CHECK(planes.size() >= 3);
+  GeometryImage image;
+  image.xyz_mm.create(info.height, info.width, CV_32FC3);
+  const double step = info.step_mm();
+  for (int y = 0; y < info.height; ++y) {
+    cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < info.width; ++x)
+      for (int a = 0; a < 3; ++a)
+        p[x][a] = static_cast<float>(info.box_min_mm[a] + planes[a].at(x, y) * step);
+  }
+  if (info.has_texture && planes.size() >= 4) {
+    image.texture.create(info.height, info.width, CV_32F);
+    for (int y = 0; y < info.height; ++y)
+      for (int x = 0; x < info.width; ++x)
+        image.texture.at<float>(y, x) = planes[3].at(x, y) / 255.0f;
+  }
+  image.domain_mask = info.domain_mask.clone();
+  image.index = frame_number;
+  image.timestamp = Timestamp(static_cast<int64_t>(std::llround(frame_number * 1e9 / info.fps)));
+  return image;
+}
+
+}  // namespace gvkit::codec

@@ -1,0 +1,102 @@
+#include "gvkit/codec/gvid_writer.hpp"
+
+#include <unistd.h>
+
+#include <system_error>
+
+namespace gvkit::codec {
+namespace fs = std::filesystem;
+
+Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
+                                                       const SequenceInfo& info,
+                                                       const EncoderOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  GVKIT_RETURN_IF_ERROR(info.check());
+  if (info.bit_depth != options.bit_depth)
+    return invalid_argument("bit depth of the sequence (" + std::to_string(info.bit_depth) +
+                            ") differs from the options' (" + std::to_string(options.bit_depth) +
+                            ")");
+  std::unique_ptr<GvidWriter> w(new GvidWriter());
+  w->path_ = path;
+  w->temp_path_ = path;
+  w->temp_path_ += ".tmp-" + std::to_string(::getpid());
+  w->info_ = info;
+  w->options_ = options;
+  w->out_.open(w->temp_path_, std::ios::binary | std::ios::trunc);
+  if (!w->out_) return io_error(path.string() + ": cannot create " + w->temp_path_.string());
+  const std::string header = format::write_file_header(info);
+  w->out_.write(header.data(), static_cast<std::streamsize>(header.size()));
+  w->offset_ = header.size();
+  w->header_bytes_ = static_cast<int64_t>(header.size());
+  if (!w->out_) return io_error(path.string() + ": write failed");
+  return w;
+}
+
+GvidWriter::~GvidWriter() {
+  if (!finished_) {
+    out_.close();
+    std::error_code ec;
+    fs::remove(temp_path_, ec);
+  }
+}
+
+Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
+  GVKIT_CHECK(!finished_, "write after finish");
+  const auto number = static_cast<uint32_t>(index_.size());
+  const bool intra = options_.is_intra(number);
+  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info_, options_, number,
+                                                            intra ? nullptr : &reference_));
+  reference_ = std::move(encoded.planes);
+  out_.write(encoded.packet.data(), static_cast<std::streamsize>(encoded.packet.size()));
+  if (!out_) return io_error(path_.string() + ": write failed at frame " + std::to_string(number));
+  format::IndexEntry entry;
+  entry.offset = offset_;
+  entry.frame_number = number;
+  entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);
+  entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
+  index_.push_back(entry);
+  frame_bytes_.push_back(static_cast<int64_t>(encoded.packet.size()));
+  offset_ += encoded.packet.size();
+  return std::move(encoded.reconstruction);
+}
+
+Status GvidWriter::finish() {
+  GVKIT_CHECK(!finished_, "finish twice");
+  const std::string index = format::write_index(index_, offset_);
+  out_.write(index.data(), static_cast<std::streamsize>(index.size()));
+  out_.flush();
+  if (!out_) return io_error(path_.string() + ": write failed (index)");
+  out_.close();
+  std::error_code ec;
+  fs::rename(temp_path_, path_, ec);
+  if (ec) return io_error(path_.string() + ": cannot rename into place: " + ec.message());
+  finished_ = true;
+  return Status::ok();
+}
+
+Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
+                                const EncoderOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  GVKIT_RETURN_IF_ERROR(info.check());
+  std::string out = format::write_file_header(info);
+  std::vector<format::IndexEntry> index;
+  std::vector<SamplePlane> reference;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const bool intra = options.is_intra(static_cast<int64_t>(i));
+    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
+                           encode_frame(frames[i], info, options, static_cast<uint32_t>(i),
+                                        intra ? nullptr : &reference));
+    reference = std::move(encoded.planes);
+    format::IndexEntry entry;
+    entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
+    entry.offset = out.size();
+    entry.frame_number = static_cast<uint32_t>(i);
+    entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);
+    index.push_back(entry);
+    out += encoded.packet;
+  }
+  out += format::write_index(index, out.size());
+  return out;
+}
+
+}  // namespace gvkit::codec

@@ -1,0 +1,119 @@
+// Block-at-a-time predictors for the modes that dominate encoding time (vertical, horizontal,
+// DC, plane and the geometry modes); the directional modes use the per-sample reference.
+#include "gvkit/codec/intra_prediction.hpp"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace gvkit::codec {
+namespace {
+
+inline int32_t clip(int64_t v, int max_value) {
+  return static_cast<int32_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+}
+
+template <int N>
+void predict_block(int mode, const IntraNeighbors& nb, int max_value, int32_t* out) {
+  switch (mode) {
+    case kIntraVertical:
+      for (int y = 0; y < N; ++y) std::copy(nb.top, nb.top + N, out + y * N);
+      return;
+    case kIntraHorizontal:
+      for (int y = 0; y < N; ++y) std::fill(out + y * N, out + (y + 1) * N, nb.left[y]);
+      return;
+    case kIntraDc: {
+      int64_t sum = N;
+      for (int i = 0; i < N; ++i) sum += nb.top[i] + nb.left[i];
+      const int shift = N == 4 ? 3 : (N == 8 ? 4 : 5);
+      std::fill(out, out + N * N, static_cast<int32_t>(sum >> shift));
+      return;
+    }
+    default:
+      break;
+  }
+  if (N == 16 && mode == kIntra16x16Plane) {
+    int64_t h = 0, v = 0;
+    for (int i = 0; i < 8; ++i) {
+      const int32_t top_minus = i == 7 ? nb.corner : nb.top[6 - i];
+      const int32_t left_minus = i == 7 ? nb.corner : nb.left[6 - i];
+      h += (i + 1) * (nb.top[8 + i] - top_minus);
+      v += (i + 1) * (nb.left[8 + i] - left_minus);
+    }
+    const int64_t a = 16 * (static_cast<int64_t>(nb.left[15]) + nb.top[15]);
+    const int64_t b = (5 * h + 32) >> 6, c = (5 * v + 32) >> 6;
+    int64_t row = a - 7 * b - 7 * c + 16;
+    for (int y = 0; y < N; ++y, row += c) {
+      int64_t acc = row;
+      for (int x = 0; x < N; ++x, acc += b) out[y * N + x] = clip(acc >> 5, max_value);
+    }
+    return;
+  }
+  if (N == 4 && mode >= kIntraGeoPlane) {
+    const int32_t c = nb.corner, dt = nb.top[3] - c, dl = nb.left[3] - c;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) {
+        int64_t v;
+        switch (mode) {
+          case kIntraGeoPlane:
+            v = static_cast<int64_t>(nb.top[x]) + nb.left[y] - c;
+            break;
+          case kIntraGeoVertical:
+            v = nb.top[x] + (((y + 1) * dl + 2) >> 2);
+            break;
+          case kIntraGeoHorizontal:
+            v = nb.left[y] + (((x + 1) * dt + 2) >> 2);
+            break;
+          default:
+            v = c + (((x + 1) * dt + (y + 1) * dl + 2) >> 2);
+            break;
+        }
+        out[y * 4 + x] = clip(v, max_value);
+      }
+    return;
+  }
+  predict_intra_reference(N, mode, nb, max_value, out);
+}
+
+}  // namespace
+
+void predict_intra(int n, int mode, const IntraNeighbors& nb, int max_value, int32_t* out) {
+  switch (n) {
+    case 4:
+      return predict_block<4>(mode, nb, max_value, out);
+    case 8:
+      return predict_block<8>(mode, nb, max_value, out);
+    default:
+      return predict_block<16>(mode, nb, max_value, out);
+  }
+}
+
+IntraNeighbors make_neighbors(const uint16_t* plane, int stride, int x0, int y0, int n,
+                              bool top_available, bool left_available, bool top_right_available,
+                              int bit_depth) {
+  IntraNeighbors nb;
+  if (top_available) {
+    const uint16_t* row = plane + static_cast<ptrdiff_t>(y0 - 1) * stride + x0;
+    for (int i = 0; i < n; ++i) nb.top[i] = row[i];
+    for (int i = n; i < 2 * n; ++i) nb.top[i] = top_right_available ? row[i] : row[n - 1];
+  }
+  if (left_available)
+    for (int i = 0; i < n; ++i)
+      nb.left[i] = plane[static_cast<ptrdiff_t>(y0 + i) * stride + x0 - 1];
+  if (top_available && left_available) {
+    nb.corner = plane[static_cast<ptrdiff_t>(y0 - 1) * stride + x0 - 1];
+  } else if (top_available) {
+    nb.corner = nb.top[0];
+    std::fill(nb.left, nb.left + n, nb.top[0]);
+  } else if (left_available) {
+    nb.corner = nb.left[0];
+    std::fill(nb.top, nb.top + 2 * n, nb.left[0]);
+  } else {
+    const int32_t mid = 1 << (bit_depth - 1);
+    nb.corner = mid;
+    std::fill(nb.top, nb.top + 2 * n, mid);
+    std::fill(nb.left, nb.left + n, mid);
+  }
+  return nb;
+}
+
+}  // namespace gvkit::codec

@@ -1,0 +1,381 @@
+#pragma once
+// Shared pieces of the macroblock layer: contexts, per-plane neighbour state, block geometry and
+// the syntax writer (templated on CabacEncoder or CabacBitCounter). The reader mirrors
+// write_macroblock in plane_decoder.cpp.
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <vector>
+
+#include "gvkit/codec/cabac_context.hpp"
+#include "gvkit/codec/intra_prediction.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/codec/transform.hpp"
+
+namespace gvkit::codec::detail {
+
+enum MbType : uint8_t { kMbI4x4 = 0, kMbI8x8 = 1, kMbI16x16 = 2, kMbInter = 3 };
+
+constexpr int kMaxMotion = 64;  // |motion vector component| in samples
+
+constexpr int kLevelPrefixMax = 14;  // unary part of |level| - 1, then Exp-Golomb (k = 0)
+constexpr int kMaxAbsLevel = 1 << 24;
+
+struct ContextSet {
+  CabacContext is_i16[3];
+  CabacContext is_8x8[3];
+  CabacContext i16_mode[2];
+  CabacContext prev_mode_flag[1];
+  CabacContext rem_mode[1];
+  CabacContext cbp[4];
+  CabacContext cbf[4];
+  CabacContext sig[2][16];
+  CabacContext last[2][16];
+  CabacContext level[2][10];
+  CabacContext is_inter[3];
+  CabacContext skip[3];
+  CabacContext mvd_zero[2];
+  // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
+  // that follows a running mean of the magnitudes per category (16 x the mean).
+  bool adaptive_levels = false;
+  uint32_t level_mean16[2] = {};
+};
+
+inline int adaptive_order(uint32_t mean16) {
+  const uint32_t mean = mean16 >> 4;
+  int k = 0;
+  while (k < 20 && (2u << k) <= mean) ++k;
+  return k;
+}
+
+inline void update_level_mean(uint32_t& mean16, uint32_t abs_minus1) {
+  mean16 += std::min<uint32_t>(abs_minus1, 1u << 24) - (mean16 >> 4);
+}
+
+// Raster (x, y) in 4x4 units inside a macroblock of the z-order block index 0..15.
+inline int block_x(int idx) { return ((idx >> 2) & 1) * 2 + (idx & 1); }
+inline int block_y(int idx) { return ((idx >> 3) & 1) * 2 + ((idx >> 1) & 1); }
+inline int zorder_index(int bx, int by) {
+  return ((by >> 1) * 2 + (bx >> 1)) * 4 + (by & 1) * 2 + (bx & 1);
+}
+
+// Everything coded so far in a plane that later macroblocks' contexts depend on.
+struct PlaneState {
+  int mbs_x = 0, mbs_y = 0;
+  std::vector<uint8_t> mb_type;    // per macroblock
+  std::vector<int8_t> mode4;       // per 4x4 block: prediction mode for the most probable mode
+  std::vector<uint8_t> cbf4;       // per 4x4 block: coded_block_flag (1 for coded 8x8 blocks)
+  std::vector<uint8_t> cbp8;       // per 8x8 block: coded_block_pattern bit
+  bool predicted = false;          // a P plane: macroblocks may be inter
+  std::vector<uint8_t> skip;       // per macroblock (inter, no motion difference, no residual)
+  std::vector<int8_t> mv_x, mv_y;  // per macroblock, inter only
+
+  PlaneState(int width, int height)
+      : mbs_x(width / 16),
+        mbs_y(height / 16),
+        mb_type(static_cast<size_t>(mbs_x) * mbs_y),
+        mode4(static_cast<size_t>(mbs_x) * mbs_y * 16),
+        cbf4(mode4.size()),
+        cbp8(static_cast<size_t>(mbs_x) * mbs_y * 4),
+        skip(mb_type.size()),
+        mv_x(mb_type.size()),
+        mv_y(mb_type.size()) {}
+  // Motion vector predictor of a macroblock: the left one's if inter, else the top one's if
+  // inter, else zero.
+  void mv_predictor(int mb_x, int mb_y, int* px, int* py) const {
+    *px = *py = 0;
+    const auto inter = [&](int x, int y) {
+      return x >= 0 && y >= 0 && mb_type[static_cast<size_t>(y) * mbs_x + x] == kMbInter;
+    };
+    if (inter(mb_x - 1, mb_y)) {
+      const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    } else if (inter(mb_x, mb_y - 1)) {
+      const size_t i = static_cast<size_t>(mb_y - 1) * mbs_x + mb_x;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    }
+  }
+  int w4() const { return mbs_x * 4; }
+  int w8() const { return mbs_x * 2; }
+  int8_t& mode_at(int gx, int gy) { return mode4[static_cast<size_t>(gy) * w4() + gx]; }
+  uint8_t& cbf_at(int gx, int gy) { return cbf4[static_cast<size_t>(gy) * w4() + gx]; }
+  uint8_t& cbp_at(int gx, int gy) { return cbp8[static_cast<size_t>(gy) * w8() + gx]; }
+};
+
+// One macroblock's decisions: type, modes and quantized levels (raster order within each block).
+struct MacroblockData {
+  MbType type = kMbI16x16;
+  int i16_mode = kIntraDc;
+  int8_t modes[16] = {};        // I4x4: per block in z-order; I8x8: modes[0..3] per 8x8 block
+  uint8_t cbp = 0;              // bit q: 8x8 quadrant q has a nonzero level
+  int32_t levels[16][16] = {};  // 4x4 blocks in z-order (I4x4, I16x16)
+  int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8)
+  bool skip = false;            // inter: motion = predictor, no residual
+  int mv_x = 0, mv_y = 0;       // inter: integer motion vector (samples)
+};
+
+inline int mode_count4(const PlaneCodingParams& p) {
+  return p.geometry_modes ? kIntra4x4ModeCount : 9;
+}
+
+// Most probable mode of the block whose top-left 4x4 unit is (gx, gy).
+inline int most_probable_mode(PlaneState& st, int gx, int gy, bool for_8x8) {
+  if (gx == 0 || gy == 0) return kIntraDc;
+  int m = std::min(st.mode_at(gx - 1, gy), st.mode_at(gx, gy - 1));
+  if (for_8x8 && m >= 9) m = kIntraDc;
+  return m;
+}
+
+inline bool any_nonzero(const int32_t* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (v[i]) return true;
+  return false;
+}
+
+template <class Coder>
+void write_mode(Coder& coder, ContextSet& ctx, int mode, int mpm, int mode_count) {
+  if (mode == mpm) {
+    coder.encode(ctx.prev_mode_flag[0], 1);
+    return;
+  }
+  coder.encode(ctx.prev_mode_flag[0], 0);
+  const int rem = mode < mpm ? mode : mode - 1;
+  const int bits = mode_count > 9 ? 4 : 3;
+  for (int b = 0; b < bits; ++b) coder.encode(ctx.rem_mode[0], (rem >> b) & 1);
+}
+
+template <class Coder>
+void write_exp_golomb0(Coder& coder, uint32_t value, int k = 0) {
+  while (value >= (1u << k)) {
+    coder.encode_bypass(1);
+    value -= 1u << k;
+    ++k;
+  }
+  coder.encode_bypass(0);
+  while (k--) coder.encode_bypass((value >> k) & 1);
+}
+
+// Residual block of n*n levels in raster order (at least one nonzero).
+template <class Coder>
+void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n) {
+  const int count = n * n, cat = n == 8 ? 1 : 0;
+  const uint8_t* scan = n == 8 ? kZigzag8x8 : kZigzag4x4;
+  int last = -1;
+  for (int i = 0; i < count; ++i)
+    if (levels[scan[i]]) last = i;
+  for (int i = 0; i < count - 1; ++i) {
+    const int c = n == 8 ? i >> 2 : i;
+    const int sig = levels[scan[i]] != 0;
+    coder.encode(ctx.sig[cat][c], sig);
+    if (sig) {
+      coder.encode(ctx.last[cat][c], i == last);
+      if (i == last) break;
+    }
+  }
+  int num_gt1 = 0, num_eq1 = 0;
+  for (int i = last; i >= 0; --i) {
+    const int32_t v = levels[scan[i]];
+    if (!v) continue;
+    const uint32_t abs_minus1 = static_cast<uint32_t>(std::abs(v)) - 1;
+    coder.encode(ctx.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)], abs_minus1 > 0);
+    if (ctx.adaptive_levels) {
+      if (abs_minus1 > 0)
+        write_exp_golomb0(coder, abs_minus1 - 1, adaptive_order(ctx.level_mean16[cat]));
+      update_level_mean(ctx.level_mean16[cat], abs_minus1);
+    } else if (abs_minus1 > 0) {
+      CabacContext& c = ctx.level[cat][5 + std::min(4, num_gt1)];
+      uint32_t k = 1;
+      for (; k < static_cast<uint32_t>(kLevelPrefixMax) && k < abs_minus1 + 1; ++k)
+        coder.encode(c, k < abs_minus1);
+      if (abs_minus1 >= static_cast<uint32_t>(kLevelPrefixMax))
+        write_exp_golomb0(coder, abs_minus1 - kLevelPrefixMax);
+    }
+    coder.encode_bypass(v < 0);
+    if (abs_minus1 == 0)
+      ++num_eq1;
+    else
+      ++num_gt1;
+  }
+}
+
+// Coded block pattern, then the residual blocks (8x8 for I8x8, else 4x4 with coded_block_flag).
+template <class Coder>
+void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                                 const MacroblockData& mb) {
+  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+  const int cx0 = mb_x * 2, cy0 = mb_y * 2;
+  for (int q = 0; q < 4; ++q) {
+    const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);
+    const int left = cx > 0 ? st.cbp_at(cx - 1, cy) : 0;
+    const int top = cy > 0 ? st.cbp_at(cx, cy - 1) : 0;
+    const int bit = (mb.cbp >> q) & 1;
+    coder.encode(ctx.cbp[left + 2 * top], bit);
+    st.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
+  }
+  if (mb.type == kMbI8x8) {
+    for (int q = 0; q < 4; ++q) {
+      const int bit = (mb.cbp >> q) & 1;
+      for (int i = 0; i < 4; ++i)
+        st.cbf_at(gx0 + (q & 1) * 2 + (i & 1), gy0 + (q >> 1) * 2 + (i >> 1)) =
+            static_cast<uint8_t>(bit);
+      if (bit) write_residual(coder, ctx, mb.levels8[q], 8);
+    }
+    return;
+  }
+  for (int b = 0; b < 16; ++b) {
+    const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+    if (!((mb.cbp >> (b >> 2)) & 1)) {
+      st.cbf_at(gx, gy) = 0;
+      continue;
+    }
+    const int left = gx > 0 ? st.cbf_at(gx - 1, gy) : 0;
+    const int top = gy > 0 ? st.cbf_at(gx, gy - 1) : 0;
+    const int coded = any_nonzero(mb.levels[b], 16) ? 1 : 0;
+    coder.encode(ctx.cbf[left + 2 * top], coded);
+    st.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
+    if (coded) write_residual(coder, ctx, mb.levels[b], 4);
+  }
+}
+
+template <class Coder>
+void write_mvd(Coder& coder, ContextSet& ctx, int component, int value) {
+  coder.encode(ctx.mvd_zero[component], value != 0);
+  if (!value) return;
+  coder.encode_bypass(value < 0);
+  write_exp_golomb0(coder, static_cast<uint32_t>(std::abs(value) - 1));
+}
+
+// Writes one macroblock at (mb_x, mb_y) and records its state for later contexts.
+template <class Coder>
+void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                      const MacroblockData& mb, const PlaneCodingParams& params) {
+  const int mb_index = mb_y * st.mbs_x + mb_x;
+  const auto neighbour_type = [&](int dx, int dy, MbType t) {
+    const int x = mb_x + dx, y = mb_y + dy;
+    if (x < 0 || y < 0) return 0;
+    return st.mb_type[static_cast<size_t>(y) * st.mbs_x + x] == t ? 1 : 0;
+  };
+  const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
+    int n = 0;
+    if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
+    if (mb_y > 0 && pred(v[mb_index - st.mbs_x])) ++n;
+    return n;
+  };
+  if (st.predicted) {
+    const int inter = mb.type == kMbInter;
+    coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
+                 inter);
+    if (inter) {
+      st.mb_type[mb_index] = kMbInter;
+      coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
+      st.skip[mb_index] = mb.skip;
+      int px, py;
+      st.mv_predictor(mb_x, mb_y, &px, &py);
+      if (!mb.skip) {
+        write_mvd(coder, ctx, 0, mb.mv_x - px);
+        write_mvd(coder, ctx, 1, mb.mv_y - py);
+      }
+      st.mv_x[mb_index] = static_cast<int8_t>(mb.skip ? px : mb.mv_x);
+      st.mv_y[mb_index] = static_cast<int8_t>(mb.skip ? py : mb.mv_y);
+      const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+      for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+      if (mb.skip) {
+        for (int i = 0; i < 16; ++i) st.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+        for (int q = 0; q < 4; ++q) st.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+        return;
+      }
+      write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+      return;
+    }
+    st.skip[mb_index] = 0;
+  }
+  const int is_i16 = mb.type == kMbI16x16;
+  coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)],
+               is_i16);
+  if (!is_i16)
+    coder.encode(ctx.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)],
+                 mb.type == kMbI8x8);
+  st.mb_type[mb_index] = mb.type;
+  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+  if (mb.type == kMbI16x16) {
+    coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
+    coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
+    for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+  } else if (mb.type == kMbI8x8) {
+    for (int q = 0; q < 4; ++q) {
+      const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
+      write_mode(coder, ctx, mb.modes[q], most_probable_mode(st, gx, gy, true), 9);
+      for (int i = 0; i < 4; ++i) st.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
+    }
+  } else {
+    for (int b = 0; b < 16; ++b) {
+      const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+      write_mode(coder, ctx, mb.modes[b], most_probable_mode(st, gx, gy, false),
+                 mode_count4(params));
+      st.mode_at(gx, gy) = mb.modes[b];
+    }
+  }
+  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+}
+
+// Whether the sample at (px, py) is reconstructed before the block whose z-order index (in 4x4
+// units) is `block` of macroblock (mb_x, mb_y); width is the plane width.
+inline bool is_coded(int px, int py, int width, int mb_x, int mb_y, int block) {
+  if (px < 0 || py < 0 || px >= width) return false;
+  const int mx = px / 16, my = py / 16;
+  if (my != mb_y) return my < mb_y;
+  if (mx != mb_x) return mx < mb_x;
+  return zorder_index((px % 16) / 4, (py % 16) / 4) < block;
+}
+
+// Prediction + residual -> reconstructed samples of an n x n block at (x0, y0).
+inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
+                              const PlaneCodingParams& p, uint16_t* plane, int stride, int x0,
+                              int y0) {
+  int32_t residual[64];
+  const int count = n * n;
+  if (p.lossless) {
+    std::copy(levels, levels + count, residual);
+  } else if (!any_nonzero(levels, count)) {
+    std::fill(residual, residual + count, 0);
+  } else {
+    int64_t coeffs[64];
+    dequantize(n, levels, p.qp_prime, coeffs);
+    if (n == 4)
+      inverse_transform4x4(coeffs, residual);
+    else
+      inverse_transform8x8(coeffs, residual);
+  }
+  const int max_value = (1 << p.bit_depth) - 1;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const int64_t v = static_cast<int64_t>(pred[y * n + x]) + residual[y * n + x];
+      plane[static_cast<size_t>(y0 + y) * stride + x0 + x] =
+          static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+    }
+}
+
+// Inter prediction of the 16x16 macroblock at (x0, y0): the reference block displaced by the
+// integer motion vector, with coordinates clamped to the reference (edge extension).
+inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int mv_y,
+                          int32_t* pred) {
+  for (int y = 0; y < 16; ++y) {
+    const int sy = std::clamp(y0 + y + mv_y, 0, ref.height - 1);
+    for (int x = 0; x < 16; ++x)
+      pred[y * 16 + x] = ref.at(std::clamp(x0 + x + mv_x, 0, ref.width - 1), sy);
+  }
+}
+
+// Neighbours of the n x n block at (x0, y0), the top-left 4x4 unit of which has z-order index
+// `block` within macroblock (mb_x, mb_y).
+inline IntraNeighbors block_neighbors(const SamplePlane& plane, int x0, int y0, int n, int mb_x,
+                                      int mb_y, int block, int bit_depth) {
+  const bool top_right = n < 16 && is_coded(x0 + n, y0 - 1, plane.width, mb_x, mb_y, block);
+  return make_neighbors(plane.samples.data(), plane.width, x0, y0, n, y0 > 0, x0 > 0, top_right,
+                        bit_depth);
+}
+
+}  // namespace gvkit::codec::detail

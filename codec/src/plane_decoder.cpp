@@ -1,0 +1,304 @@
+// Intra decoder of one plane: reads each macroblock's syntax (the mirror of write_macroblock in
+// macroblock_syntax.hpp) and reconstructs it. Every decoded value is range-checked, so any byte
+// string either decodes or fails with the macroblock and field named.
+#include <string>
+
+#include "gvkit/codec/cabac_decoder.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+#include "macroblock_syntax.hpp"
+
+namespace gvkit::codec {
+namespace {
+using namespace detail;
+
+class MacroblockReader {
+ public:
+  MacroblockReader(CabacDecoder& dec, ContextSet& ctx, PlaneState& st, const PlaneCodingParams& p)
+      : dec_(dec), ctx_(ctx), st_(st), p_(p) {}
+
+  Status read(int mb_x, int mb_y, MacroblockData& mb) {
+    const int mb_index = mb_y * st_.mbs_x + mb_x;
+    if (st_.predicted) {
+      const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
+        int n = 0;
+        if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
+        if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
+        return n;
+      };
+      if (dec_.decode(
+              ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
+        mb.type = kMbInter;
+        st_.mb_type[mb_index] = kMbInter;
+        mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
+        st_.skip[mb_index] = mb.skip;
+        int px, py;
+        st_.mv_predictor(mb_x, mb_y, &px, &py);
+        mb.mv_x = px;
+        mb.mv_y = py;
+        if (!mb.skip) {
+          int dx, dy;
+          GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
+          GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
+          mb.mv_x += dx;
+          mb.mv_y += dy;
+          if (std::abs(mb.mv_x) > kMaxMotion || std::abs(mb.mv_y) > kMaxMotion)
+            return corrupt_data("motion vector out of range");
+        }
+        st_.mv_x[mb_index] = static_cast<int8_t>(mb.mv_x);
+        st_.mv_y[mb_index] = static_cast<int8_t>(mb.mv_y);
+        const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+        for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+        if (mb.skip) {
+          mb.cbp = 0;
+          for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+          for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+          for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+          return Status::ok();
+        }
+        return read_cbp_and_residuals(mb_x, mb_y, mb);
+      }
+      st_.skip[mb_index] = 0;
+    }
+    const auto neighbour_type = [&](int dx, int dy, MbType t) {
+      const int x = mb_x + dx, y = mb_y + dy;
+      if (x < 0 || y < 0) return 0;
+      return st_.mb_type[static_cast<size_t>(y) * st_.mbs_x + x] == t ? 1 : 0;
+    };
+    if (dec_.decode(
+            ctx_.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)]))
+      mb.type = kMbI16x16;
+    else
+      mb.type =
+          dec_.decode(ctx_.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)])
+              ? kMbI8x8
+              : kMbI4x4;
+    st_.mb_type[mb_index] = mb.type;
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+    if (mb.type == kMbI16x16) {
+      mb.i16_mode = dec_.decode(ctx_.i16_mode[0]);
+      mb.i16_mode |= dec_.decode(ctx_.i16_mode[1]) << 1;
+      for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+    } else if (mb.type == kMbI8x8) {
+      for (int q = 0; q < 4; ++q) {
+        const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
+        int mode;
+        GVKIT_RETURN_IF_ERROR(read_mode(most_probable_mode(st_, gx, gy, true), 9, "8x8", mode));
+        mb.modes[q] = static_cast<int8_t>(mode);
+        for (int i = 0; i < 4; ++i) st_.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
+      }
+    } else {
+      for (int b = 0; b < 16; ++b) {
+        const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+        int mode;
+        GVKIT_RETURN_IF_ERROR(
+            read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
+        mb.modes[b] = static_cast<int8_t>(mode);
+        st_.mode_at(gx, gy) = mb.modes[b];
+      }
+    }
+    return read_cbp_and_residuals(mb_x, mb_y, mb);
+  }
+
+ private:
+  Status read_mvd(int component, int& value) {
+    value = 0;
+    if (!dec_.decode(ctx_.mvd_zero[component])) return Status::ok();
+    const bool negative = dec_.decode_bypass();
+    int k = 0;
+    while (dec_.decode_bypass())
+      if (++k > 8) return corrupt_data("motion vector difference escape too long");
+    uint32_t v = (1u << k) - 1;
+    for (int b = k - 1; b >= 0; --b) v += static_cast<uint32_t>(dec_.decode_bypass()) << b;
+    value = static_cast<int>(v) + 1;
+    if (negative) value = -value;
+    return Status::ok();
+  }
+
+  Status read_cbp_and_residuals(int mb_x, int mb_y, MacroblockData& mb) {
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+    mb.cbp = 0;
+    const int cx0 = mb_x * 2, cy0 = mb_y * 2;
+    for (int q = 0; q < 4; ++q) {
+      const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);
+      const int left = cx > 0 ? st_.cbp_at(cx - 1, cy) : 0;
+      const int top = cy > 0 ? st_.cbp_at(cx, cy - 1) : 0;
+      const int bit = dec_.decode(ctx_.cbp[left + 2 * top]);
+      mb.cbp |= static_cast<uint8_t>(bit << q);
+      st_.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
+    }
+    if (mb.type == kMbI8x8) {
+      for (int q = 0; q < 4; ++q) {
+        const int bit = (mb.cbp >> q) & 1;
+        for (int i = 0; i < 4; ++i)
+          st_.cbf_at(gx0 + (q & 1) * 2 + (i & 1), gy0 + (q >> 1) * 2 + (i >> 1)) =
+              static_cast<uint8_t>(bit);
+        std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+        if (bit) GVKIT_RETURN_IF_ERROR(read_residual(mb.levels8[q], 8));
+      }
+      return Status::ok();
+    }
+    for (int b = 0; b < 16; ++b) {
+      const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+      std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+      if (!((mb.cbp >> (b >> 2)) & 1)) {
+        st_.cbf_at(gx, gy) = 0;
+        continue;
+      }
+      const int left = gx > 0 ? st_.cbf_at(gx - 1, gy) : 0;
+      const int top = gy > 0 ? st_.cbf_at(gx, gy - 1) : 0;
+      const int coded = dec_.decode(ctx_.cbf[left + 2 * top]);
+      st_.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
+      if (coded) GVKIT_RETURN_IF_ERROR(read_residual(mb.levels[b], 4));
+    }
+    return Status::ok();
+  }
+
+  Status read_mode(int mpm, int mode_count, const char* kind, int& mode) {
+    if (dec_.decode(ctx_.prev_mode_flag[0])) {
+      mode = mpm;
+      return Status::ok();
+    }
+    const int bits = mode_count > 9 ? 4 : 3;
+    int rem = 0;
+    for (int b = 0; b < bits; ++b) rem |= dec_.decode(ctx_.rem_mode[0]) << b;
+    if (rem >= mode_count - 1)
+      return corrupt_data(std::string("invalid intra ") + kind + " mode (rem_intra_pred_mode " +
+                          std::to_string(rem) + ")");
+    mode = rem < mpm ? rem : rem + 1;
+    return Status::ok();
+  }
+
+  Status read_residual(int32_t* levels, int n) {
+    const int count = n * n, cat = n == 8 ? 1 : 0;
+    const uint8_t* scan = n == 8 ? kZigzag8x8 : kZigzag4x4;
+    int sig_pos[64];
+    int num_sig = 0;
+    bool ended = false;
+    for (int i = 0; i < count - 1; ++i) {
+      const int c = n == 8 ? i >> 2 : i;
+      if (dec_.decode(ctx_.sig[cat][c])) {
+        sig_pos[num_sig++] = i;
+        if (dec_.decode(ctx_.last[cat][c])) {
+          ended = true;
+          break;
+        }
+      }
+    }
+    if (!ended) sig_pos[num_sig++] = count - 1;
+    int num_gt1 = 0, num_eq1 = 0;
+    for (int s = num_sig - 1; s >= 0; --s) {
+      uint32_t abs_minus1 = dec_.decode(ctx_.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)]);
+      if (ctx_.adaptive_levels) {
+        if (abs_minus1) {
+          const int k0 = adaptive_order(ctx_.level_mean16[cat]);
+          int k = k0;
+          while (dec_.decode_bypass())
+            if (++k > 24) return corrupt_data("residual level escape longer than 24 bits");
+          uint32_t value = (1u << k) - (1u << k0), tail = 0;
+          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec_.decode_bypass()) << b;
+          abs_minus1 = 1 + value + tail;
+          if (abs_minus1 >= static_cast<uint32_t>(kMaxAbsLevel))
+            return corrupt_data("residual level out of range");
+        }
+        update_level_mean(ctx_.level_mean16[cat], abs_minus1);
+      } else if (abs_minus1) {
+        CabacContext& c = ctx_.level[cat][5 + std::min(4, num_gt1)];
+        while (abs_minus1 < static_cast<uint32_t>(kLevelPrefixMax) && dec_.decode(c)) ++abs_minus1;
+        if (abs_minus1 == static_cast<uint32_t>(kLevelPrefixMax)) {
+          int k = 0;
+          while (dec_.decode_bypass()) {
+            if (++k > 24) return corrupt_data("residual level escape longer than 24 bits");
+          }
+          uint32_t suffix = (1u << k) - 1, tail = 0;
+          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec_.decode_bypass()) << b;
+          abs_minus1 += suffix + tail;
+          if (abs_minus1 >= static_cast<uint32_t>(kMaxAbsLevel))
+            return corrupt_data("residual level out of range");
+        }
+      }
+      const int32_t magnitude = static_cast<int32_t>(abs_minus1) + 1;
+      levels[scan[sig_pos[s]]] = dec_.decode_bypass() ? -magnitude : magnitude;
+      if (abs_minus1 == 0)
+        ++num_eq1;
+      else
+        ++num_gt1;
+    }
+    return Status::ok();
+  }
+
+  CabacDecoder& dec_;
+  ContextSet& ctx_;
+  PlaneState& st_;
+  const PlaneCodingParams& p_;
+};
+
+void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
+                            const PlaneCodingParams& p, const SamplePlane* reference) {
+  const int max_value = (1 << p.bit_depth) - 1;
+  int32_t pred[256];
+  if (mb.type == kMbI16x16 || mb.type == kMbInter) {
+    if (mb.type == kMbInter) {
+      predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, pred);
+    } else {
+      const IntraNeighbors nb =
+          block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
+      predict_intra(16, mb.i16_mode, nb, max_value, pred);
+    }
+    for (int b = 0; b < 16; ++b) {
+      const int bx = block_x(b) * 4, by = block_y(b) * 4;
+      int32_t sub[16];
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
+      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
+                        mb_y * 16 + by);
+    }
+  } else if (mb.type == kMbI8x8) {
+    for (int q = 0; q < 4; ++q) {
+      const int x0 = mb_x * 16 + (q & 1) * 8, y0 = mb_y * 16 + (q >> 1) * 8;
+      const IntraNeighbors nb = block_neighbors(plane, x0, y0, 8, mb_x, mb_y, q * 4, p.bit_depth);
+      predict_intra(8, mb.modes[q], nb, max_value, pred);
+      reconstruct_block(8, pred, mb.levels8[q], p, plane.samples.data(), plane.width, x0, y0);
+    }
+  } else {
+    for (int b = 0; b < 16; ++b) {
+      const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
+      const IntraNeighbors nb = block_neighbors(plane, x0, y0, 4, mb_x, mb_y, b, p.bit_depth);
+      predict_intra(4, mb.modes[b], nb, max_value, pred);
+      reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
+    }
+  }
+}
+
+}  // namespace
+
+Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
+                                 const PlaneCodingParams& params, const SamplePlane* reference) {
+  GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
+  GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
+  SamplePlane plane;
+  plane.width = width;
+  plane.height = height;
+  plane.samples.assign(static_cast<size_t>(width) * height, 0);
+  PlaneState st(width, height);
+  st.predicted = reference != nullptr;
+  ContextSet ctx{};
+  ctx.adaptive_levels = params.adaptive_levels;
+  CabacDecoder decoder(bytes);
+  MacroblockReader reader(decoder, ctx, st, params);
+  MacroblockData mb;
+  for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
+    for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
+      const auto where = [&] {
+        return "macroblock (" + std::to_string(mb_x) + ", " + std::to_string(mb_y) + ")";
+      };
+      const Status status = reader.read(mb_x, mb_y, mb);
+      if (!status.is_ok()) return status.with_context(where());
+      if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference);
+    }
+  if (!decoder.decode_terminate() || decoder.overrun())
+    return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
+  return plane;
+}
+
+}  // namespace gvkit::codec

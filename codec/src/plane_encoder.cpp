@@ -1,0 +1,341 @@
+// Intra encoder of one plane: per macroblock, every candidate type (I16x16, I8x8, I4x4) is tried
+// with its best modes, chosen by rate-distortion cost (SSD + lambda * estimated CABAC bits) or,
+// in the fast path, by SATD plus a mode-bit penalty; the winner is written with CABAC.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+#include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+#include "macroblock_syntax.hpp"
+
+namespace gvkit::codec {
+namespace {
+using namespace detail;
+
+class MacroblockEncoder {
+ public:
+  MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
+                    const PlaneCodingParams& p, const SamplePlane* reference)
+      : src_(source),
+        recon_(recon),
+        st_(st),
+        p_(p),
+        ref_(reference),
+        max_value_((1 << p.bit_depth) - 1) {
+    if (p.lossless) {
+      lambda_ = 1.0;
+      lambda_sad_ = 1.0;
+    } else {
+      lambda_ = 0.85 * std::pow(2.0, (p.qp_prime - 12) / 3.0);
+      lambda_sad_ = std::sqrt(lambda_);
+    }
+  }
+
+  MacroblockData encode(int mb_x, int mb_y, const ContextSet& ctx) {
+    mb_x_ = mb_x;
+    mb_y_ = mb_y;
+    struct Candidate {
+      MacroblockData mb;
+      double cost;
+      std::array<uint16_t, 256> recon;
+    };
+    Candidate best;
+    best.cost = std::numeric_limits<double>::infinity();
+    const auto consider = [&](MbType type) {
+      Candidate c;
+      c.mb.type = type;
+      ContextSet trial = ctx;
+      c.cost = type == kMbInter    ? try_inter(c.mb, trial)
+               : type == kMbI16x16 ? try_i16(c.mb, trial)
+                                   : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
+      if (c.cost < best.cost) {
+        for (int y = 0; y < 16; ++y)
+          for (int x = 0; x < 16; ++x)
+            c.recon[y * 16 + x] = recon_.at(mb_x * 16 + x, mb_y * 16 + y);
+        best = c;
+      }
+    };
+    if (ref_) consider(kMbInter);
+    consider(kMbI16x16);
+    if (p_.allow_8x8) consider(kMbI8x8);
+    consider(kMbI4x4);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
+    return best.mb;
+  }
+
+ private:
+  static int exp_golomb_bits(int v) {
+    if (v == 0) return 1;
+    int k = 0;
+    uint32_t a = static_cast<uint32_t>(std::abs(v)) - 1;
+    while (a >= (1u << k)) a -= 1u << k++;
+    return 2 + 2 * k + 1;
+  }
+
+  // Inter candidate: full search of integer motion within the search range around zero (and the
+  // predictor), by SAD + lambda * motion bits; then the residual as sixteen 4x4 blocks.
+  double try_inter(MacroblockData& mb, ContextSet& trial) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    const int r = p_.search_range;
+    double best = std::numeric_limits<double>::infinity();
+    int best_x = 0, best_y = 0;
+    int32_t pred[256];
+    const double lambda_mv = p_.lossless ? 1.0 : lambda_sad_;
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        int64_t sad = 0;
+        for (int y = 0; y < 16 && sad < best; ++y) {
+          const int sy = std::clamp(y0 + y + dy, 0, ref_->height - 1);
+          for (int x = 0; x < 16; ++x)
+            sad += std::abs(static_cast<int>(src_.at(x0 + x, y0 + y)) -
+                            ref_->at(std::clamp(x0 + x + dx, 0, ref_->width - 1), sy));
+        }
+        const double cost = sad + lambda_mv * (exp_golomb_bits(dx - px) + exp_golomb_bits(dy - py));
+        if (cost < best) {
+          best = cost;
+          best_x = dx;
+          best_y = dy;
+        }
+      }
+    mb.mv_x = best_x;
+    mb.mv_y = best_y;
+    predict_inter(*ref_, x0, y0, best_x, best_y, pred);
+    const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
+    double cost;
+    if (p_.rdo) {
+      cost = code_i16_residual(mb, pred, trial) + lambda_ * (mv_bits - 2);
+    } else {
+      cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
+      code_i16_residual(mb, pred, trial);
+    }
+    mb.skip = mb.cbp == 0 && best_x == px && best_y == py;
+    if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
+    return cost;
+  }
+
+  // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
+  bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels) const {
+    int32_t residual[64];
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        residual[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
+    if (p_.lossless) {
+      std::copy(residual, residual + n * n, levels);
+    } else {
+      int32_t coeffs[64];
+      if (n == 4)
+        forward_transform4x4(residual, coeffs);
+      else
+        forward_transform8x8(residual, coeffs);
+      quantize(n, coeffs, p_.qp_prime, levels);
+    }
+    return any_nonzero(levels, n * n);
+  }
+
+  // Reconstructs into recon_ and returns the SSD against the source.
+  int64_t reconstruct(int n, const int32_t* pred, const int32_t* levels, int x0, int y0) {
+    reconstruct_block(n, pred, levels, p_, recon_.samples.data(), recon_.width, x0, y0);
+    int64_t ssd = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int64_t d = static_cast<int64_t>(src_.at(x0 + x, y0 + y)) - recon_.at(x0 + x, y0 + y);
+        ssd += d * d;
+      }
+    return ssd;
+  }
+
+  // SATD (or SAD when lossless) of source minus prediction over an n x n block.
+  int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0) const {
+    int32_t diff[256];
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        diff[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
+    int64_t sum = 0;
+    if (p_.lossless) {
+      for (int i = 0; i < n * n; ++i) sum += std::abs(diff[i]);
+      return sum;
+    }
+    for (int by = 0; by < n; by += 4)
+      for (int bx = 0; bx < n; bx += 4) sum += satd4x4(diff + by * n + bx, n);
+    return sum;
+  }
+
+  double mode_bits_estimate(int mode, int mpm) const {
+    return mode == mpm ? 1.0 : (mode_count4(p_) > 9 ? 5.0 : 4.0);
+  }
+
+  // Codes the chosen block's mode and residual on the trial contexts; returns bits.
+  double count_block_bits(ContextSet& trial, int n, int mode, int mpm, int mode_count,
+                          const int32_t* levels, bool coded, int gx, int gy) {
+    CabacBitCounter counter;
+    if (mode >= 0) write_mode(counter, trial, mode, mpm, mode_count);
+    if (n == 4) {
+      const int left = gx > 0 ? st_.cbf_at(gx - 1, gy) : 0;
+      const int top = gy > 0 ? st_.cbf_at(gx, gy - 1) : 0;
+      counter.encode(trial.cbf[left + 2 * top], coded);
+    }
+    if (coded) write_residual(counter, trial, levels, n);
+    return counter.bits();
+  }
+
+  double try_block_modes(int n, int block, int mode_count, int mpm, ContextSet& trial,
+                         int8_t* chosen_mode, int32_t* chosen_levels) {
+    const int x0 = mb_x_ * 16 + block_x(block) * 4, y0 = mb_y_ * 16 + block_y(block) * 4;
+    const int gx = x0 / 4, gy = y0 / 4;
+    const IntraNeighbors nb = block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
+    int32_t pred[64], levels[64], best_pred[64];
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_mode = kIntraDc;
+    for (int mode = 0; mode < mode_count; ++mode) {
+      predict_intra(n, mode, nb, max_value_, pred);
+      double cost;
+      if (p_.rdo) {
+        const bool coded = make_levels(n, pred, x0, y0, levels);
+        const int64_t ssd = reconstruct(n, pred, levels, x0, y0);
+        ContextSet scratch = trial;
+        cost = static_cast<double>(ssd) +
+               lambda_ * count_block_bits(scratch, n, mode, mpm, mode_count, levels, coded, gx, gy);
+      } else {
+        cost = static_cast<double>(distortion_estimate(n, pred, x0, y0)) +
+               lambda_sad_ * mode_bits_estimate(mode, mpm);
+      }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_mode = mode;
+        std::copy(pred, pred + n * n, best_pred);
+      }
+    }
+    const bool coded = make_levels(n, best_pred, x0, y0, chosen_levels);
+    const int64_t ssd = reconstruct(n, best_pred, chosen_levels, x0, y0);
+    *chosen_mode = static_cast<int8_t>(best_mode);
+    const double bits = p_.rdo ? count_block_bits(trial, n, best_mode, mpm, mode_count,
+                                                  chosen_levels, coded, gx, gy)
+                               : 0.0;
+    for (int i = 0; i < n / 4; ++i)
+      for (int j = 0; j < n / 4; ++j) {
+        st_.mode_at(gx + j, gy + i) = static_cast<int8_t>(best_mode);
+        st_.cbf_at(gx + j, gy + i) = coded ? 1 : 0;
+      }
+    return p_.rdo ? static_cast<double>(ssd) + lambda_ * bits : best_cost;
+  }
+
+  double try_i4(MacroblockData& mb, ContextSet& trial) {
+    double cost = p_.rdo ? lambda_ * 2 : lambda_sad_ * 2;
+    for (int b = 0; b < 16; ++b) {
+      const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
+      cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
+                              &mb.modes[b], mb.levels[b]);
+    }
+    mb.cbp = 0;
+    for (int b = 0; b < 16; ++b)
+      if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+    return cost;
+  }
+
+  double try_i8(MacroblockData& mb, ContextSet& trial) {
+    double cost = p_.rdo ? lambda_ * 2 : lambda_sad_ * 2;
+    for (int q = 0; q < 4; ++q) {
+      const int gx = mb_x_ * 4 + (q & 1) * 2, gy = mb_y_ * 4 + (q >> 1) * 2;
+      cost += try_block_modes(8, q * 4, kIntra8x8ModeCount, most_probable_mode(st_, gx, gy, true),
+                              trial, &mb.modes[q], mb.levels8[q]);
+    }
+    mb.cbp = 0;
+    for (int q = 0; q < 4; ++q)
+      if (any_nonzero(mb.levels8[q], 64)) mb.cbp |= static_cast<uint8_t>(1 << q);
+    return cost;
+  }
+
+  double try_i16(MacroblockData& mb, ContextSet& trial) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
+    int32_t pred[256];
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_mode = kIntraDc;
+    for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+      predict_intra(16, mode, nb, max_value_, pred);
+      double cost;
+      if (p_.rdo) {
+        MacroblockData m;
+        ContextSet scratch = trial;
+        cost = code_i16_residual(m, pred, scratch);
+      } else {
+        cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * 2;
+      }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_mode = mode;
+      }
+    }
+    predict_intra(16, best_mode, nb, max_value_, pred);
+    mb.i16_mode = best_mode;
+    const double rd_cost = code_i16_residual(mb, pred, trial);
+    return p_.rdo ? rd_cost : best_cost;
+  }
+
+  // Residual of an I16x16 prediction as 16 4x4 blocks; reconstructs and returns SSD + lambda R.
+  double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial) {
+    double cost = lambda_ * 3;
+    mb.cbp = 0;
+    for (int b = 0; b < 16; ++b) {
+      const int bx = block_x(b) * 4, by = block_y(b) * 4;
+      int32_t pred[16];
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) pred[y * 4 + x] = pred16[(by + y) * 16 + bx + x];
+      const int x0 = mb_x_ * 16 + bx, y0 = mb_y_ * 16 + by;
+      const bool coded = make_levels(4, pred, x0, y0, mb.levels[b]);
+      const int64_t ssd = reconstruct(4, pred, mb.levels[b], x0, y0);
+      if (coded) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+      double bits = 0;
+      if (p_.rdo) bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
+      st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
+      cost += static_cast<double>(ssd) + lambda_ * bits;
+    }
+    return cost;
+  }
+
+  const SamplePlane& src_;
+  SamplePlane& recon_;
+  PlaneState& st_;
+  const PlaneCodingParams& p_;
+  const SamplePlane* ref_;
+  const int max_value_;
+  double lambda_ = 1, lambda_sad_ = 1;
+  int mb_x_ = 0, mb_y_ = 0;
+};
+
+}  // namespace
+
+PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                               const SamplePlane* reference) {
+  GVKIT_CHECK(
+      plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
+      "encode_plane needs a plane of whole macroblocks");
+  GVKIT_CHECK(plane.samples.size() == static_cast<size_t>(plane.width) * plane.height);
+  PlaneEncodeResult result;
+  result.reconstruction.width = plane.width;
+  result.reconstruction.height = plane.height;
+  result.reconstruction.samples.assign(plane.samples.size(), 0);
+  GVKIT_CHECK(!reference || (reference->width == plane.width && reference->height == plane.height));
+  PlaneState st(plane.width, plane.height);
+  st.predicted = reference != nullptr;
+  ContextSet ctx{};
+  ctx.adaptive_levels = params.adaptive_levels;
+  CabacEncoder encoder;
+  MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference);
+  for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
+    for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
+      const MacroblockData mb = mb_encoder.encode(mb_x, mb_y, ctx);
+      write_macroblock(encoder, ctx, st, mb_x, mb_y, mb, params);
+    }
+  encoder.encode_terminate(1);
+  result.bytes = encoder.finish();
+  return result;
+}
+
+}  // namespace gvkit::codec

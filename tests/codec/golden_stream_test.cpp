@@ -1,0 +1,99 @@
+// Golden streams in tests/golden/ must keep decoding to exactly the same samples: each stream's
+// decoded frames are compared by CRC-32 of their xyz floats with tests/golden/golden.json.
+// GVKIT_UPDATE_GOLDEN=1 regenerates the streams and the CRCs (only after a deliberate format
+// change, with a version bump).
+#include <cstdlib>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/crc32.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/json_io.hpp"
+
+namespace gvkit::codec {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kGoldenDir = GVKIT_GOLDEN_DIR;
+
+struct GoldenCase {
+  const char* file;
+  int size;
+  int frames;
+  EncoderOptions options;
+};
+
+std::vector<GoldenCase> cases() {
+  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter;
+  lossless_inter.lossless = true;  // version 1.1: adaptive level coding, with P frames
+  lossless_inter.preset = Preset::kFast;
+  for (EncoderOptions* o : {&lossless, &fast, &slow_no_gv, &eight_bit}) o->intra_only = true;
+  inter.qp = 0;
+  inter.preset = Preset::kFast;
+  inter.intra_period = 3;
+  lossless.lossless = true;
+  lossless.preset = Preset::kFast;
+  fast.qp = 6;
+  fast.preset = Preset::kFast;
+  slow_no_gv.qp = -12;
+  slow_no_gv.geometry_modes = false;
+  eight_bit.bit_depth = 8;
+  eight_bit.qp = 20;
+  return {{"analytic_lossless_48.gvid", 48, 2, lossless},
+          {"analytic_qp6_fast_64.gvid", 64, 2, fast},
+          {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},
+          {"analytic_8bit_qp20_64.gvid", 64, 3, eight_bit},
+          {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter},
+          {"analytic_lossless_ipp_v1_1_48.gvid", 48, 3, lossless_inter}};
+}
+
+uint32_t frame_crc(const GeometryImage& image) {
+  uint32_t crc = 0;
+  for (int y = 0; y < image.xyz_mm.rows; ++y)
+    crc = crc32(image.xyz_mm.ptr(y), image.xyz_mm.cols * image.xyz_mm.elemSize(), crc);
+  return crc;
+}
+
+TEST(GoldenStreams, DecodeToTheRecordedSamples) {
+  const char* update = std::getenv("GVKIT_UPDATE_GOLDEN");
+  if (update && std::string(update) == "1") {
+    nlohmann::json record;
+    for (const GoldenCase& c : cases()) {
+      testing::GeometryVideoOptions o;
+      o.size = c.size;
+      o.frames = c.frames;
+      const auto frames = testing::make_analytic_video(o);
+      auto info = make_sequence_info(frames, c.options.bit_depth, 30.0);
+      ASSERT_TRUE(info.is_ok());
+      auto bytes = encode_gvid(frames, *info, c.options);
+      ASSERT_TRUE(bytes.is_ok());
+      ASSERT_TRUE(write_file_atomically(kGoldenDir / c.file, *bytes).is_ok());
+      auto reader = GvidReader::open_memory(*bytes, c.file);
+      ASSERT_TRUE(reader.is_ok());
+      for (int64_t f = 0; f < (*reader)->frame_count(); ++f)
+        record[c.file].push_back(frame_crc((*reader)->decode_frame(f).value()));
+    }
+    ASSERT_TRUE(write_json(kGoldenDir / "golden.json", record).is_ok());
+  }
+  auto record = read_json(kGoldenDir / "golden.json");
+  ASSERT_TRUE(record.is_ok()) << record.status().message();
+  for (const GoldenCase& c : cases()) {
+    auto reader = GvidReader::open(kGoldenDir / c.file);
+    ASSERT_TRUE(reader.is_ok()) << reader.status().message();
+    ASSERT_EQ((*reader)->frame_count(), c.frames);
+    EXPECT_FALSE((*reader)->index_rebuilt());
+    for (int64_t f = 0; f < c.frames; ++f) {
+      auto frame = (*reader)->decode_frame(f);
+      ASSERT_TRUE(frame.is_ok()) << frame.status().message();
+      EXPECT_EQ(frame_crc(*frame), (*record)[c.file][f].get<uint32_t>())
+          << c.file << " frame " << f;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gvkit::codec

@@ -1,0 +1,42 @@
+// libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
+// 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
+// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra or P), decoded
+//    directly, so that mutations reach the macroblock layer without getting past the CRCs.
+// Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace gvkit::codec;
+  const std::string bytes(reinterpret_cast<const char*>(data), size);
+  DecoderLimits limits;
+  limits.max_pixels = 256 * 256;
+  auto reader = GvidReader::open_memory(bytes, "fuzz", limits);
+  if (reader.is_ok()) {
+    const int64_t frames = std::min<int64_t>((*reader)->frame_count(), 8);
+    for (int64_t i = 0; i < frames; ++i) (void)(*reader)->decode_frame(i);
+  }
+  if (size >= 4) {
+    PlaneCodingParams params;
+    params.bit_depth = 8 + data[2] % 9;
+    params.lossless = (data[3] & 1) != 0;
+    params.geometry_modes = (data[3] & 2) != 0;
+    params.qp_prime = (data[3] >> 2) % (52 + 6 * (params.bit_depth - 8));
+    const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
+    // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
+    SamplePlane reference;
+    reference.width = width;
+    reference.height = height;
+    reference.samples.resize(static_cast<size_t>(width) * height);
+    for (size_t i = 0; i < reference.samples.size(); ++i)
+      reference.samples[i] = static_cast<uint16_t>((i * 37) & ((1u << params.bit_depth) - 1));
+    (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
+                       (data[2] & 0x80) ? &reference : nullptr);
+  }
+  return 0;
+}

@@ -1,0 +1,118 @@
+// `gvkit encode`, `gvkit decode` and `gvkit info` on .gvid streams, as a user runs them.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "geometry_video_material.hpp"
+#include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/json_io.hpp"
+#include "support/test_support.hpp"
+
+namespace gvkit {
+namespace {
+using testing::run_gvkit;
+using testing::TempDir;
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+void write_frames(const std::filesystem::path& dir, int frames) {
+  testing::GeometryVideoOptions o;
+  o.size = 32;
+  o.frames = frames;
+  ASSERT_TRUE(ensure_directory(dir).is_ok());
+  const auto video = testing::make_analytic_video(o);
+  for (size_t i = 0; i < video.size(); ++i)
+    ASSERT_TRUE(write_geometry_image_exr(frame_path(dir, static_cast<int64_t>(i), ".exr"), video[i])
+                    .is_ok());
+}
+
+TEST(CliCodec, EncodeInfoDecodeLossless) {
+  TempDir dir;
+  write_frames(dir / "in", 2);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc =
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --lossless --preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  EXPECT_TRUE(contains(enc.output, "2 frames 32x32")) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["lossless"], true);
+  EXPECT_EQ((*stats)["frames"].size(), 2u);
+
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, ".gvid geometry video"));
+  EXPECT_TRUE(contains(info.output, "32x32, 16-bit xyz"));
+  EXPECT_TRUE(contains(info.output, "frames          2"));
+  EXPECT_TRUE(contains(info.output, "bits/vertex"));
+
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  for (int f = 0; f < 2; ++f) {
+    auto a = read_geometry_image_exr(frame_path(dir / "in", f, ".exr"));
+    auto b = read_geometry_image_exr(frame_path(dir / "out", f, ".exr"));
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    double worst = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        if (a->domain_mask.at<uint8_t>(y, x))
+          worst = std::max(worst,
+                           cv::norm(a->xyz_mm.at<cv::Vec3f>(y, x) - b->xyz_mm.at<cv::Vec3f>(y, x)));
+    EXPECT_LT(worst, 0.01);  // 16-bit quantization of a ~300 mm box: ~0.005 mm steps
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
+}
+
+TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --intra-only --qp 0 --preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto bytes = read_file(gvid);
+  ASSERT_TRUE(bytes.is_ok());
+  std::string bad = *bytes;
+  bad.resize(bad.size() - 84);   // drops the index (72 bytes) and the trailer (12)
+  bad[bad.size() - 10] ^= 0x20;  // damages the last frame's payload
+  ASSERT_TRUE(write_file_atomically(gvid, bad).is_ok());
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "found by a scan")) << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  EXPECT_NE(dec.exit_code, 0);
+  EXPECT_TRUE(contains(dec.output, "frame 2: payload CRC mismatch")) << dec.output;
+  EXPECT_FALSE(std::filesystem::exists(frame_path(dir / "out", 2, ".exr")));
+  EXPECT_TRUE(std::filesystem::exists(frame_path(dir / "out", 0, ".exr")));
+  EXPECT_TRUE(std::filesystem::exists(frame_path(dir / "out", 1, ".exr")));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
+}
+
+TEST(CliCodec, BadOptionsAndInputsFailWithAMessage) {
+  TempDir dir;
+  write_frames(dir / "in", 1);
+  const std::string in = (dir / "in").string(), out = (dir / "v.gvid").string();
+  auto qp = run_gvkit("encode " + in + " -o " + out + " --qp 99");
+  EXPECT_NE(qp.exit_code, 0);
+  EXPECT_TRUE(contains(qp.output, "qp 99 out of range")) << qp.output;
+  auto both = run_gvkit("encode " + in + " -o " + out + " --qp 3 --lossless");
+  EXPECT_NE(both.exit_code, 0);
+  auto preset = run_gvkit("encode " + in + " -o " + out + " --preset medium");
+  EXPECT_NE(preset.exit_code, 0);
+  EXPECT_TRUE(contains(preset.output, "preset 'medium'")) << preset.output;
+  auto empty = run_gvkit("encode " + (dir / "nothing").string() + " -o " + out);
+  EXPECT_NE(empty.exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  auto garbage = dir / "bad.gvid";
+  std::ofstream(garbage) << "GVID but not really";
+  auto dec = run_gvkit("decode " + garbage.string() + " -o " + (dir / "o").string());
+  EXPECT_NE(dec.exit_code, 0);
+  EXPECT_TRUE(contains(dec.output, "bad.gvid: header")) << dec.output;
+}
+
+}  // namespace
+}  // namespace gvkit

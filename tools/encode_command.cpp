@@ -1,0 +1,143 @@
+// gvkit encode GV_DIR -o FILE.gvid: compresses a folder of geometry-image EXRs
+// (frame_NNNNNN.exr) into a .gvid stream, and writes FILE.gvid.stats.json beside it.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "gvkit/codec/geometry_metrics.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/json_io.hpp"
+#include "gvkit/core/progress.hpp"
+
+namespace gvkit::tools {
+namespace {
+namespace fs = std::filesystem;
+
+struct EncodeArgs {
+  std::string input, output, preset = "slow";
+  codec::EncoderOptions options;
+  double fps = 30.0;
+  bool no_gv_modes = false;
+};
+
+void run_encode(const EncodeArgs& args) {
+  codec::EncoderOptions options = args.options;
+  options.geometry_modes = !args.no_gv_modes;
+  options.preset = value_or_throw(codec::parse_preset(args.preset));
+  throw_if_error(options.check());
+  const auto files = value_or_throw(list_frame_files(args.input, ".exr"));
+  if (files.empty()) throw CommandFailed(not_found(args.input + ": no frame_NNNNNN.exr files"));
+  std::vector<GeometryImage> frames;
+  {
+    Progress progress("reading " + args.input, static_cast<int64_t>(files.size()));
+    for (const auto& f : files) {
+      frames.push_back(value_or_throw(read_geometry_image_exr(f.path)));
+      progress.advance();
+    }
+    progress.finish();
+  }
+  const codec::SequenceInfo info =
+      value_or_throw(codec::make_sequence_info(frames, options.bit_depth, args.fps));
+  auto writer = value_or_throw(codec::GvidWriter::create(args.output, info, options));
+  const double peak = info.box_diagonal_mm();
+  const double vertices = static_cast<double>(info.domain_pixels());
+  nlohmann::json per_frame = nlohmann::json::array();
+  codec::GeometryError total;
+  Progress progress("encoding", static_cast<int64_t>(frames.size()));
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const GeometryImage recon = value_or_throw(writer->write(frames[i]));
+    const codec::GeometryError e = codec::geometry_error(frames[i], recon);
+    codec::accumulate(total, e);
+    const int64_t bytes = writer->frame_bytes()[i];
+    per_frame.push_back({{"frame", i},
+                         {"source", files[i].path.filename().string()},
+                         {"bytes", bytes},
+                         {"bits_per_vertex", bytes * 8.0 / vertices},
+                         {"psnr_db", e.psnr_db(peak)},
+                         {"rms_mm", e.rms_mm},
+                         {"max_mm", e.max_mm}});
+    progress.advance();
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  progress.finish();
+  throw_if_error(writer->finish());
+  int64_t total_bytes = writer->header_bytes();
+  for (int64_t b : writer->frame_bytes()) total_bytes += b;
+  const double n = static_cast<double>(frames.size());
+  const double bpv = (total_bytes - writer->header_bytes()) * 8.0 / vertices / n;
+  const double psnr = total.psnr_db(peak);
+  nlohmann::json stats = {
+      {"input", args.input},
+      {"output", args.output},
+      {"options",
+       {{"qp", options.qp},
+        {"lossless", options.lossless},
+        {"bit_depth", options.bit_depth},
+        {"geometry_modes", options.geometry_modes},
+        {"intra_only", options.intra_only},
+        {"intra_period", options.intra_period},
+        {"search_range", options.search_range},
+        {"preset", codec::preset_name(options.preset)},
+        {"fps", args.fps}}},
+      {"summary",
+       {{"frames", frames.size()},
+        {"width", info.width},
+        {"height", info.height},
+        {"domain_pixels", info.domain_pixels()},
+        {"box_diagonal_mm", peak},
+        {"step_mm", info.step_mm()},
+        {"file_bytes", total_bytes},
+        {"bits_per_vertex_per_frame", bpv},
+        {"kbit_per_s", (total_bytes - writer->header_bytes()) * 8.0 / n * args.fps / 1000.0},
+        {"psnr_db", std::isfinite(psnr) ? nlohmann::json(psnr) : nlohmann::json("inf")},
+        {"rms_mm", total.rms_mm},
+        {"max_mm", total.max_mm},
+        {"encode_fps", n / seconds}}},
+      {"frames", per_frame}};
+  for (auto& f : stats["frames"])
+    if (!std::isfinite(f["psnr_db"].get<double>())) f["psnr_db"] = "inf";
+  throw_if_error(write_json(args.output + ".stats.json", stats));
+  std::printf(
+      "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm, "
+      "%.1f frames/s\n",
+      args.output.c_str(), frames.size(), info.width, info.height,
+      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, n / seconds);
+}
+
+}  // namespace
+
+void add_encode_command(CLI::App& app) {
+  auto args = std::make_shared<EncodeArgs>();
+  auto* cmd = app.add_subcommand(
+      "encode", "Compress a folder of geometry-image EXRs (frame_NNNNNN.exr) into a .gvid stream");
+  cmd->add_option("input", args->input, "Folder of frame_NNNNNN.exr geometry images")->required();
+  cmd->add_option("-o,--output", args->output, "Output .gvid file")->required();
+  auto* qp = cmd->add_option("--qp", args->options.qp,
+                             "Quantization parameter, -6(B-8)..51 (lower = finer)");
+  auto* lossless =
+      cmd->add_flag("--lossless", args->options.lossless, "Lossless (transform bypass)");
+  qp->excludes(lossless);
+  cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16");
+  cmd->add_flag("--no-gv-modes", args->no_gv_modes, "Disable the four geometry intra modes");
+  cmd->add_flag("--intra-only", args->options.intra_only, "Intra frames only (no P frames)");
+  cmd->add_option("--intra-period,--gop", args->options.intra_period,
+                  "Frames from one intra frame to the next (P frames between); default 30");
+  cmd->add_option("--search-range", args->options.search_range,
+                  "Motion search range of P frames in samples, 0..32");
+  cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
+  cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
+  cmd->callback([args] { run_encode(*args); });
+}
+
+}  // namespace gvkit::tools
