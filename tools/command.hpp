@@ -31,6 +31,7 @@ T value_or_throw(Result<T> result) {
 void add_info_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 #ifdef GVKIT_WITH_PLAYER
+void add_play_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 #endif
 

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_info_command(app);
   gvkit::tools::add_export_command(app);
 #ifdef GVKIT_WITH_PLAYER
+  gvkit::tools::add_play_command(app);
   gvkit::tools::add_render_command(app);
 #endif
 
