@@ -32,22 +32,22 @@ SceneFrame scene_frame(const MeshBuffers& mesh) {
   Eigen::Vector3d facing =
       normal_sum.norm() > 1e-9 ? normal_sum.normalized() : Eigen::Vector3d(0, 0, -1);
 
-  // Height along facing of the image's middle third against the whole surface.
-  double mid_sum = 0, all_sum = 0;
-  int64_t mid_n = 0;
+  // Which side is the front: a surface that bulges towards the viewer (a face) has normals that
+  // diverge on that side, so sum (p - mean) . n is positive when the normals point at the
+  // viewer (for a closed surface with outward normals it is 3 x volume). Flat: keep the mean.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i)
+    mean += Eigen::Vector3d(mesh.positions_mm[3 * i], mesh.positions_mm[3 * i + 1],
+                            mesh.positions_mm[3 * i + 2]);
+  mean /= static_cast<double>(n);
+  double divergence = 0;
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d p(mesh.positions_mm[3 * i], mesh.positions_mm[3 * i + 1],
                             mesh.positions_mm[3 * i + 2]);
-    const double h = (p - f.center_mm).dot(facing);
-    all_sum += h;
-    const int x = mesh.pixel_index[i] % mesh.width, y = mesh.pixel_index[i] / mesh.width;
-    if (3 * x >= mesh.width && 3 * x < 2 * mesh.width && 3 * y >= mesh.height &&
-        3 * y < 2 * mesh.height) {
-      mid_sum += h;
-      ++mid_n;
-    }
+    divergence += (p - mean).dot(
+        Eigen::Vector3d(mesh.normals[3 * i], mesh.normals[3 * i + 1], mesh.normals[3 * i + 2]));
   }
-  if (mid_n > 0 && mid_sum / mid_n < all_sum / n - 1e-6 * f.radius_mm) facing = -facing;
+  if (divergence < -1e-3 * f.radius_mm * static_cast<double>(n)) facing = -facing;
   f.facing = facing;
 
   Eigen::Vector3d right = Eigen::Vector3d::UnitX() - facing.x() * facing;

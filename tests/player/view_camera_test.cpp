@@ -46,6 +46,18 @@ TEST(ViewCamera, ModelFrameFaceFacingPlusZIsFoundToo) {
   EXPECT_GT(f.up.dot(Eigen::Vector3d(0, 1, 0)), 0.9);
 }
 
+TEST(ViewCamera, MirroredImageWithReversedWindingStillFacesTheCamera) {
+  // Mirroring x reverses the triangles' winding, so the normals point away from the camera;
+  // the front is still the camera side (the convex side of the bump).
+  GeometryImage image = testing::make_face_like_image(40, 0);
+  image.xyz_mm.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) { p[0] = -p[0]; });
+  const MeshBuffers mesh = mesh_buffers_from_geometry_image(image);
+  EXPECT_GT(mesh.normals[2 * 3 + 2], 0.0f);  // a vertex normal points to +z, away from the camera
+  const SceneFrame f = scene_frame(mesh);
+  EXPECT_GT(f.facing.dot(Eigen::Vector3d(0, 0, -1)), 0.9);
+  EXPECT_GT(f.up.dot(Eigen::Vector3d(0, -1, 0)), 0.9);
+}
+
 TEST(ViewCamera, PresetsAndControls) {
   const SceneFrame f =
       scene_frame(mesh_buffers_from_geometry_image(testing::make_face_like_image(32, 0)));

@@ -22,8 +22,8 @@ struct SceneFrame {
   Eigen::Vector3d right = Eigen::Vector3d(1, 0, 0);    // unit; right x up = facing
 };
 
-// The frame of a mesh: bounding-sphere center/radius; facing = the mean normal, flipped if the
-// middle of the image lies behind its rim along it (a face's nose points at the viewer); right =
+// The frame of a mesh: bounding-sphere center/radius; facing = the mean normal, flipped when the
+// normals converge on that side (the viewer sees the convex side, as of a face); right =
 // world +x made orthogonal to facing; up = facing x right. An empty mesh gives the defaults.
 SceneFrame scene_frame(const MeshBuffers& mesh);
 
