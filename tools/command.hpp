@@ -55,5 +55,10 @@ void add_facemap_make_domain_command(CLI::App& app);
 void add_facemap_ict_sequence_command(CLI::App& app);
 void add_encode_command(CLI::App& app);
 void add_decode_command(CLI::App& app);
+void add_export_command(CLI::App& app);
+#ifdef GVKIT_WITH_PLAYER
+void add_play_command(CLI::App& app);
+void add_render_command(CLI::App& app);
+#endif
 
 }  // namespace gvkit::tools

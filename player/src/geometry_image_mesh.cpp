@@ -1,0 +1,158 @@
+#include "gvkit/player/geometry_image_mesh.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace gvkit::player {
+namespace {
+
+float distance2(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const cv::Vec3f d = a - b;
+  return d.dot(d);
+}
+
+}  // namespace
+
+Status GeometryImageMeshOptions::check() const {
+  if (!(max_edge_mm >= 0.0) || !std::isfinite(max_edge_mm))
+    return invalid_argument("max_edge_mm must be >= 0 (0 = keep every triangle)");
+  return Status::ok();
+}
+
+MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
+                                             const GeometryImageMeshOptions& options) {
+  GVKIT_CHECK(image.check().is_ok(), image.check().message());
+  GVKIT_CHECK(options.check().is_ok(), options.check().message());
+  const int w = image.xyz_mm.cols, h = image.xyz_mm.rows;
+  MeshBuffers out;
+  out.width = w;
+  out.height = h;
+  const bool has_grey = !image.texture.empty();
+
+  // Vertex numbering: domain pixels with finite xyz, row-major.
+  std::vector<int32_t> vertex_of(static_cast<size_t>(w) * h, -1);
+  for (int y = 0; y < h; ++y) {
+    const cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
+    const uint8_t* m = image.domain_mask.ptr<uint8_t>(y);
+    const float* t = has_grey ? image.texture.ptr<float>(y) : nullptr;
+    for (int x = 0; x < w; ++x) {
+      if (!m[x] || !std::isfinite(p[x][0]) || !std::isfinite(p[x][1]) || !std::isfinite(p[x][2]))
+        continue;
+      vertex_of[static_cast<size_t>(y) * w + x] = static_cast<int32_t>(out.pixel_index.size());
+      out.pixel_index.push_back(y * w + x);
+      out.positions_mm.insert(out.positions_mm.end(), {p[x][0], p[x][1], p[x][2]});
+      out.texcoords.insert(out.texcoords.end(), {(x + 0.5f) / static_cast<float>(w),
+                                                 (y + 0.5f) / static_cast<float>(h)});
+      if (has_grey) out.grey.push_back(std::clamp(t[x], 0.0f, 1.0f));
+    }
+  }
+
+  const float max_edge2 = static_cast<float>(options.max_edge_mm * options.max_edge_mm);
+  auto add_triangle = [&](const std::array<int32_t, 3>& v, const std::array<cv::Vec3f, 3>& p) {
+    if (max_edge2 > 0 && (distance2(p[0], p[1]) > max_edge2 || distance2(p[1], p[2]) > max_edge2 ||
+                          distance2(p[2], p[0]) > max_edge2))
+      return;
+    for (int32_t i : v) out.indices.push_back(static_cast<uint32_t>(i));
+  };
+
+  for (int y = 0; y + 1 < h; ++y) {
+    const cv::Vec3f* row0 = image.xyz_mm.ptr<cv::Vec3f>(y);
+    const cv::Vec3f* row1 = image.xyz_mm.ptr<cv::Vec3f>(y + 1);
+    const int32_t* v0 = &vertex_of[static_cast<size_t>(y) * w];
+    const int32_t* v1 = &vertex_of[static_cast<size_t>(y + 1) * w];
+    for (int x = 0; x + 1 < w; ++x) {
+      // Corners in the cyclic order that gives the documented winding: a (x,y), c (x,y+1),
+      // d (x+1,y+1), b (x+1,y).
+      const std::array<int32_t, 4> v = {v0[x], v1[x], v1[x + 1], v0[x + 1]};
+      const std::array<cv::Vec3f, 4> p = {row0[x], row1[x], row1[x + 1], row0[x + 1]};
+      const int present = (v[0] >= 0) + (v[1] >= 0) + (v[2] >= 0) + (v[3] >= 0);
+      if (present == 4) {
+        if (distance2(p[0], p[2]) <= distance2(p[1], p[3])) {  // split along a-d
+          add_triangle({v[0], v[1], v[2]}, {p[0], p[1], p[2]});
+          add_triangle({v[0], v[2], v[3]}, {p[0], p[2], p[3]});
+        } else {  // split along c-b
+          add_triangle({v[0], v[1], v[3]}, {p[0], p[1], p[3]});
+          add_triangle({v[1], v[2], v[3]}, {p[1], p[2], p[3]});
+        }
+      } else if (present == 3 && options.partial_quads) {
+        std::array<int32_t, 3> tv{};
+        std::array<cv::Vec3f, 3> tp;
+        int k = 0;
+        for (int i = 0; i < 4; ++i)
+          if (v[i] >= 0) {
+            tv[k] = v[i];
+            tp[k++] = p[i];
+          }
+        add_triangle(tv, tp);
+      }
+    }
+  }
+
+  // Area-weighted vertex normals: the unnormalised face normal is twice the area times the unit
+  // normal, so summing it weights by area.
+  const size_t n = out.vertex_count();
+  std::vector<double> acc(3 * n, 0.0);
+  const float* pos = out.positions_mm.data();
+  for (size_t t = 0; t < out.indices.size(); t += 3) {
+    const uint32_t i0 = out.indices[t], i1 = out.indices[t + 1], i2 = out.indices[t + 2];
+    const cv::Vec3d a(pos[3 * i0], pos[3 * i0 + 1], pos[3 * i0 + 2]);
+    const cv::Vec3d b(pos[3 * i1], pos[3 * i1 + 1], pos[3 * i1 + 2]);
+    const cv::Vec3d c(pos[3 * i2], pos[3 * i2 + 1], pos[3 * i2 + 2]);
+    const cv::Vec3d fn = (b - a).cross(c - a);
+    for (uint32_t i : {i0, i1, i2})
+      for (int k = 0; k < 3; ++k) acc[3 * i + k] += fn[k];
+  }
+  out.normals.resize(3 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const double len = std::sqrt(acc[3 * i] * acc[3 * i] + acc[3 * i + 1] * acc[3 * i + 1] +
+                                 acc[3 * i + 2] * acc[3 * i + 2]);
+    for (int k = 0; k < 3; ++k)
+      out.normals[3 * i + k] = len > 0 ? static_cast<float>(acc[3 * i + k] / len) : 0.0f;
+  }
+  return out;
+}
+
+Mesh mesh_from_buffers(const MeshBuffers& buffers, int* dropped_faces) {
+  Mesh mesh;
+  mesh.request_vertex_normals();
+  mesh.request_vertex_texcoords2D();
+  const bool grey = !buffers.grey.empty();
+  if (grey) mesh.request_vertex_colors();
+  const size_t n = buffers.vertex_count();
+  std::vector<Mesh::VertexHandle> handles(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &buffers.positions_mm[3 * i];
+    const float* nr = &buffers.normals[3 * i];
+    handles[i] = mesh.add_vertex(Mesh::Point(p[0], p[1], p[2]));
+    mesh.set_normal(handles[i], Mesh::Normal(nr[0], nr[1], nr[2]));
+    mesh.set_texcoord2D(handles[i],
+                        Mesh::TexCoord2D(buffers.texcoords[2 * i], buffers.texcoords[2 * i + 1]));
+    if (grey) {
+      const float g = buffers.grey[i];
+      mesh.set_color(handles[i], Mesh::Color(g, g, g, 1.0f));
+    }
+  }
+  int dropped = 0;
+  for (size_t t = 0; t < buffers.indices.size(); t += 3) {
+    const auto f = mesh.add_face(handles[buffers.indices[t]], handles[buffers.indices[t + 1]],
+                                 handles[buffers.indices[t + 2]]);
+    if (!f.is_valid()) ++dropped;
+  }
+  if (dropped_faces) *dropped_faces = dropped;
+  return mesh;
+}
+
+Result<GeometryImage> geometry_image_from_range_scan(const RangeScan& scan) {
+  GVKIT_RETURN_IF_ERROR(scan.check());
+  GeometryImage image;
+  image.xyz_mm = scan.xyz_mm.clone();
+  image.xyz_mm.setTo(cv::Scalar::all(0), scan.valid == 0);
+  // NaNs that slipped through a valid pixel would fail check(); the scan's check() rules them out.
+  image.domain_mask = scan.valid.clone();
+  if (!scan.texture.empty()) image.texture = scan.texture.clone();
+  image.index = scan.index;
+  image.timestamp = scan.timestamp;
+  return image;
+}
+
+}  // namespace gvkit::player

@@ -1,0 +1,178 @@
+#include "gvkit/player/geometry_image_mesh.hpp"
+
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "player_test_data.hpp"
+
+namespace gvkit::player {
+namespace {
+
+// w x h image of the function xyz(x, y); every pixel in the domain unless masked later.
+template <typename F>
+GeometryImage make_image(int w, int h, F xyz) {
+  GeometryImage image;
+  image.xyz_mm.create(h, w, CV_32FC3);
+  image.domain_mask = cv::Mat(h, w, CV_8U, cv::Scalar(255));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) image.xyz_mm.at<cv::Vec3f>(y, x) = xyz(x, y);
+  return image;
+}
+
+GeometryImage plane(int w, int h) {
+  return make_image(w, h, [](int x, int y) { return cv::Vec3f(2.0f * x, 2.0f * y, 100.0f); });
+}
+
+// Every triangle uses three domain pixels from one 2x2 quad.
+void expect_triangles_inside_domain(const MeshBuffers& m, const cv::Mat& mask) {
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    int xmin = 1 << 30, xmax = -1, ymin = 1 << 30, ymax = -1;
+    for (int k = 0; k < 3; ++k) {
+      const int p = m.pixel_index[m.indices[3 * t + k]];
+      const int x = p % m.width, y = p / m.width;
+      ASSERT_NE(mask.at<uint8_t>(y, x), 0)
+          << "triangle " << t << " uses masked pixel " << x << "," << y;
+      xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+      ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+    }
+    ASSERT_LE(xmax - xmin, 1) << "triangle " << t << " spans more than one quad";
+    ASSERT_LE(ymax - ymin, 1) << "triangle " << t << " spans more than one quad";
+  }
+}
+
+TEST(GeometryImageMesh, FullPlaneHasTwoTrianglesPerQuadAndNormalsTowardsCamera) {
+  const MeshBuffers m = mesh_buffers_from_geometry_image(plane(8, 6));
+  EXPECT_EQ(m.vertex_count(), 48u);
+  EXPECT_EQ(m.triangle_count(), 2u * 7 * 5);
+  ASSERT_EQ(m.normals.size(), 3 * m.vertex_count());
+  for (size_t i = 0; i < m.vertex_count(); ++i) {
+    EXPECT_NEAR(m.normals[3 * i + 0], 0.0, 1e-6);
+    EXPECT_NEAR(m.normals[3 * i + 1], 0.0, 1e-6);
+    EXPECT_NEAR(m.normals[3 * i + 2], -1.0, 1e-6);  // camera frame: towards the viewer at z = 0
+  }
+  // Texture coordinates of pixel (x, y) are pixel centres over the size.
+  EXPECT_FLOAT_EQ(m.texcoords[0], 0.5f / 8);
+  EXPECT_FLOAT_EQ(m.texcoords[1], 0.5f / 6);
+  EXPECT_TRUE(m.grey.empty());
+}
+
+TEST(GeometryImageMesh, HoleRemovesItsQuadsAndNoTriangleCrossesIt) {
+  GeometryImage image = plane(10, 10);
+  image.domain_mask(cv::Rect(4, 4, 2, 2)).setTo(0);  // a 2x2 hole
+  GeometryImageMeshOptions complete_only;
+  complete_only.partial_quads = false;
+  const MeshBuffers m = mesh_buffers_from_geometry_image(image, complete_only);
+  EXPECT_EQ(m.vertex_count(), 96u);
+  // Quads touching the hole: the 3x3 block of quads with top-left corners in x, y in 3..5.
+  EXPECT_EQ(m.triangle_count(), 2u * (81 - 9));
+  expect_triangles_inside_domain(m, image.domain_mask);
+
+  // With partial quads, the 4 corner quads of that block have 3 domain pixels: one triangle each.
+  const MeshBuffers p = mesh_buffers_from_geometry_image(image);
+  EXPECT_EQ(p.triangle_count(), 2u * (81 - 9) + 4);
+  expect_triangles_inside_domain(p, image.domain_mask);
+}
+
+TEST(GeometryImageMesh, NonFinitePixelsAreSkippedLikeMaskedOnes) {
+  GeometryImage image = plane(5, 5);
+  image.domain_mask.at<uint8_t>(0, 0) = 0;
+  image.xyz_mm.at<cv::Vec3f>(0, 0) = cv::Vec3f(NAN, NAN, NAN);  // outside D: unspecified
+  const MeshBuffers m = mesh_buffers_from_geometry_image(image);
+  EXPECT_EQ(m.vertex_count(), 24u);
+  EXPECT_EQ(m.triangle_count(), 2u * 16 - 1);
+}
+
+TEST(GeometryImageMesh, SplitsAlongTheShorterDiagonal) {
+  // Sheared grid: the (x+1, y)-(x, y+1) diagonal is the shorter one in every quad.
+  const GeometryImage image =
+      make_image(4, 4, [](int x, int y) { return cv::Vec3f(x + 0.5f * y, 1.0f * y, 0.0f); });
+  const MeshBuffers m = mesh_buffers_from_geometry_image(image);
+  ASSERT_EQ(m.triangle_count(), 18u);
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    std::set<int> px;
+    for (int k = 0; k < 3; ++k) px.insert(m.pixel_index[m.indices[3 * t + k]]);
+    // No triangle holds both ends of the long diagonal: (x, y) and (x + 1, y + 1).
+    for (int p : px) EXPECT_FALSE(px.count(p + 4 + 1) && (p % 4) < 3) << "triangle " << t;
+  }
+  // Mirrored shear: the other diagonal is shorter.
+  const GeometryImage mirrored =
+      make_image(4, 4, [](int x, int y) { return cv::Vec3f(x - 0.5f * y, 1.0f * y, 0.0f); });
+  const MeshBuffers n = mesh_buffers_from_geometry_image(mirrored);
+  for (size_t t = 0; t < n.triangle_count(); ++t) {
+    std::set<int> px;
+    for (int k = 0; k < 3; ++k) px.insert(n.pixel_index[n.indices[3 * t + k]]);
+    for (int p : px) EXPECT_FALSE(px.count(p + 4 - 1) && (p % 4) > 0) << "triangle " << t;
+  }
+}
+
+TEST(GeometryImageMesh, MaxEdgeDropsTrianglesAcrossADepthStep) {
+  const GeometryImage image = make_image(6, 4, [](int x, int y) {
+    return cv::Vec3f(1.0f * x, 1.0f * y, x < 3 ? 500.0f : 600.0f);  // 100 mm step
+  });
+  GeometryImageMeshOptions options;
+  options.max_edge_mm = 10;
+  const MeshBuffers m = mesh_buffers_from_geometry_image(image, options);
+  EXPECT_EQ(m.triangle_count(), 2u * (2 + 2) * 3);  // the quads between x = 2 and 3 are gone
+  EXPECT_EQ(mesh_buffers_from_geometry_image(image).triangle_count(), 2u * 5 * 3);
+  options.max_edge_mm = -1;
+  EXPECT_FALSE(options.check().is_ok());
+}
+
+TEST(GeometryImageMesh, SphereCapNormalsAreRadial) {
+  const double r = 50;
+  const GeometryImage image = make_image(32, 32, [&](int x, int y) {
+    const double u = (x - 15.5) * 1.0, v = (y - 15.5) * 1.0;
+    return cv::Vec3f(static_cast<float>(u), static_cast<float>(v),
+                     static_cast<float>(200.0 - std::sqrt(r * r - u * u - v * v)));
+  });
+  const MeshBuffers m = mesh_buffers_from_geometry_image(image);
+  const cv::Vec3d centre(0, 0, 200);
+  for (size_t i = 0; i < m.vertex_count(); ++i) {
+    const int x = m.pixel_index[i] % 32, y = m.pixel_index[i] / 32;
+    if (x == 0 || y == 0 || x == 31 || y == 31) continue;  // one-sided at the border
+    const cv::Vec3d p(m.positions_mm[3 * i], m.positions_mm[3 * i + 1], m.positions_mm[3 * i + 2]);
+    const cv::Vec3d n(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]);
+    const cv::Vec3d radial = (p - centre) / cv::norm(p - centre);
+    EXPECT_GT(n.dot(radial), 0.999) << "vertex at " << x << "," << y;
+  }
+}
+
+TEST(GeometryImageMesh, CoreMeshMatchesTheBuffers) {
+  const GeometryImage image = testing::make_face_like_image(48, 0);
+  const MeshBuffers b = mesh_buffers_from_geometry_image(image);
+  int dropped = -1;
+  const Mesh mesh = mesh_from_buffers(b, &dropped);
+  EXPECT_EQ(mesh.n_vertices(), b.vertex_count());
+  EXPECT_EQ(mesh.n_faces() + static_cast<size_t>(dropped), b.triangle_count());
+  EXPECT_LE(dropped, 4);
+  ASSERT_TRUE(mesh.has_vertex_colors());
+  ASSERT_TRUE(mesh.has_vertex_texcoords2D());
+  ASSERT_TRUE(mesh.has_vertex_normals());
+  const auto v = mesh.vertex_handle(10);
+  EXPECT_FLOAT_EQ(mesh.color(v)[0], b.grey[10]);
+  EXPECT_FLOAT_EQ(mesh.texcoord2D(v)[1], b.texcoords[21]);
+  EXPECT_DOUBLE_EQ(mesh.point(v)[2], b.positions_mm[32]);
+  expect_triangles_inside_domain(b, image.domain_mask);
+}
+
+TEST(GeometryImageMesh, RangeScanBecomesAGeometryImageWithValidAsMask) {
+  RangeScan scan;
+  scan.xyz_mm = cv::Mat(4, 4, CV_32FC3, cv::Scalar(1, 2, 300));
+  scan.valid = cv::Mat(4, 4, CV_8U, cv::Scalar(255));
+  scan.texture = cv::Mat(4, 4, CV_32F, cv::Scalar(0.5));
+  scan.quality = cv::Mat(4, 4, CV_32F, cv::Scalar(1));
+  scan.xyz_mm.at<cv::Vec3f>(1, 2) = cv::Vec3f(NAN, NAN, NAN);
+  scan.valid.at<uint8_t>(1, 2) = 0;
+  auto image = geometry_image_from_range_scan(scan);
+  ASSERT_TRUE(image.is_ok()) << image.status().message();
+  EXPECT_TRUE(image->check().is_ok());
+  EXPECT_EQ(image->domain_mask.at<uint8_t>(1, 2), 0);
+  EXPECT_EQ(mesh_buffers_from_geometry_image(*image).vertex_count(), 15u);
+  scan.valid.at<uint8_t>(1, 2) = 255;  // NaN in a valid pixel
+  EXPECT_FALSE(geometry_image_from_range_scan(scan).is_ok());
+}
+
+}  // namespace
+}  // namespace gvkit::player
