@@ -34,7 +34,6 @@ void add_reconstruct_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_calibrate_command(CLI::App& app);
 void add_record_command(CLI::App& app);
-// --- end capture (live) ---
 // `gvkit facemap` and its subcommands (tools/facemap_*_command.cpp).
 void add_facemap_command(CLI::App& app);
 void add_facemap_clean_command(CLI::App& facemap);
