@@ -109,7 +109,9 @@ TEST(PatternSet, NamesAndBadNames) {
        {"psp2-f16", "psp3", "mf3-f16-f2", "mf3-f1-f16", "zh-f0", "gray0-psp3", "nonsense", ""}) {
     auto r = create_pattern_set(bad);
     EXPECT_FALSE(r) << bad;
-    if (!r) EXPECT_NE(r.status().message().find("pattern set"), std::string::npos);
+    if (!r) {
+      EXPECT_NE(r.status().message().find("pattern set"), std::string::npos);
+    }
   }
   PatternSetOptions o;
   o.min_modulation = 2;

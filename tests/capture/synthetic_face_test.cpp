@@ -178,7 +178,9 @@ TEST(ExpressionTrack, NamesWeightsAndDeterminism) {
         blink_max = std::max(blink_max, p.weights.at("eyeBlink_L"));
       EXPECT_LT(cv::norm(p.head_rotation_deg), 15.0);
     }
-    if (name == "blink") EXPECT_GT(blink_max, 0.9);
+    if (name == "blink") {
+      EXPECT_GT(blink_max, 0.9);
+    }
   }
 }
 
