@@ -15,6 +15,14 @@
 namespace gvkit::facemap {
 namespace {
 
+// Small scans keep the suite fast (also under sanitizers): 176 px at 1.2 mm, about 17K vertices.
+SyntheticFaceScanOptions small_scan() {
+  SyntheticFaceScanOptions o;
+  o.size_px = 176;
+  o.pixel_mm = 1.2;
+  return o;
+}
+
 class FaceCleaningTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -34,7 +42,8 @@ IctFaceModel* FaceCleaningTest::model_ = nullptr;
 
 TEST_F(FaceCleaningTest, SyntheticScanWithTrueLandmarksGivesFourBoundaries) {
   if (!model_) GTEST_SKIP() << "../shared/data is absent; this test needs it";
-  const SyntheticFaceScan synthetic = render_synthetic_face_scan(*model_, model_->neutral_mm());
+  const SyntheticFaceScan synthetic =
+      render_synthetic_face_scan(*model_, model_->neutral_mm(), small_scan());
   FaceLandmarks landmarks;
   landmarks.points_px = synthetic.landmarks.points_px;
   auto face = clean_scan(synthetic.scan, landmarks);
@@ -60,7 +69,8 @@ TEST_F(FaceCleaningTest, DlibFindsTheSyntheticFaceLandmarks) {
   if (!std::filesystem::exists(kDefaultShapePredictorPath)) GTEST_SKIP() << "no dlib model";
   auto detector = LandmarkDetector::create();
   ASSERT_TRUE(detector.is_ok()) << detector.status().message();
-  const SyntheticFaceScan synthetic = render_synthetic_face_scan(*model_, model_->neutral_mm());
+  const SyntheticFaceScan synthetic =
+      render_synthetic_face_scan(*model_, model_->neutral_mm(), small_scan());
   auto detected = detector->detect(synthetic.scan.texture);
   ASSERT_TRUE(detected.is_ok()) << detected.status().message();
   double all = 0.0, inner = 0.0;
@@ -79,8 +89,10 @@ TEST_F(FaceCleaningTest, DlibFindsTheSyntheticFaceLandmarks) {
 
 TEST_F(FaceCleaningTest, TrackerFollowsAnExpressionChange) {
   if (!model_) GTEST_SKIP() << "../shared/data is absent; this test needs it";
-  const auto a = render_synthetic_face_scan(*model_, model_->evaluate({{"mouthSmile_L", 0.0}}));
-  const auto b = render_synthetic_face_scan(*model_, model_->evaluate({{"mouthSmile_L", 0.3}}));
+  const auto a =
+      render_synthetic_face_scan(*model_, model_->evaluate({{"mouthSmile_L", 0.0}}), small_scan());
+  const auto b =
+      render_synthetic_face_scan(*model_, model_->evaluate({{"mouthSmile_L", 0.3}}), small_scan());
   LandmarkTracker tracker(a.scan.texture, a.landmarks, nullptr);
   auto tracked = tracker.track(b.scan.texture);
   ASSERT_TRUE(tracked.is_ok()) << tracked.status().message();
@@ -118,7 +130,8 @@ TEST(FaceCleaning, SeveralComponentsAreAnErrorNamingTheInput) {
 
 TEST_F(FaceCleaningTest, LandmarksOutsideTheValidScanAreAnErrorNamingTheFrame) {
   if (!model_) GTEST_SKIP() << "../shared/data is absent; this test needs it";
-  SyntheticFaceScan synthetic = render_synthetic_face_scan(*model_, model_->neutral_mm());
+  SyntheticFaceScan synthetic =
+      render_synthetic_face_scan(*model_, model_->neutral_mm(), small_scan());
   synthetic.scan.index = 12;
   FaceLandmarks landmarks;
   landmarks.points_px = synthetic.landmarks.points_px;

@@ -64,7 +64,8 @@ TEST(CliFacemapClean, SyntheticScanWithDetectedLandmarks) {
   auto model = IctFaceModel::load(data / "ict-facekit", {"jawOpen"});
   ASSERT_TRUE(model.is_ok()) << model.status().message();
   TempDir in, out;
-  const auto synthetic = facemap::render_synthetic_face_scan(*model, model->neutral_mm());
+  const auto synthetic = facemap::render_synthetic_face_scan(*model, model->neutral_mm(),
+                                                             {.size_px = 176, .pixel_mm = 1.2});
   ASSERT_TRUE(write_range_scan_exr(frame_path(in.path(), 0, ".exr"), synthetic.scan).is_ok());
   auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string() +
                      " --radius 60");
