@@ -29,6 +29,9 @@ T value_or_throw(Result<T> result) {
 }
 
 void add_info_command(CLI::App& app);
+// `gvkit facemap` and its subcommands (tools/facemap_*_command.cpp).
+void add_facemap_command(CLI::App& app);
+void add_facemap_clean_command(CLI::App& facemap);
 
 // The `gvkit facemap` subcommand group, created by whichever facemap subcommand registers first.
 inline CLI::App* facemap_group(CLI::App& app) {

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   });
 
   gvkit::tools::add_info_command(app);
+  gvkit::tools::add_facemap_command(app);
   gvkit::tools::add_facemap_map_command(app);
   gvkit::tools::add_facemap_compare_command(app);
   gvkit::tools::add_facemap_make_domain_command(app);

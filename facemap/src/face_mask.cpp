@@ -41,12 +41,6 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
                                        : contour_points(landmarks, kOuterMouthContour);
 }
 
-Point centroid(const std::vector<Point>& points) {
-  Point c(0, 0, 0);
-  for (const auto& p : points) c += p;
-  return c / static_cast<double>(points.size());
-}
-
 Mesh::VertexHandle nearest_vertex(const Mesh& mesh, const Point& p, double* distance) {
   Mesh::VertexHandle best;
   double best_d2 = std::numeric_limits<double>::infinity();

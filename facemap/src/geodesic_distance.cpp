@@ -30,7 +30,7 @@ class SpdSolver {
  public:
   SpdSolver(const SparseMatrix& a, SparseSolverKind kind) : kind_(kind) {
     if (kind_ == SparseSolverKind::kCholmod) {
-      cholmod_ = std::make_unique<Eigen::CholmodSupernodalLLT<SparseMatrix>>();
+      cholmod_ = std::make_unique<Eigen::CholmodSimplicialLLT<SparseMatrix>>();
       cholmod_->compute(a);
       GVKIT_CHECK(cholmod_->info() == Eigen::Success,
                   "heat geodesics: CHOLMOD factorisation failed");
@@ -47,7 +47,7 @@ class SpdSolver {
 
  private:
   SparseSolverKind kind_;
-  std::unique_ptr<Eigen::CholmodSupernodalLLT<SparseMatrix>> cholmod_;
+  std::unique_ptr<Eigen::CholmodSimplicialLLT<SparseMatrix>> cholmod_;
   std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix>> ldlt_;
 };
 

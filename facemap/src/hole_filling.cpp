@@ -134,12 +134,20 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
     return !mesh->is_boundary(e) && is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 0))) &&
            is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 1)));
   };
-  auto is_new = [&](Mesh::VertexHandle v) { return v.idx() >= first_new_vertex; };
+  // Edges of the patch faces (faces are appended, so the patch is a tail of the face list).
+  auto patch_edges = [&] {
+    std::vector<Mesh::EdgeHandle> edges;
+    for (int i = first_new_face; i < static_cast<int>(mesh->n_faces()); ++i)
+      for (auto h : mesh->fh_range(mesh->face_handle(i))) {
+        const auto e = mesh->edge_handle(h);
+        if (is_patch_edge(e) && mesh->halfedge_handle(e, 0) == h) edges.push_back(e);
+      }
+    return edges;
+  };
   auto delaunay_flips = [&] {
     for (int pass = 0; pass < 10; ++pass) {
       int flips = 0;
-      for (auto e : mesh->edges()) {
-        if (!is_patch_edge(e)) continue;
+      for (auto e : patch_edges()) {
         // Never flip away a rim-to-rim edge pair that would reconnect existing vertices.
         if (opposite_cotan_sum(*mesh, e) < -1e-9 && mesh->is_flip_ok(e)) {
           mesh->flip(e);
@@ -154,9 +162,8 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
   delaunay_flips();
   for (int iteration = 0; iteration < 30; ++iteration) {
     std::vector<Mesh::EdgeHandle> long_edges;
-    for (auto e : mesh->edges())
-      if (is_patch_edge(e) && mesh->calc_edge_length(e) > 4.0 / 3.0 * target)
-        long_edges.push_back(e);
+    for (auto e : patch_edges())
+      if (mesh->calc_edge_length(e) > 4.0 / 3.0 * target) long_edges.push_back(e);
     if (long_edges.empty()) break;
     for (auto e : long_edges) {
       const auto h = mesh->halfedge_handle(e, 0);
@@ -171,8 +178,8 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
     }
     delaunay_flips();
     for (int relax = 0; relax < 3; ++relax)
-      for (auto v : mesh->vertices()) {
-        if (!is_new(v)) continue;
+      for (int i = first_new_vertex; i < static_cast<int>(mesh->n_vertices()); ++i) {
+        const auto v = mesh->vertex_handle(i);
         Point sum(0, 0, 0);
         int n = 0;
         for (auto w : mesh->vv_range(v)) {

@@ -17,7 +17,8 @@
 namespace gvkit::facemap {
 
 enum class SparseSolverKind {
-  kCholmod,         // supernodal Cholesky (SuiteSparse CHOLMOD)
+  kCholmod,         // simplicial Cholesky of SuiteSparse CHOLMOD (AMD ordering; supernodal needs a
+                    // tuned BLAS, which the reference BLAS here is not)
   kSimplicialLdlt,  // Eigen's SimplicialLDLT: the plain reference
 };
 

@@ -1,0 +1,129 @@
+// Hole filling against CGAL's triangulate_refine_and_fair_hole (C1 fairing): holes punched into
+// the ICT and Spacetime faces, time and RMS deviation (mm) of the removed true vertices from the
+// filled surface.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+
+#include "bench_meshes.hpp"
+#include "gvkit/facemap/surface_distance.hpp"
+
+namespace gvkit::facemap::bench {
+namespace {
+
+struct Case {
+  Mesh mesh;  // with the hole
+  std::vector<Mesh::Point> removed;
+};
+
+// Hole k: 0 ICT cheek 12 mm, 1 ICT forehead 15 mm, 2 Spacetime cheek 10 mm, 3 Spacetime 15 mm.
+const Case* hole_case(int k) {
+  static std::vector<std::optional<Case>> cases = [] {
+    std::vector<std::optional<Case>> out(4);
+    auto ict = ict_face();
+    auto st = spacetime_face();
+    auto make = [](const Mesh& base, const Mesh::Point& near, double r) {
+      Case c{base, {}};
+      c.removed = punch_hole(&c.mesh, nearest_vertex_point(c.mesh, near), r);
+      return c;
+    };
+    if (ict) {
+      out[0] = make(*ict, Mesh::Point(-45, -5, 95), 12.0);
+      out[1] = make(*ict, Mesh::Point(0, 70, 105), 15.0);
+    }
+    if (st) {
+      Mesh::Point c(0, 0, 0);
+      for (auto v : st->vertices()) c += st->point(v);
+      c /= static_cast<double>(st->n_vertices());
+      out[2] = make(*st, c + Mesh::Point(30, 0, 0), 10.0);
+      out[3] = make(*st, c + Mesh::Point(-25, -30, 0), 15.0);
+    }
+    return out;
+  }();
+  return cases[k] ? &*cases[k] : nullptr;
+}
+
+double rms(const Mesh& mesh, const std::vector<Mesh::FaceHandle>& patch,
+           const std::vector<Mesh::Point>& removed) {
+  double sum = 0;
+  for (const auto& p : removed) {
+    const double d = distance_to_faces(mesh, patch, p);
+    sum += d * d;
+  }
+  return std::sqrt(sum / removed.size());
+}
+
+void BM_OurFill(benchmark::State& state) {
+  const Case* c = hole_case(static_cast<int>(state.range(0)));
+  if (!c) return state.SkipWithError("../shared/data absent");
+  Mesh filled;
+  HoleFillingOptions options;
+  options.density_factor = state.range(1) / 10.0;
+  options.solve_iterations = static_cast<int>(state.range(2));
+  for (auto _ : state) {
+    filled = c->mesh;
+    auto report = fill_holes(&filled, options);
+    if (!report.is_ok()) return state.SkipWithError(report.status().message().c_str());
+  }
+  std::vector<Mesh::FaceHandle> patch;
+  for (auto f : filled.faces())
+    if (f.idx() >= static_cast<int>(c->mesh.n_faces())) patch.push_back(f);
+  state.counters["rms_mm"] = rms(filled, patch, c->removed);
+  state.counters["removed"] = static_cast<double>(c->removed.size());
+  state.counters["new_vertices"] = static_cast<double>(filled.n_vertices() - c->mesh.n_vertices());
+}
+// Args: hole, density factor x 10, bi-Laplacian solves.
+BENCHMARK(BM_OurFill)->ArgsProduct({{0, 1, 2, 3}, {10, 14}, {1, 2}})->Unit(benchmark::kMillisecond);
+
+void BM_CgalFill(benchmark::State& state) {
+  const Case* c = hole_case(static_cast<int>(state.range(0)));
+  if (!c) return state.SkipWithError("../shared/data absent");
+  SurfaceMesh sm;
+  std::vector<SurfaceMesh::Face_index> new_faces;
+  size_t new_vertices = 0;
+  for (auto _ : state) {
+    sm = to_cgal(c->mesh);
+    new_faces.clear();
+    // The hole: the shorter border (the outer rim is the longest).
+    SurfaceMesh::Halfedge_index hole;
+    size_t best = std::numeric_limits<size_t>::max();
+    std::set<SurfaceMesh::Halfedge_index> seen;
+    for (auto h : sm.halfedges()) {
+      if (!sm.is_border(h) || seen.count(h)) continue;
+      size_t n = 0;
+      for (auto g : CGAL::halfedges_around_face(h, sm)) {
+        seen.insert(g);
+        ++n;
+      }
+      if (n < best) best = n, hole = h;
+    }
+    std::vector<SurfaceMesh::Vertex_index> vertices;
+    CGAL::Polygon_mesh_processing::triangulate_refine_and_fair_hole(
+        sm, hole, std::back_inserter(new_faces), std::back_inserter(vertices));
+    new_vertices = vertices.size();
+  }
+  // Back to our mesh type for the same distance code.
+  Mesh filled;
+  std::vector<Mesh::VertexHandle> vh;
+  for (auto v : sm.vertices()) {
+    const auto& p = sm.point(v);
+    vh.push_back(filled.add_vertex(Mesh::Point(p.x(), p.y(), p.z())));
+  }
+  std::vector<Mesh::FaceHandle> patch;
+  for (auto f : new_faces) {
+    std::vector<Mesh::VertexHandle> fv;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) fv.push_back(vh[v.idx()]);
+    patch.push_back(filled.add_face(fv[0], fv[1], fv[2]));
+  }
+  state.counters["rms_mm"] = rms(filled, patch, c->removed);
+  state.counters["removed"] = static_cast<double>(c->removed.size());
+  state.counters["new_vertices"] = static_cast<double>(new_vertices);
+}
+BENCHMARK(BM_CgalFill)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace gvkit::facemap::bench
+
+BENCHMARK_MAIN();

@@ -1,0 +1,267 @@
+// gvkit facemap clean SCANS -o FACES: range scans (frame_NNNNNN.exr) or meshes
+// (frame_NNNNNN.ply/.obj + frame_NNNNNN.landmarks.json) -> per frame the 4-boundary face mesh
+// (frame_NNNNNN.ply) and its landmarks (frame_NNNNNN.landmarks.json), plus stats.json. Frames
+// run in parallel; a frame that fails is reported and skipped.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include "command.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/face_landmarks_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/json_io.hpp"
+#include "gvkit/core/log.hpp"
+#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/core/progress.hpp"
+#include "gvkit/facemap/face_cleaning.hpp"
+#include "gvkit/facemap/landmark_detector.hpp"
+#include "gvkit/facemap/landmark_tracker.hpp"
+
+namespace gvkit::tools {
+namespace {
+namespace fs = std::filesystem;
+using facemap::CleanOptions;
+
+struct CleanArgs {
+  fs::path input, output, first_landmarks, model = facemap::kDefaultShapePredictorPath;
+  CleanOptions options;
+  std::string mouth = "inner";
+  int threads = 0;
+};
+
+enum class InputKind { kScans, kMeshes };
+
+struct Frame {
+  int64_t index = 0;
+  fs::path path;
+  std::optional<FaceLandmarks> landmarks;  // tracked (scans with --landmarks)
+  Status status;
+  facemap::CleanStats stats;
+};
+
+nlohmann::json options_json(const CleanArgs& a) {
+  const CleanOptions& o = a.options;
+  return {{"radius_mm", o.mask.radius_mm},
+          {"radius_factor", o.mask.radius_factor},
+          {"mouth_contour", a.mouth},
+          {"eye_margin_mm", o.mask.eye_margin_mm},
+          {"mouth_margin_mm", o.mask.mouth_margin_mm},
+          {"max_edge_factor", o.scan.max_edge_factor},
+          {"max_hole_edges", o.holes.max_hole_edges},
+          {"landmark_max_gap_px", o.landmark_max_gap_px},
+          {"first_landmarks", a.first_landmarks.string()},
+          {"threads", a.threads}};
+}
+
+nlohmann::json frame_json(const Frame& f) {
+  nlohmann::json j = {
+      {"index", f.index}, {"input", f.path.filename().string()}, {"ok", f.status.is_ok()}};
+  if (!f.status.is_ok()) {
+    j["error"] = f.status.message();
+    return j;
+  }
+  const auto& s = f.stats;
+  j["input_vertices"] = s.input_vertices;
+  j["input_faces"] = s.input_faces;
+  j["repair"] = s.repair;
+  j["holes_filled"] = s.holes_filled;
+  j["vertices_added"] = s.vertices_added;
+  j["output_vertices"] = s.output_vertices;
+  j["output_faces"] = s.output_faces;
+  j["radius_mm"] = s.radius_mm;
+  j["ms"] = {{"mesh", s.mesh_ms}, {"fill", s.fill_ms}, {"mask", s.mask_ms}, {"total", s.total_ms}};
+  return j;
+}
+
+void run_clean(const CleanArgs& args) {
+  CleanOptions options = args.options;
+  if (args.mouth == "inner")
+    options.mask.mouth_contour = facemap::MouthContour::kInner;
+  else if (args.mouth == "outer")
+    options.mask.mouth_contour = facemap::MouthContour::kOuter;
+  else
+    throw CommandFailed(invalid_argument("--mouth must be inner or outer, got " + args.mouth));
+  throw_if_error(options.check());
+  if (args.threads < 0) throw CommandFailed(invalid_argument("--threads must be >= 0"));
+
+  // Inputs: scans first, else meshes.
+  InputKind kind = InputKind::kScans;
+  std::vector<FrameFile> files = value_or_throw(list_frame_files(args.input, ".exr"));
+  if (files.empty()) {
+    kind = InputKind::kMeshes;
+    files = value_or_throw(list_frame_files(args.input, ".ply"));
+    if (files.empty()) files = value_or_throw(list_frame_files(args.input, ".obj"));
+  }
+  if (files.empty())
+    throw CommandFailed(
+        not_found(args.input.string() + ": no frame_NNNNNN.exr, .ply or .obj files"));
+  throw_if_error(ensure_directory(args.output));
+  std::vector<Frame> frames(files.size());
+  for (size_t i = 0; i < files.size(); ++i) {
+    frames[i].index = files[i].index;
+    frames[i].path = files[i].path;
+  }
+
+  // Scans need the landmark detector (detection, or re-detection when tracking is lost).
+  std::unique_ptr<facemap::LandmarkDetector> detector;
+  if (kind == InputKind::kScans) {
+    facemap::LandmarkDetectorOptions detector_options;
+    detector_options.model_path = args.model;
+    detector = std::make_unique<facemap::LandmarkDetector>(
+        value_or_throw(facemap::LandmarkDetector::create(detector_options)));
+  }
+
+  // Tracking is sequential: landmarks for every frame first, then the frames in parallel.
+  if (kind == InputKind::kScans && !args.first_landmarks.empty()) {
+    FaceLandmarks first = value_or_throw(read_face_landmarks(args.first_landmarks));
+    if (first.points_px.size() != FaceLandmarks::kCount)
+      throw CommandFailed(invalid_argument(args.first_landmarks.string() +
+                                           ": needs 68 points_px for the first frame"));
+    std::unique_ptr<facemap::LandmarkTracker> tracker;
+    Progress progress("tracking landmarks", static_cast<int64_t>(frames.size()));
+    for (auto& frame : frames) {
+      progress.advance();
+      auto scan = read_range_scan_exr(frame.path);
+      if (!scan.is_ok()) continue;  // reported again when the frame is processed
+      if (!tracker) {
+        tracker = std::make_unique<facemap::LandmarkTracker>(scan->texture, first, detector.get());
+        frame.landmarks = first;
+        continue;
+      }
+      auto tracked = tracker->track(scan->texture);
+      if (tracked.is_ok()) {
+        frame.landmarks = std::move(tracked).value();
+      } else {
+        frame.status = tracked.status().with_context("frame " + std::to_string(frame.index));
+        // Start again from a fresh detection on this frame when possible.
+        auto detected = detector->detect(scan->texture);
+        if (detected.is_ok())
+          tracker =
+              std::make_unique<facemap::LandmarkTracker>(scan->texture, *detected, detector.get());
+      }
+    }
+    progress.finish();
+  }
+
+  std::optional<tbb::global_control> threads;
+  if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
+  Progress progress("facemap clean", static_cast<int64_t>(frames.size()));
+  const auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(size_t{0}, frames.size(), [&](size_t i) {
+    Frame& frame = frames[i];
+    const std::string name = frame.path.filename().string();
+    auto process = [&]() -> Status {
+      if (!frame.status.is_ok()) return frame.status;
+      Result<facemap::CleanedFace> face = Status(StatusCode::kInternal, "not run");
+      if (kind == InputKind::kScans) {
+        GVKIT_ASSIGN_OR_RETURN(RangeScan scan, read_range_scan_exr(frame.path));
+        scan.index = frame.index;
+        FaceLandmarks landmarks;
+        if (frame.landmarks) {
+          landmarks = *frame.landmarks;
+        } else {
+          auto detected = detector->detect(scan.texture);
+          if (!detected.is_ok()) return detected.status().with_context(name);
+          landmarks = std::move(detected).value();
+        }
+        face = facemap::clean_scan(scan, std::move(landmarks), options);
+      } else {
+        GVKIT_ASSIGN_OR_RETURN(Mesh mesh, read_mesh(frame.path));
+        const fs::path landmark_path = frame_path(args.input, frame.index, ".landmarks.json");
+        GVKIT_ASSIGN_OR_RETURN(FaceLandmarks landmarks, read_face_landmarks(landmark_path));
+        face = facemap::clean_mesh(std::move(mesh), landmarks, name, options);
+      }
+      if (!face.is_ok()) return face.status();
+      frame.stats = face->stats;
+      GVKIT_RETURN_IF_ERROR(write_mesh(frame_path(args.output, frame.index, ".ply"), face->mesh));
+      return write_face_landmarks(frame_path(args.output, frame.index, ".landmarks.json"),
+                                  face->landmarks);
+    };
+    try {
+      frame.status = process();
+    } catch (const std::exception& e) {
+      frame.status = Status(StatusCode::kInternal, name + ": " + e.what());
+    }
+    if (!frame.status.is_ok()) logger().warn("skipped: {}", frame.status.message());
+    progress.advance();
+  });
+  progress.finish();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  nlohmann::json per_frame = nlohmann::json::array();
+  int ok = 0;
+  double total_ms = 0.0;
+  for (const auto& f : frames) {
+    per_frame.push_back(frame_json(f));
+    if (f.status.is_ok()) {
+      ++ok;
+      total_ms += f.stats.total_ms;
+    }
+  }
+  const nlohmann::json stats = {
+      {"command", "facemap clean"},
+      {"input", args.input.string()},
+      {"input_kind", kind == InputKind::kScans ? "range scans" : "meshes"},
+      {"options", options_json(args)},
+      {"summary",
+       {{"frames", frames.size()},
+        {"ok", ok},
+        {"failed", static_cast<int>(frames.size()) - ok},
+        {"mean_frame_ms", ok > 0 ? total_ms / ok : 0.0},
+        {"wall_s", seconds}}},
+      {"frames", per_frame}};
+  throw_if_error(write_json(args.output / "stats.json", stats));
+  logger().info("facemap clean: {} of {} frames written to {}", ok, frames.size(),
+                args.output.string());
+  if (ok == 0)
+    throw CommandFailed(failed_precondition("no frame could be cleaned; first error: " +
+                                            frames.front().status.message()));
+}
+
+}  // namespace
+
+void add_facemap_clean_command(CLI::App& facemap) {
+  auto args = std::make_shared<CleanArgs>();
+  CLI::App* cmd = facemap.add_subcommand(
+      "clean", "Scans or meshes -> face meshes with 4 boundaries (rim, eyes, mouth) + landmarks");
+  cmd->add_option("SCANS", args->input,
+                  "Folder of frame_NNNNNN.exr range scans, or of frame_NNNNNN.ply/.obj meshes "
+                  "with frame_NNNNNN.landmarks.json (points_mm)")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "Output folder")->required();
+  cmd->add_option("--radius", args->options.mask.radius_mm,
+                  "Geodesic mask radius from the eyes and mouth, mm (0: automatic)")
+      ->capture_default_str();
+  cmd->add_option("--radius-factor", args->options.mask.radius_factor,
+                  "Automatic radius = this x the eyes-to-mouth distance")
+      ->capture_default_str();
+  cmd->add_option("--landmarks", args->first_landmarks,
+                  "Landmarks (points_px) of the first scan; tracked through the others");
+  cmd->add_option("--mouth", args->mouth, "Mouth contour to cut: inner or outer")
+      ->capture_default_str();
+  cmd->add_option("--eye-margin", args->options.mask.eye_margin_mm,
+                  "Grow the eye regions by this, mm")
+      ->capture_default_str();
+  cmd->add_option("--mouth-margin", args->options.mask.mouth_margin_mm,
+                  "Grow the mouth region by this, mm")
+      ->capture_default_str();
+  cmd->add_option("--max-edge-factor", args->options.scan.max_edge_factor,
+                  "Depth-discontinuity threshold in pixel footprints")
+      ->capture_default_str();
+  cmd->add_option("--model", args->model, "dlib 68-point shape predictor")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
+      ->capture_default_str();
+  cmd->callback([args] { run_clean(*args); });
+}
+
+}  // namespace gvkit::tools
