@@ -95,7 +95,9 @@ TEST(PlaneCoding, PredictedPlanesRoundTrip) {
       auto dec = decode_plane(enc.bytes, 48, 32, params, &ref.reconstruction);
       ASSERT_TRUE(dec.is_ok()) << dec.status().message() << " lossless " << lossless;
       ASSERT_EQ(dec->samples, enc.reconstruction.samples);
-      if (lossless) EXPECT_EQ(dec->samples, current.samples);
+      if (lossless) {
+        EXPECT_EQ(dec->samples, current.samples);
+      }
       EXPECT_LT(enc.bytes.size(), ref.bytes.size());
     }
 }
