@@ -1,5 +1,6 @@
 #include "gvkit/facemap/level_set_clip.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -41,7 +42,7 @@ Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f_in,
     return p;
   };
   auto edge_point = [&](Mesh::VertexHandle a, Mesh::VertexHandle b) {
-    const auto key = std::minmax(a.idx(), b.idx());
+    const std::pair<int, int> key(std::min(a.idx(), b.idx()), std::max(a.idx(), b.idx()));
     auto it = point_of_edge.find(key);
     if (it != point_of_edge.end()) return it->second;
     const double fa = f[a.idx()], fb = f[b.idx()];
