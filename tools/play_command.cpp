@@ -16,6 +16,7 @@ struct PlayCommandOptions {
   double speed = 1.0;
   bool no_loop = false, paused = false;
   int64_t exit_after_frames = 0;
+  int mesh_stride = 1;
 };
 
 void run_play(const PlayCommandOptions& o) {
@@ -26,6 +27,7 @@ void run_play(const PlayCommandOptions& o) {
   w.loop = !o.no_loop;
   w.start_playing = !o.paused;
   w.exit_after_frames = o.exit_after_frames;
+  w.mesh.stride = o.mesh_stride;
   if (!o.screenshot.empty()) w.screenshot_path = o.screenshot;
   w.sequence = value_or_throw(FrameSequence::create(o.input));
   if (!o.reference.empty()) w.reference = value_or_throw(FrameSequence::create(o.reference));
@@ -47,6 +49,9 @@ void add_play_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Window size WxH")->capture_default_str();
   cmd->add_option("--speed", o->speed, "Playback speed (1 = real time)")->capture_default_str();
+  cmd->add_option("--mesh-stride", o->mesh_stride,
+                  "Use every Nth pixel (2 = 4x fewer triangles, faster on software OpenGL)")
+      ->capture_default_str();
   cmd->add_flag("--no-loop", o->no_loop, "Stop at the last frame");
   cmd->add_flag("--paused", o->paused, "Start paused");
   cmd->add_option("--screenshot", o->screenshot,

@@ -35,7 +35,7 @@ struct RenderCommandOptions {
   std::string view = "front", size = "640x480", shading = "lit", frames = ":";
   double fps = 0;           // 0 = the sequence's
   double error_max_mm = 0;  // 0 = automatic (99th percentile of the first frame's errors)
-  int contact_frames = 8, contact_columns = 4, msaa = 4;
+  int contact_frames = 8, contact_columns = 4, msaa = 4, mesh_stride = 1;
 };
 
 bool is_video_path(const fs::path& p) {
@@ -77,6 +77,9 @@ void run_render(const RenderCommandOptions& o) {
   if (o.error_max_mm < 0) throw CommandFailed(invalid_argument("--error-max must be >= 0"));
   if (o.contact_frames < 1 || o.contact_columns < 1)
     throw CommandFailed(invalid_argument("--contact-frames and --contact-columns must be >= 1"));
+  GeometryImageMeshOptions mesh_options;
+  mesh_options.stride = o.mesh_stride;
+  throw_if_error(mesh_options.check());
   if (o.fps < 0) throw CommandFailed(invalid_argument("--fps must be > 0"));
   const bool video = !o.output.empty() && is_video_path(o.output);
   if (video && (render_options.width % 2 || render_options.height % 2))
@@ -96,6 +99,7 @@ void run_render(const RenderCommandOptions& o) {
 
   PrefetchOptions prefetch;
   prefetch.loop = false;
+  prefetch.mesh.stride = o.mesh_stride;
   FramePrefetcher frames(seq, prefetch);
   if (!o.output.empty() && !video) throw_if_error(ensure_directory(o.output));
   cv::VideoWriter writer;
@@ -224,6 +228,8 @@ void add_render_command(CLI::App& app) {
                   "Top of the error colour scale (mm); 0 = 99th percentile of the first frame");
   cmd->add_option("--fps", o->fps, "MP4 frame rate (default: the sequence's)");
   cmd->add_option("--msaa", o->msaa, "Multisample anti-aliasing samples (0..16)")
+      ->capture_default_str();
+  cmd->add_option("--mesh-stride", o->mesh_stride, "Use every Nth pixel of the geometry image")
       ->capture_default_str();
   cmd->add_option("--contact-sheet", o->contact_sheet, "Also write a PNG grid of frames here");
   cmd->add_option("--contact-frames", o->contact_frames, "Frames on the contact sheet")

@@ -100,7 +100,9 @@ BENCHMARK(BM_DecodeMeshDrawSerial)
 void BM_DecodeMeshDrawPrefetched(benchmark::State& state) {
   std::shared_ptr<FrameSequence> seq = FrameSequence::create(sequence_dir()).value();
   auto renderer = make_renderer(static_cast<int>(state.range(0)));
-  FramePrefetcher prefetcher(seq, {});
+  PrefetchOptions options;
+  options.mesh.stride = static_cast<int>(state.range(1));
+  FramePrefetcher prefetcher(seq, options);
   std::unique_ptr<ViewCamera> camera;
   int64_t i = 0;
   for (auto _ : state) {
@@ -112,9 +114,10 @@ void BM_DecodeMeshDrawPrefetched(benchmark::State& state) {
   state.counters["frames/s"] = benchmark::Counter(state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DecodeMeshDrawPrefetched)
-    ->Arg(0)
-    ->Arg(4)
-    ->ArgName("msaa")
+    ->Args({0, 1})
+    ->Args({4, 1})
+    ->Args({0, 2})
+    ->ArgNames({"msaa", "stride"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 #endif

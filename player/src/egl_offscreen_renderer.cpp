@@ -70,7 +70,8 @@ class EglOffscreenRenderer : public Renderer {
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       eglDestroyContext(display_, context_);
     }
-    if (display_ != EGL_NO_DISPLAY) eglTerminate(display_);
+    // The display is not terminated: EGL displays are shared per process, so eglTerminate would
+    // also end the contexts of other renderers; the driver stays loaded until exit.
   }
 
   void set_mesh(const MeshBuffers& mesh) override {

@@ -16,6 +16,7 @@ float distance2(const cv::Vec3f& a, const cv::Vec3f& b) {
 Status GeometryImageMeshOptions::check() const {
   if (!(max_edge_mm >= 0.0) || !std::isfinite(max_edge_mm))
     return invalid_argument("max_edge_mm must be >= 0 (0 = keep every triangle)");
+  if (stride < 1 || stride > 16) return invalid_argument("mesh stride must be in 1..16");
   return Status::ok();
 }
 
@@ -30,12 +31,13 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
   const bool has_grey = !image.texture.empty();
 
   // Vertex numbering: domain pixels with finite xyz, row-major.
+  const int step = options.stride;
   std::vector<int32_t> vertex_of(static_cast<size_t>(w) * h, -1);
-  for (int y = 0; y < h; ++y) {
+  for (int y = 0; y < h; y += step) {
     const cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
     const uint8_t* m = image.domain_mask.ptr<uint8_t>(y);
     const float* t = has_grey ? image.texture.ptr<float>(y) : nullptr;
-    for (int x = 0; x < w; ++x) {
+    for (int x = 0; x < w; x += step) {
       if (!m[x] || !std::isfinite(p[x][0]) || !std::isfinite(p[x][1]) || !std::isfinite(p[x][2]))
         continue;
       vertex_of[static_cast<size_t>(y) * w + x] = static_cast<int32_t>(out.pixel_index.size());
@@ -55,16 +57,17 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
     for (int32_t i : v) out.indices.push_back(static_cast<uint32_t>(i));
   };
 
-  for (int y = 0; y + 1 < h; ++y) {
+  for (int y = 0; y + step < h; y += step) {
     const cv::Vec3f* row0 = image.xyz_mm.ptr<cv::Vec3f>(y);
-    const cv::Vec3f* row1 = image.xyz_mm.ptr<cv::Vec3f>(y + 1);
+    const cv::Vec3f* row1 = image.xyz_mm.ptr<cv::Vec3f>(y + step);
     const int32_t* v0 = &vertex_of[static_cast<size_t>(y) * w];
-    const int32_t* v1 = &vertex_of[static_cast<size_t>(y + 1) * w];
-    for (int x = 0; x + 1 < w; ++x) {
+    const int32_t* v1 = &vertex_of[static_cast<size_t>(y + step) * w];
+    for (int x = 0; x + step < w; x += step) {
       // Corners in the cyclic order that gives the documented winding: a (x,y), c (x,y+1),
-      // d (x+1,y+1), b (x+1,y).
-      const std::array<int32_t, 4> v = {v0[x], v1[x], v1[x + 1], v0[x + 1]};
-      const std::array<cv::Vec3f, 4> p = {row0[x], row1[x], row1[x + 1], row0[x + 1]};
+      // d (x+1,y+1), b (x+1,y) (in steps of `step` pixels).
+      const int x1 = x + step;
+      const std::array<int32_t, 4> v = {v0[x], v1[x], v1[x1], v0[x1]};
+      const std::array<cv::Vec3f, 4> p = {row0[x], row1[x], row1[x1], row0[x1]};
       const int present = (v[0] >= 0) + (v[1] >= 0) + (v[2] >= 0) + (v[3] >= 0);
       if (present == 4) {
         if (distance2(p[0], p[2]) <= distance2(p[1], p[3])) {  // split along a-d

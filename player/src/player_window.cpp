@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <epoxy/gl.h>
 // GLFW after epoxy, and without its own GL header.
 #define GLFW_INCLUDE_NONE
@@ -41,6 +44,22 @@ constexpr const char* kNoDisplayHint =
 
 std::string g_glfw_error;  // last GLFW error text (GLFW reports errors through a callback)
 double g_scroll = 0;       // wheel steps since the last frame
+
+// Marks the loaded OpenGL driver modules RTLD_NODELETE, so that they stay mapped until exit.
+// glfwTerminate would otherwise unload Mesa's driver, and LeakSanitizer could not name the
+// driver's own process-lifetime allocations (tests/player/lsan_mesa.supp suppresses them by
+// module name). Harmless without sanitizers: the driver lives as long as the process anyway.
+void pin_gl_driver_modules() {
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void*) {
+        const std::string name = info->dlpi_name ? info->dlpi_name : "";
+        if (name.find("_dri.so") != std::string::npos ||
+            name.find("gallium") != std::string::npos || name.find("GLX_mesa") != std::string::npos)
+          (void)dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        return 0;
+      },
+      nullptr);
+}
 
 void on_glfw_error(int code, const char* text) { g_glfw_error = text ? text : "unknown"; }
 void on_scroll(GLFWwindow*, double, double dy) { g_scroll += dy; }
@@ -162,7 +181,7 @@ Status PlayerWindowOptions::check() const {
     return invalid_argument("player: window must be at least 320x240");
   if (!(speed > 0)) return invalid_argument("player: speed must be > 0");
   if (exit_after_frames < 0) return invalid_argument("player: exit-after-frames must be >= 0");
-  return Status::ok();
+  return mesh.check();
 }
 
 Status run_player_window(const PlayerWindowOptions& options) {
@@ -178,7 +197,7 @@ Status run_player_window(const PlayerWindowOptions& options) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
+  glfwWindowHint(GLFW_SAMPLES, 0);  // multisampling costs 2-3x on llvmpipe (docs/benchmarks.md)
   const std::string title = options.title + (options.sequence ? " - " + options.sequence->name()
                                                               : std::string(" - live"));
   GLFWwindow* window =
@@ -188,6 +207,7 @@ Status run_player_window(const PlayerWindowOptions& options) {
     return unsupported("cannot open an OpenGL 3.3 window: " + g_glfw_error + kNoDisplayHint);
   }
   glfwMakeContextCurrent(window);
+  pin_gl_driver_modules();
   glfwSwapInterval(options.exit_after_frames > 0 ? 0 : 1);
   glfwSetScrollCallback(window, on_scroll);  // before ImGui, which chains to it
 
@@ -224,6 +244,7 @@ Status run_player_window(const PlayerWindowOptions& options) {
         if (options.start_playing) clock->play();
         PrefetchOptions prefetch;
         prefetch.loop = options.loop;
+        prefetch.mesh = options.mesh;
         prefetcher = std::make_unique<FramePrefetcher>(options.sequence, prefetch);
         for (int64_t i = 0; i < seq->frame_count(); ++i) {
           const auto bits = seq->frame_bits(i);
@@ -300,7 +321,7 @@ Status run_player_window(const PlayerWindowOptions& options) {
           ++s.live_frames;
           s.shown_index = image->index;
           s.frame_message.clear();
-          MeshBuffers mesh = mesh_buffers_from_geometry_image(*image);
+          MeshBuffers mesh = mesh_buffers_from_geometry_image(*image, options.mesh);
           show_mesh(s, *painter, *image, std::move(mesh), nullptr);
         }
 

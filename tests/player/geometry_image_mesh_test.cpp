@@ -120,6 +120,18 @@ TEST(GeometryImageMesh, MaxEdgeDropsTrianglesAcrossADepthStep) {
   EXPECT_FALSE(options.check().is_ok());
 }
 
+TEST(GeometryImageMesh, StrideKeepsEveryNthPixel) {
+  GeometryImageMeshOptions options;
+  options.stride = 2;
+  const MeshBuffers m = mesh_buffers_from_geometry_image(plane(9, 7), options);
+  EXPECT_EQ(m.vertex_count(), 5u * 4);  // x in 0,2,4,6,8; y in 0,2,4,6
+  EXPECT_EQ(m.triangle_count(), 2u * 4 * 3);
+  for (int p : m.pixel_index) EXPECT_EQ((p % 9) % 2 + (p / 9) % 2, 0) << p;
+  for (size_t i = 0; i < m.vertex_count(); ++i) EXPECT_NEAR(m.normals[3 * i + 2], -1.0, 1e-6);
+  options.stride = 0;
+  EXPECT_FALSE(options.check().is_ok());
+}
+
 TEST(GeometryImageMesh, SphereCapNormalsAreRadial) {
   const double r = 50;
   const GeometryImage image = make_image(32, 32, [&](int x, int y) {

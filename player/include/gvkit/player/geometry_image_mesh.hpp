@@ -22,6 +22,9 @@ struct GeometryImageMeshOptions {
   // Triangles with an edge longer than this (mm) are dropped; 0 keeps all. Useful for range
   // scans, whose neighbouring pixels may lie across a depth discontinuity.
   double max_edge_mm = 0.0;
+  // Level of detail: use every stride-th pixel in x and y (1 = all; 2 = a quarter of the
+  // vertices and triangles, for fast playback on software OpenGL). 1..16.
+  int stride = 1;
   Status check() const;
 };
 

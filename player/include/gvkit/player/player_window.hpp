@@ -14,6 +14,7 @@
 
 #include "gvkit/core/status.hpp"
 #include "gvkit/player/frame_sequence.hpp"
+#include "gvkit/player/geometry_image_mesh.hpp"
 #include "gvkit/player/live_frame_queue.hpp"
 #include "gvkit/player/shading_mode.hpp"
 
@@ -27,6 +28,7 @@ struct PlayerWindowOptions {
   std::shared_ptr<FrameSequence> reference;
   int width = 1280, height = 800;  // window size (screen coordinates)
   ShadingMode shading = ShadingMode::kLit;
+  GeometryImageMeshOptions mesh;  // e.g. stride 2 for fast playback on software OpenGL
   double speed = 1.0;
   bool loop = true;
   bool start_playing = true;
