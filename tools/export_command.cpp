@@ -107,7 +107,8 @@ void add_export_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "export", "Export geometry-video frames as meshes (PLY/OBJ) or geometry-image EXRs");
   auto o = std::make_shared<ExportCommandOptions>();
-  cmd->add_option("input", o->input, "Geometry video: folder of frame_NNNNNN.exr")->required();
+  cmd->add_option("input", o->input, "Geometry video: FILE.gvid or a folder of frame_NNNNNN.exr")
+      ->required();
   cmd->add_option("--format", o->format, "ply, obj or exr")->capture_default_str();
   cmd->add_option("-o,--output", o->output, "Output folder (frame_NNNNNN.<format> + stats.json)")
       ->required();

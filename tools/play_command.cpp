@@ -42,7 +42,8 @@ void run_play(const PlayCommandOptions& o) {
 void add_play_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("play", "Play a geometry video in a 3D window");
   auto o = std::make_shared<PlayCommandOptions>();
-  cmd->add_option("input", o->input, "Geometry video: folder of frame_NNNNNN.exr")->required();
+  cmd->add_option("input", o->input, "Geometry video: FILE.gvid or a folder of frame_NNNNNN.exr")
+      ->required();
   cmd->add_option("--reference", o->reference,
                   "Reference video on the same domain: error shading, RMS and PSNR");
   cmd->add_option("--shading", o->shading, "lit, texture, normals, wireframe or error")

@@ -215,7 +215,8 @@ void add_render_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "render", "Render a geometry video offscreen (no display needed) to MP4 or PNG frames");
   auto o = std::make_shared<RenderCommandOptions>();
-  cmd->add_option("input", o->input, "Geometry video: folder of frame_NNNNNN.exr")->required();
+  cmd->add_option("input", o->input, "Geometry video: FILE.gvid or a folder of frame_NNNNNN.exr")
+      ->required();
   cmd->add_option("-o,--output", o->output, "OUT.mp4 (H.264 or MPEG-4) or a folder for PNG frames");
   cmd->add_option("--view", o->view, "front, left, right or orbit")->capture_default_str();
   cmd->add_option("--size", o->size, "Picture size WxH (px)")->capture_default_str();

@@ -22,6 +22,13 @@ std::string lower_extension(const fs::path& path) {
   return ext;
 }
 
+// OpenMesh's IO manager and its readers/writers are process-wide singletons with per-call state:
+// concurrent reads or writes corrupt each other, so every OpenMesh I/O call holds this lock.
+std::mutex& openmesh_io_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 // OpenMesh reports problems on its own streams; gvkit reports them as Status instead.
 void silence_openmesh_logs() {
   static std::once_flag once;
@@ -53,6 +60,7 @@ Result<Mesh> read_mesh(const fs::path& path, const MeshReadOptions& options) {
                                      OpenMesh::IO::Options::FaceTexCoord;
   bool ok = false;
   try {
+    std::lock_guard<std::mutex> lock(openmesh_io_mutex());
     ok = OpenMesh::IO::read_mesh(mesh, path.string(), io_options);
   } catch (const std::exception& e) {
     return corrupt_data(path.string() + ": cannot parse mesh: " + e.what());
@@ -101,6 +109,7 @@ Status write_mesh(const fs::path& path, const Mesh& mesh, const MeshWriteOptions
   return write_via_temp_file(path, [&](const fs::path& temp) -> Status {
     bool ok = false;
     try {
+      std::lock_guard<std::mutex> lock(openmesh_io_mutex());
       ok = OpenMesh::IO::write_mesh(mesh, temp.string(), io_options);
     } catch (const std::exception& e) {
       return io_error(path.string() + ": cannot write mesh: " + e.what());

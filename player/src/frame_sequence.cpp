@@ -3,6 +3,7 @@
 #include <system_error>
 
 #include "gvkit/player/exr_folder_sequence.hpp"
+#include "gvkit/player/gvid_sequence.hpp"
 
 namespace gvkit::player {
 namespace fs = std::filesystem;
@@ -14,11 +15,11 @@ Result<std::unique_ptr<FrameSequence>> FrameSequence::create(const fs::path& pat
     GVKIT_ASSIGN_OR_RETURN(auto seq, ExrFolderSequence::open(path));
     return std::unique_ptr<FrameSequence>(std::move(seq));
   }
-  // INTEGRATION POINT (.gvid): when the codec lands, open "*.gvid" files here with
-  // gvkit/codec/gvid_reader.hpp: a GvidSequence adapter whose frame_count/fps/frame/frame_bits
-  // forward to GvidReader::frame_count, info().fps, decode_frame and frame_bits.
-  return unsupported(path.string() +
-                     ": not a folder of frame_NNNNNN.exr files (this build plays EXR folders)");
+  if (path.extension() == ".gvid") {
+    GVKIT_ASSIGN_OR_RETURN(auto seq, GvidSequence::open(path));
+    return std::unique_ptr<FrameSequence>(std::move(seq));
+  }
+  return unsupported(path.string() + ": not a .gvid stream nor a folder of frame_NNNNNN.exr files");
 }
 
 }  // namespace gvkit::player

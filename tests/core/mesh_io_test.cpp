@@ -1,5 +1,8 @@
 #include "gvkit/core/mesh_io.hpp"
 
+#include <atomic>
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include "gvkit/core/atomic_file.hpp"
@@ -111,6 +114,25 @@ TEST(MeshIo, BadFilesAreRejectedWithTheirName) {
   auto cut = read_mesh(dir / "cut.ply");
   ASSERT_FALSE(cut.is_ok()) << "a truncated PLY must not read as a (shorter) mesh";
   EXPECT_NE(cut.status().message().find("truncated"), std::string::npos);
+}
+
+TEST(MeshIo, ConcurrentReadsAndWritesAreSafe) {
+  TempDir dir;
+  const Mesh mesh = grid_mesh(30);
+  ASSERT_TRUE(write_mesh(dir / "m.ply", mesh).is_ok());
+  std::vector<std::thread> threads;
+  std::atomic<int> good{0};
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int k = 0; k < 10; ++k) {
+        auto back = read_mesh(dir / "m.ply");
+        if (back.is_ok() && back->n_faces() == mesh.n_faces()) ++good;
+        const auto out = dir / ("w" + std::to_string(t) + ".ply");
+        if (write_mesh(out, mesh).is_ok()) ++good;
+      }
+    });
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(good.load(), 80);
 }
 
 TEST(MeshIo, IctNeutralFaceHasItsDocumentedVertexCount) {

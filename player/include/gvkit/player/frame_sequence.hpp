@@ -21,7 +21,7 @@ class FrameSequence {
   // Opens a sequence by looking at the path:
   //   a folder of frame_NNNNNN.exr GeometryImages (X, Y, Z, [T], M), or of RangeScan EXRs
   //   (X, Y, Z, T, Q, M, as `gvkit reconstruct` writes them: the camera grid is the image,
-  //   `valid` the mask).
+  //   `valid` the mask); or a .gvid stream (decoded by the codec).
   // Fails naming the path when it is missing, holds no frames, or is of an unknown kind.
   static Result<std::unique_ptr<FrameSequence>> create(const std::filesystem::path& path);
 
