@@ -24,7 +24,11 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 // Fill and mask, shared by scans and meshes.
 Status fill_and_mask(Mesh mesh, CleanedFace* face, const CleanOptions& options) {
   auto t = std::chrono::steady_clock::now();
-  auto filled = fill_holes(&mesh, options.holes);
+  // Pinches of the scan's outer rim lie outside the face mask almost always; the mask step
+  // checks the topology of what it keeps, so they are left open here.
+  HoleFillingOptions hole_options = options.holes;
+  hole_options.fail_on_rim_touching_holes = false;
+  auto filled = fill_holes(&mesh, hole_options);
   if (!filled.is_ok()) return filled.status().with_context("hole filling");
   face->stats.holes_filled = filled->holes_filled;
   face->stats.vertices_added = filled->vertices_added;

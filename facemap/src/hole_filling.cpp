@@ -309,11 +309,18 @@ Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& optio
     rim_vertices.insert(mesh->from_vertex_handle(h).idx());
   for (size_t i = 1; i < loops.size(); ++i) {
     const auto hole = loop_halfedges(*mesh, loops[i].second);
+    int touching_vertex = -1;
     for (auto h : hole)
       if (rim_vertices.count(mesh->from_vertex_handle(h).idx()))
+        touching_vertex = mesh->from_vertex_handle(h).idx();
+    if (touching_vertex >= 0) {
+      if (options.fail_on_rim_touching_holes)
         return failed_precondition("a hole of " + std::to_string(hole.size()) +
                                    " edges touches the outer rim at vertex " +
-                                   std::to_string(mesh->from_vertex_handle(h).idx()));
+                                   std::to_string(touching_vertex));
+      ++report.holes_touching_rim;
+      continue;
+    }
     if (options.max_hole_edges > 0 && static_cast<int>(hole.size()) > options.max_hole_edges) {
       ++report.holes_skipped;
       continue;

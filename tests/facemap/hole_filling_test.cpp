@@ -148,6 +148,13 @@ TEST(HoleFilling, HoleTouchingTheRimIsAnError) {
   ASSERT_FALSE(bad.is_ok());
   EXPECT_NE(bad.status().message().find("touches the outer rim"), std::string::npos)
       << bad.status().message();
+  // Or, on request, left open and counted.
+  HoleFillingOptions lenient;
+  lenient.fail_on_rim_touching_holes = false;
+  auto left_open = fill_holes(&touching, lenient);
+  ASSERT_TRUE(left_open.is_ok()) << left_open.status().message();
+  EXPECT_EQ(left_open->holes_touching_rim, 1);
+  EXPECT_EQ(left_open->holes_filled, 0);  // the only hole is the one that touches the rim
 }
 
 }  // namespace

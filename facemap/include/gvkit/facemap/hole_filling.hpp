@@ -21,19 +21,25 @@ struct HoleFillingOptions {
   // Bi-Laplacian solves; the cotan weights of the patch are recomputed between them.
   int solve_iterations = 2;
   bool fill_colors = true;  // when the mesh has vertex colours
+  // A hole that shares a vertex with the outer rim is a pinch of the rim, not an interior hole.
+  // true: fail; false: leave it open and count it (the clean stage crops to the face mask
+  // afterwards and verifies the topology of what remains).
+  bool fail_on_rim_touching_holes = true;
   Status check() const;
 };
 
 struct HoleFillingReport {
   int holes_filled = 0;
-  int holes_skipped = 0;  // larger than max_hole_edges
+  int holes_skipped = 0;       // larger than max_hole_edges
+  int holes_touching_rim = 0;  // left open (fail_on_rim_touching_holes = false)
   int vertices_added = 0;
   int faces_added = 0;
   std::vector<int> hole_rim_edges;  // per filled hole
 };
 
 // Fills every boundary loop except the outer rim (the loop with the largest length in mm).
-// Fails (failed precondition) when a hole shares a vertex with the outer rim, or when a hole
+// Fails (failed precondition) when a hole shares a vertex with the outer rim (unless
+// options.fail_on_rim_touching_holes is false: then it is left open and counted), or when a hole
 // cannot be triangulated; the mesh is then left with the holes filled so far. New vertices and
 // faces are appended (existing handles stay valid).
 Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options = {});
