@@ -129,27 +129,9 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   const int start = inner_loop[0];
-  dist[start] = 0;
-  queue.emplace(0.0, start);
-  int end = -1;
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[v]) continue;
-    if (on_outer[v]) {
-      end = v;
-      break;
-    }
-    for (int w : neighbours[v]) {
-      if (on_inner[w]) continue;
-      const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
-      if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
-    }
-  }
-  // neighbours holds only the successor of each vertex per triangle; walk both directions.
-  if (end < 0) {
-    for (const auto& t : surface.triangles)
-      for (int k = 0; k < 3; ++k) neighbours[t[(k + 1) % 3]].push_back(t[k]);
+  // Dijkstra from `start` over `neighbours`, avoiding the inner boundary, to the nearest outer
+  // boundary vertex; -1 when none is reachable.
+  auto shortest_to_outer = [&]() {
     std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
     dist[start] = 0;
     queue = {};
@@ -158,16 +140,21 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
       const auto [d, v] = queue.top();
       queue.pop();
       if (d > dist[v]) continue;
-      if (on_outer[v]) {
-        end = v;
-        break;
-      }
+      if (on_outer[v]) return v;
       for (int w : neighbours[v]) {
         if (on_inner[w]) continue;
         const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
         if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
       }
     }
+    return -1;
+  };
+  int end = shortest_to_outer();
+  // neighbours holds only the successor of each vertex per triangle; walk both directions.
+  if (end < 0) {
+    for (const auto& t : surface.triangles)
+      for (int k = 0; k < 3; ++k) neighbours[t[(k + 1) % 3]].push_back(t[k]);
+    end = shortest_to_outer();
   }
   if (end < 0)
     return failed_precondition(
