@@ -45,6 +45,9 @@ void run(const CalibrateArgs& a) {
   options.projector_width = projector.width;
   options.projector_height = projector.height;
   if (!a.synth_board.empty()) {
+    if (a.poses < 1 || a.poses > 12)
+      throw CommandFailed(
+          invalid_argument("--poses must be in 1..12, got " + std::to_string(a.poses)));
     capture::SyntheticRigOptions rig;
     const cv::Size size = parse_size(a.size, "--size");
     rig.camera_width = size.width;

@@ -55,6 +55,8 @@ void add_facemap_ict_sequence_command(CLI::App& app);
 void add_encode_command(CLI::App& app);
 void add_decode_command(CLI::App& app);
 void add_export_command(CLI::App& app);
+void add_run_command(CLI::App& app);
+void add_summary_command(CLI::App& app);
 #ifdef GVKIT_WITH_PLAYER
 void add_play_command(CLI::App& app);
 void add_render_command(CLI::App& app);

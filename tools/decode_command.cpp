@@ -25,6 +25,11 @@ struct DecodeArgs {
 void run_decode(const DecodeArgs& args) {
   auto reader = value_or_throw(codec::GvidReader::open(args.input));
   throw_if_error(ensure_directory(args.output));
+  if (reader->index_rebuilt())
+    logger().warn(
+        "{}: the seek index is missing or damaged (a cut or damaged file): {} frames found by a "
+        "scan; frames after a cut are lost",
+        args.input, reader->frame_count());
   const codec::SequenceInfo& info = reader->info();
   const double vertices = static_cast<double>(info.domain_pixels());
   nlohmann::json frames = nlohmann::json::array();

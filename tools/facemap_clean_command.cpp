@@ -25,6 +25,7 @@
 #include "gvkit/facemap/face_cleaning.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
 #include "gvkit/facemap/landmark_tracker.hpp"
+#include "tool_support.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -36,6 +37,7 @@ struct CleanArgs {
   CleanOptions options;
   std::string mouth = "inner";
   int threads = 0;
+  bool resume = false;
 };
 
 enum class InputKind { kScans, kMeshes };
@@ -152,6 +154,15 @@ void run_clean(const CleanArgs& args) {
     progress.finish();
   }
 
+  const nlohmann::json header = {
+      {"command", "facemap clean"},
+      {"input", args.input.string()},
+      {"input_kind", kind == InputKind::kScans ? "range scans" : "meshes"},
+      {"options", options_json(args)}};
+  FrameStatsFile stats_file(args.output, header, args.resume);
+  if (!stats_file.resume_note().empty()) logger().info("{}", stats_file.resume_note());
+  std::vector<nlohmann::json> entries(frames.size());
+  std::atomic<int> kept{0};
   std::optional<tbb::global_control> threads;
   if (args.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, args.threads);
   Progress progress("facemap clean", static_cast<int64_t>(frames.size()));
@@ -159,6 +170,20 @@ void run_clean(const CleanArgs& args) {
   tbb::parallel_for(size_t{0}, frames.size(), [&](size_t i) {
     Frame& frame = frames[i];
     const std::string name = frame.path.filename().string();
+    // A frame an earlier run finished is kept: a cleaned face whose files are complete, or a
+    // failure (it would fail again the same way).
+    if (auto previous = stats_file.previous(frame.index)) {
+      const bool ok = previous->value("ok", false);
+      if (!ok || all_exist({frame_path(args.output, frame.index, ".ply"),
+                            frame_path(args.output, frame.index, ".landmarks.json")})) {
+        entries[i] = *previous;
+        ++kept;
+        if (Status s = stats_file.record(frame.index, entries[i]); !s)
+          logger().warn("{}", s.message());
+        progress.advance();
+        return;
+      }
+    }
     auto process = [&]() -> Status {
       if (!frame.status.is_ok()) return frame.status;
       Result<facemap::CleanedFace> face = Status(StatusCode::kInternal, "not run");
@@ -192,40 +217,42 @@ void run_clean(const CleanArgs& args) {
       frame.status = Status(StatusCode::kInternal, name + ": " + e.what());
     }
     if (!frame.status.is_ok()) logger().warn("skipped: {}", frame.status.message());
+    entries[i] = frame_json(frame);
+    if (Status s = stats_file.record(frame.index, entries[i]); !s) logger().warn("{}", s.message());
     progress.advance();
   });
   progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (kept > 0)
+    logger().info("facemap clean: {} of {} frames were already done in {}; kept, not recomputed",
+                  kept.load(), frames.size(), args.output.string());
 
   nlohmann::json per_frame = nlohmann::json::array();
   int ok = 0;
   double total_ms = 0.0;
-  for (const auto& f : frames) {
-    per_frame.push_back(frame_json(f));
-    if (f.status.is_ok()) {
+  std::string first_error;
+  for (const auto& entry : entries) {
+    per_frame.push_back(entry);
+    if (entry.value("ok", false)) {
       ++ok;
-      total_ms += f.stats.total_ms;
+      if (entry.contains("ms")) total_ms += entry["ms"].value("total", 0.0);
+    } else if (first_error.empty()) {
+      first_error = entry.value("error", std::string("unknown error"));
     }
   }
-  const nlohmann::json stats = {
-      {"command", "facemap clean"},
-      {"input", args.input.string()},
-      {"input_kind", kind == InputKind::kScans ? "range scans" : "meshes"},
-      {"options", options_json(args)},
-      {"summary",
-       {{"frames", frames.size()},
-        {"ok", ok},
-        {"failed", static_cast<int>(frames.size()) - ok},
-        {"mean_frame_ms", ok > 0 ? total_ms / ok : 0.0},
-        {"wall_s", seconds}}},
-      {"frames", per_frame}};
-  throw_if_error(write_json(args.output / "stats.json", stats));
+  const nlohmann::json summary = {{"frames", frames.size()},
+                                  {"ok", ok},
+                                  {"failed", static_cast<int>(frames.size()) - ok},
+                                  {"kept_from_earlier_run", kept.load()},
+                                  {"mean_frame_ms", ok > 0 ? total_ms / ok : 0.0},
+                                  {"wall_s", seconds}};
+  throw_if_error(stats_file.finish(summary, per_frame));
   logger().info("facemap clean: {} of {} frames written to {}", ok, frames.size(),
                 args.output.string());
   if (ok == 0)
-    throw CommandFailed(failed_precondition("no frame could be cleaned; first error: " +
-                                            frames.front().status.message()));
+    throw CommandFailed(
+        failed_precondition("no frame could be cleaned; first error: " + first_error));
 }
 
 }  // namespace
@@ -261,6 +288,9 @@ void add_facemap_clean_command(CLI::App& facemap) {
   cmd->add_option("--model", args->model, "dlib 68-point shape predictor")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
       ->capture_default_str();
+  cmd->add_flag("--resume", args->resume,
+                "Keep the frames an earlier run with the same options finished in the output "
+                "folder (listed in its stats.json, files present); compute only the others");
   cmd->callback([args] { run_clean(*args); });
 }
 

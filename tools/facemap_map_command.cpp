@@ -20,6 +20,7 @@
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "gvkit/core/log.hpp"
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/progress.hpp"
 #include "gvkit/facemap/block_matching.hpp"
@@ -27,6 +28,7 @@
 #include "gvkit/facemap/eip_map.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
 #include "gvkit/facemap/map_metrics.hpp"
+#include "tool_support.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -38,6 +40,7 @@ struct MapCommandOptions {
   int threads = 0;
   bool same_vertices = false;
   bool png = false;
+  bool resume = false;
 };
 
 // xyz normalized to the domain's bounding box as 8-bit RGB (x -> R, y -> G, z -> B); holes black.
@@ -75,13 +78,59 @@ Result<cv::Size> parse_size(const std::string& text) {
   return cv::Size(w, h);
 }
 
+// One frame after the parallel pass: its own figures (entry), and what the figures across frames
+// need (landmarks in the domain, the geometry image).
 struct FrameResult {
   int64_t index = 0;
-  std::optional<MappedFace> mapped;
-  std::string error;
-  double seconds = 0;
+  nlohmann::json entry;  // index, time_s, and either error or this frame's own figures
+  bool ok = false;
+  std::vector<Eigen::Vector2d> landmarks_px;
+  GeometryImage image;
+  std::optional<MappedFace> mapped;  // only with --same-vertices
   std::vector<cv::Vec3d> positions;  // only with --same-vertices
 };
+
+// The figures of one mapped frame that do not depend on other frames.
+nlohmann::json own_entry(const FrameResult& r, const MappedFace& m, int flipped, double seconds) {
+  nlohmann::json f = {{"index", r.index}, {"time_s", seconds}};
+  f["flipped"] = flipped;
+  f["corner_image_flipped"] = m.quality.flipped;
+  f["triangles"] = m.quality.triangles;
+  f["eps_angle"] = m.quality.eps_angle;
+  f["eps_area"] = m.quality.eps_area;
+  f["unmapped_pixels"] = m.unmapped_pixels;
+  f["interior_extrema"] = m.interior_extrema;
+  f["boundary_nonmonotone"] = m.boundary_nonmonotone;
+  if (!m.warnings.empty()) f["warnings"] = m.warnings;
+  nlohmann::json landmarks = nlohmann::json::array();
+  for (const auto& p : m.landmarks_px) landmarks.push_back({p.x(), p.y()});
+  f["landmarks_px"] = landmarks;
+  return f;
+}
+
+// An earlier run's frame, when its entry and files are complete: the entry without the figures
+// across frames (computed again), the landmarks and the image read back.
+bool keep_previous(const MapCommandOptions& o, const nlohmann::json& previous, FrameResult& r) {
+  if (previous.contains("error")) {
+    r.entry = previous;
+    return true;
+  }
+  if (!previous.contains("landmarks_px") || !previous["landmarks_px"].is_array()) return false;
+  std::vector<fs::path> files = {frame_path(o.output, r.index, ".exr")};
+  if (o.png) files.push_back(frame_path(o.output, r.index, ".png"));
+  if (!all_exist(files)) return false;
+  auto image = read_geometry_image_exr(files.front());
+  if (!image.is_ok()) return false;
+  r.image = std::move(image).value();
+  for (const auto& p : previous["landmarks_px"])
+    r.landmarks_px.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
+  r.entry = previous;
+  for (const char* key : {"key_feature_drift_px", "feature_drift_px", "temporal_mse_mm2",
+                          "temporal_mse_mean_mm2", "true_drift_mm"})
+    r.entry.erase(key);
+  r.ok = true;
+  return true;
+}
 
 nlohmann::json drift_json(const facemap::DriftStats& d) {
   return {{"count", d.count}, {"mean", d.mean}, {"rms", d.rms}, {"max", d.max}};
@@ -108,45 +157,74 @@ void run(const MapCommandOptions& o) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   o.threads);
 
+  const nlohmann::json options = {
+      {"faces", o.faces},     {"size", o.size},
+      {"method", o.method},   {"domain", o.domain},
+      {"threads", o.threads}, {"same_vertices", o.same_vertices},
+      {"png", o.png},         {"block_matching", {{"block_size", 16}, {"search_range", 16}}}};
+  // --same-vertices needs every frame's mapping in memory: no frame is kept from earlier runs.
+  FrameStatsFile stats_file(o.output, {{"command", "facemap map"}, {"options", options}},
+                            o.resume && !o.same_vertices);
+  if (!stats_file.resume_note().empty()) logger().info("{}", stats_file.resume_note());
   std::vector<FrameResult> results(meshes.size());
+  std::atomic<int> kept{0};
   Progress progress("facemap map", static_cast<int64_t>(meshes.size()));
   const auto distance = facemap::heat_geodesic_distance();
   tbb::parallel_for(size_t{0}, meshes.size(), [&](size_t i) {
     FrameResult& r = results[i];
     r.index = meshes[i].index;
+    auto record = [&] {
+      if (Status s = stats_file.record(r.index, r.entry); !s) logger().warn("{}", s.message());
+      progress.advance();
+    };
+    if (auto previous = stats_file.previous(r.index); previous && keep_previous(o, *previous, r)) {
+      ++kept;
+      return record();
+    }
     const auto start = std::chrono::steady_clock::now();
-    auto fail = [&](const Status& s) { r.error = s.message(); };
+    auto fail = [&](const Status& s) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      r.entry = {{"index", r.index}, {"time_s", seconds}, {"error", s.message()}};
+      record();
+    };
     auto mesh = read_mesh(meshes[i].path);
     auto landmarks = read_face_landmarks(frame_path(o.faces, r.index, ".landmarks.json"));
-    if (!mesh.is_ok()) return fail(mesh.status()), progress.advance();
-    if (!landmarks.is_ok()) return fail(landmarks.status()), progress.advance();
+    if (!mesh.is_ok()) return fail(mesh.status());
+    if (!landmarks.is_ok()) return fail(landmarks.status());
     Result<MappedFace> mapped = o.method == "eip"
                                     ? facemap::map_face_eip(*mesh, *landmarks, *domain, distance)
                                     : facemap::map_face_hm(*mesh, *landmarks, size);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!mapped.is_ok()) {
-      fail(mapped.status().with_context(meshes[i].path.filename().string()));
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!mapped.is_ok())
+      return fail(mapped.status().with_context(meshes[i].path.filename().string()));
+    mapped->image.index = r.index;
+    const Status written =
+        write_geometry_image_exr(frame_path(o.output, r.index, ".exr"), mapped->image);
+    const Status png =
+        o.png ? write_image(frame_path(o.output, r.index, ".png"), preview(mapped->image))
+              : Status::ok();
+    if (!written.is_ok() || !png.is_ok()) return fail(written.is_ok() ? png : written);
+    const int flipped =
+        o.method == "eip" ? mapped->st_flipped + domain->flow().flipped : mapped->quality.flipped;
+    r.entry = own_entry(r, *mapped, flipped, seconds);
+    r.landmarks_px = mapped->landmarks_px;
+    r.ok = true;
+    if (o.same_vertices) {
+      for (auto v : mesh->vertices())
+        r.positions.emplace_back(mesh->point(v)[0], mesh->point(v)[1], mesh->point(v)[2]);
+      r.image = mapped->image;
+      r.mapped = std::move(*mapped);
     } else {
-      mapped->image.index = r.index;
-      const Status written =
-          write_geometry_image_exr(frame_path(o.output, r.index, ".exr"), mapped->image);
-      const Status png =
-          o.png ? write_image(frame_path(o.output, r.index, ".png"), preview(mapped->image))
-                : Status::ok();
-      if (!written.is_ok() || !png.is_ok()) {
-        fail(written.is_ok() ? png : written);
-      } else {
-        if (o.same_vertices)
-          for (auto v : mesh->vertices())
-            r.positions.emplace_back(mesh->point(v)[0], mesh->point(v)[1], mesh->point(v)[2]);
-        else
-          mapped->pixel_source.clear();
-        r.mapped = std::move(*mapped);
-      }
+      r.image = std::move(mapped->image);
     }
-    progress.advance();
+    record();
   });
   progress.finish();
+  if (kept > 0)
+    logger().info("facemap map: {} of {} frames were already done in {}; kept, not recomputed",
+                  kept.load(), results.size(), o.output);
 
   // Metrics across frames (sequential): against frame 0 and the previous mapped frame.
   nlohmann::json frames = nlohmann::json::array();
@@ -157,36 +235,23 @@ void run(const MapCommandOptions& o) {
   std::array<double, 3> sum_mse{};
   double sum_mse_mean = 0, sum_true = 0;
   int n_mse = 0, n_true = 0;
+  std::vector<int> all(68);
+  for (int i = 0; i < 68; ++i) all[i] = i;
   for (const FrameResult& r : results) {
-    nlohmann::json f = {{"index", r.index}, {"time_s", r.seconds}};
-    if (!r.mapped) {
-      f["error"] = r.error;
-      std::fprintf(stderr, "frame %lld: %s\n", static_cast<long long>(r.index), r.error.c_str());
+    nlohmann::json f = r.entry;
+    if (!r.ok) {
+      std::fprintf(stderr, "frame %lld: %s\n", static_cast<long long>(r.index),
+                   f.value("error", std::string("unknown error")).c_str());
       frames.push_back(f);
       continue;
     }
-    const MappedFace& m = *r.mapped;
-    const int flipped =
-        o.method == "eip" ? m.st_flipped + domain->flow().flipped : m.quality.flipped;
-    f["flipped"] = flipped;
-    f["corner_image_flipped"] = m.quality.flipped;
-    f["triangles"] = m.quality.triangles;
-    f["eps_angle"] = m.quality.eps_angle;
-    f["eps_area"] = m.quality.eps_area;
-    f["unmapped_pixels"] = m.unmapped_pixels;
-    f["interior_extrema"] = m.interior_extrema;
-    f["boundary_nonmonotone"] = m.boundary_nonmonotone;
-    if (!m.warnings.empty()) f["warnings"] = m.warnings;
     if (!first) first = &r;
-    const auto key =
-        facemap::feature_drift(first->mapped->landmarks_px, m.landmarks_px, kKeyLandmarks);
-    std::vector<int> all(68);
-    for (int i = 0; i < 68; ++i) all[i] = i;
-    const auto every = facemap::feature_drift(first->mapped->landmarks_px, m.landmarks_px, all);
+    const auto key = facemap::feature_drift(first->landmarks_px, r.landmarks_px, kKeyLandmarks);
+    const auto every = facemap::feature_drift(first->landmarks_px, r.landmarks_px, all);
     f["key_feature_drift_px"] = drift_json(key);
     f["feature_drift_px"] = drift_json(every);
     if (previous) {
-      const auto bm = facemap::block_matching_error(previous->mapped->image, m.image);
+      const auto bm = facemap::block_matching_error(previous->image, r.image);
       if (bm.is_ok()) {
         f["temporal_mse_mm2"] = {bm->mse_mm2[0], bm->mse_mm2[1], bm->mse_mm2[2]};
         f["temporal_mse_mean_mm2"] = bm->mean_mse_mm2;
@@ -196,16 +261,16 @@ void run(const MapCommandOptions& o) {
       }
     }
     if (o.same_vertices && first != &r && first->positions.size() == r.positions.size()) {
-      const auto td = facemap::true_surface_drift(*first->mapped, m, r.positions);
+      const auto td = facemap::true_surface_drift(*first->mapped, *r.mapped, r.positions);
       f["true_drift_mm"] = drift_json(td);
       sum_true += td.rms * td.rms;
       ++n_true;
     }
     ++ok;
-    total_flipped += flipped;
-    sum_angle += m.quality.eps_angle;
-    sum_area += m.quality.eps_area;
-    sum_time += r.seconds;
+    total_flipped += f.value("flipped", 0);
+    sum_angle += f.value("eps_angle", 0.0);
+    sum_area += f.value("eps_area", 0.0);
+    sum_time += f.value("time_s", 0.0);
     sum_key += key.mean;
     max_key = std::max(max_key, key.max);
     sum_all += every.mean;
@@ -229,18 +294,8 @@ void run(const MapCommandOptions& o) {
     summary["temporal_mse_mean_mm2"] = sum_mse_mean / n_mse;
   }
   if (n_true > 0) summary["true_drift_rms_mm"] = std::sqrt(sum_true / n_true);
-  const nlohmann::json stats = {{"command", "facemap map"},
-                                {"options",
-                                 {{"faces", o.faces},
-                                  {"size", o.size},
-                                  {"method", o.method},
-                                  {"domain", o.domain},
-                                  {"threads", o.threads},
-                                  {"same_vertices", o.same_vertices},
-                                  {"block_matching", {{"block_size", 16}, {"search_range", 16}}}}},
-                                {"frames", frames},
-                                {"summary", summary}};
-  throw_if_error(write_json(fs::path(o.output) / "stats.json", stats));
+  summary["kept_from_earlier_run"] = kept.load();
+  throw_if_error(stats_file.finish(summary, frames));
   std::printf("%s: %d of %zu frames mapped (%s, %dx%d), %d flipped triangles\n", o.output.c_str(),
               ok, results.size(), o.method.c_str(), size.width, size.height, total_flipped);
   if (ok == 0) throw CommandFailed(failed_precondition("no frame could be mapped"));
@@ -265,6 +320,9 @@ void add_facemap_map_command(CLI::App& app) {
                 "Frames share vertex order (ground-truth correspondence): also measure the true "
                 "surface drift at fixed pixels");
   cmd->add_flag("--png", o->png, "Also write frame_NNNNNN.png previews (xyz as RGB)");
+  cmd->add_flag("--resume", o->resume,
+                "Keep the frames an earlier run with the same options finished in the output "
+                "folder (listed in its stats.json, files present); map only the others");
   cmd->callback([o] { run(*o); });
 }
 

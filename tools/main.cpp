@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   gvkit::tools::add_encode_command(app);
   gvkit::tools::add_decode_command(app);
   gvkit::tools::add_export_command(app);
+  gvkit::tools::add_run_command(app);
+  gvkit::tools::add_summary_command(app);
 #ifdef GVKIT_WITH_PLAYER
   gvkit::tools::add_play_command(app);
   gvkit::tools::add_render_command(app);

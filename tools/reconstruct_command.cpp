@@ -25,8 +25,10 @@
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "gvkit/core/log.hpp"
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/progress.hpp"
+#include "tool_support.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -34,16 +36,27 @@ namespace fs = std::filesystem;
 
 struct ReconstructArgs {
   std::string input, output, pattern, calibration;
-  bool ply = false, quiet = false;
+  bool ply = false, quiet = false, resume = false;
   capture::ReconstructOptions options;
   capture::PatternSetOptions pattern_options;
 };
 
-struct FrameStats {
-  int64_t index = 0;
-  double valid_share = 0;
-  std::optional<capture::ScanAccuracy> accuracy;
-};
+// The stats.json entry of one reconstructed frame.
+nlohmann::json frame_entry(int64_t index, const RangeScan& scan,
+                           const std::optional<capture::ScanAccuracy>& accuracy) {
+  nlohmann::json j = {{"index", index}, {"valid_share", scan.valid_fraction()}};
+  if (accuracy) {
+    const auto& a = *accuracy;
+    j["rms_depth_error_mm"] = a.rms_mm;
+    j["max_depth_error_mm"] = a.max_mm;
+    j["median_depth_error_mm"] = a.p50_mm;
+    j["p99_depth_error_mm"] = a.p99_mm;
+    j["face_interior_rms_mm"] = a.face_interior_rms_mm;
+    j["face_interior_max_mm"] = a.face_interior_max_mm;
+    j["face_interior_valid_share"] = a.face_interior_valid_share;
+  }
+  return j;
+}
 
 void run(const ReconstructArgs& args) {
   const fs::path input = args.input, output = args.output;
@@ -73,7 +86,20 @@ void run(const ReconstructArgs& args) {
   throw_if_error(ensure_directory(output));
 
   const size_t count = session ? session->frame_count() : folder->frames.size();
-  std::vector<FrameStats> stats(count);
+  const nlohmann::json options = {{"pattern", patterns->name()},
+                                  {"calibration", args.calibration},
+                                  {"depth_prior_mm", args.options.depth_prior_mm},
+                                  {"min_modulation", args.pattern_options.min_modulation},
+                                  {"saturation_level", args.pattern_options.saturation_level},
+                                  {"unwrap_tolerance", args.pattern_options.unwrap_tolerance},
+                                  {"reference", args.options.reference},
+                                  {"ply", args.ply}};
+  FrameStatsFile stats_file(
+      output, {{"command", "reconstruct"}, {"input", input.string()}, {"options", options}},
+      args.resume);
+  if (!stats_file.resume_note().empty()) logger().info("{}", stats_file.resume_note());
+  std::vector<nlohmann::json> entries(count);
+  std::atomic<int64_t> kept{0};
   Progress progress("reconstruct", static_cast<int64_t>(count), !args.quiet);
   std::mutex error_mutex;
   std::optional<Status> first_error;
@@ -82,6 +108,19 @@ void run(const ReconstructArgs& args) {
       std::lock_guard<std::mutex> lock(error_mutex);
       if (!first_error) first_error = s;
     };
+    // A frame finished by an earlier run (its entry recorded, its files complete) is kept.
+    const int64_t listed = session ? session->info().frames[i].index : static_cast<int64_t>(i);
+    if (auto previous = stats_file.previous(listed)) {
+      std::vector<fs::path> outputs = {frame_path(output, listed, ".exr")};
+      if (args.ply) outputs.push_back(frame_path(output, listed, ".ply"));
+      if (all_exist(outputs)) {
+        entries[i] = *previous;
+        if (Status s = stats_file.record(listed, *previous); !s) return fail(s);
+        ++kept;
+        progress.advance();
+        return;
+      }
+    }
     Result<FringeSet> fringes =
         session ? session->read_frame(i) : capture::read_fringe_frame(*folder, i);
     if (!fringes) return fail(fringes.status());
@@ -92,44 +131,41 @@ void run(const ReconstructArgs& args) {
     if (s && args.ply)
       s = write_mesh(frame_path(output, index, ".ply"), capture::range_scan_mesh(*scan));
     if (!s) return fail(s);
-    stats[i].index = index;
-    stats[i].valid_share = scan->valid_fraction();
+    std::optional<capture::ScanAccuracy> accuracy;
     if (session) {
       if (auto gt_path = session->ground_truth_path(index)) {
         Result<capture::GroundTruth> gt = capture::read_ground_truth_exr(*gt_path);
         if (!gt) return fail(gt.status());
-        stats[i].accuracy = capture::scan_accuracy(*scan, *gt);
+        accuracy = capture::scan_accuracy(*scan, *gt);
       }
     }
+    entries[i] = frame_entry(index, *scan, accuracy);
+    if (Status r = stats_file.record(index, entries[i]); !r) return fail(r);
     progress.advance();
   });
   progress.finish();
   if (first_error) throw CommandFailed(*first_error);
+  if (kept > 0)
+    logger().info("reconstruct: {} of {} frames were already done in {}; kept, not recomputed",
+                  kept.load(), count, output.string());
 
   nlohmann::json frames = nlohmann::json::array();
   double valid_sum = 0, rms2_sum = 0, max_all = 0, interior2_sum = 0, interior_share_sum = 0;
   int with_gt = 0;
-  for (const FrameStats& f : stats) {
-    nlohmann::json j = {{"index", f.index}, {"valid_share", f.valid_share}};
-    valid_sum += f.valid_share;
-    if (f.accuracy) {
-      const auto& a = *f.accuracy;
-      j["rms_depth_error_mm"] = a.rms_mm;
-      j["max_depth_error_mm"] = a.max_mm;
-      j["median_depth_error_mm"] = a.p50_mm;
-      j["p99_depth_error_mm"] = a.p99_mm;
-      j["face_interior_rms_mm"] = a.face_interior_rms_mm;
-      j["face_interior_max_mm"] = a.face_interior_max_mm;
-      j["face_interior_valid_share"] = a.face_interior_valid_share;
-      rms2_sum += a.rms_mm * a.rms_mm;
-      interior2_sum += a.face_interior_rms_mm * a.face_interior_rms_mm;
-      interior_share_sum += a.face_interior_valid_share;
-      max_all = std::max(max_all, a.max_mm);
+  for (const nlohmann::json& j : entries) {
+    valid_sum += j.value("valid_share", 0.0);
+    if (j.contains("rms_depth_error_mm")) {
+      const double rms = j["rms_depth_error_mm"], interior = j["face_interior_rms_mm"];
+      rms2_sum += rms * rms;
+      interior2_sum += interior * interior;
+      interior_share_sum += j["face_interior_valid_share"].get<double>();
+      max_all = std::max(max_all, j["max_depth_error_mm"].get<double>());
       ++with_gt;
     }
     frames.push_back(j);
   }
   nlohmann::json summary = {{"frames", count},
+                            {"kept_from_earlier_run", kept.load()},
                             {"mean_valid_share", count ? valid_sum / count : 0.0}};
   if (with_gt) {
     summary["rms_depth_error_mm"] = std::sqrt(rms2_sum / with_gt);
@@ -137,20 +173,7 @@ void run(const ReconstructArgs& args) {
     summary["face_interior_rms_mm"] = std::sqrt(interior2_sum / with_gt);
     summary["face_interior_valid_share"] = interior_share_sum / with_gt;
   }
-  nlohmann::json stats_json = {{"command", "reconstruct"},
-                               {"input", input.string()},
-                               {"options",
-                                {{"pattern", patterns->name()},
-                                 {"calibration", args.calibration},
-                                 {"depth_prior_mm", args.options.depth_prior_mm},
-                                 {"min_modulation", args.pattern_options.min_modulation},
-                                 {"saturation_level", args.pattern_options.saturation_level},
-                                 {"unwrap_tolerance", args.pattern_options.unwrap_tolerance},
-                                 {"reference", args.options.reference},
-                                 {"ply", args.ply}}},
-                               {"summary", summary},
-                               {"frames", frames}};
-  throw_if_error(write_json(output / "stats.json", stats_json));
+  throw_if_error(stats_file.finish(summary, frames));
   std::printf("reconstructed %zu frames into %s: mean valid share %.3f", count,
               output.string().c_str(), count ? valid_sum / count : 0.0);
   if (with_gt)
@@ -192,6 +215,9 @@ void add_reconstruct_command(CLI::App& app) {
   cmd->add_flag("--reference", args->options.reference,
                 "Use the plain reference triangulation (slow)");
   cmd->add_flag("--no-progress", args->quiet, "Do not show progress");
+  cmd->add_flag("--resume", args->resume,
+                "Keep the frames an earlier run with the same options finished in the output "
+                "folder (listed in its stats.json, files present); compute only the others");
   cmd->callback([args] {
     args->pattern_options.reference = args->options.reference;
     run(*args);
