@@ -215,10 +215,15 @@ void run(const RunArgs& a) {
     entry["exit_code"] = code;
     record["stages"].push_back(entry);
     throw_if_error(write_json(work / "run.json", record));
-    if (code != 0)
+    if (code != 0) {
+      // The table of what was made so far, then the failure.
+      if (auto summary = summarize_work_folder(work); summary.is_ok())
+        std::printf("\n%s", format_summary_table(*summary).c_str());
+      std::fflush(stdout);
       throw CommandFailed(failed_precondition(
           "stage '" + stage.name + "' failed (exit " + std::to_string(code) + "); its log is " +
           log.string() + "; run the same command again to resume"));
+    }
     std::printf("== [%zu/%zu] %s: done in %.1f s\n", i + 1, stages.size(), stage.name.c_str(),
                 seconds);
     upstream_ran = true;
