@@ -133,7 +133,13 @@ TEST(FaultDrills, SessionCutWhileWrittenReconstructsItsListedFrames) {
   r = run_gvkit("reconstruct " + session.string() + " -o " + (dir / "scans").string() +
                 " --no-progress --resume");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "1 of 2 frames were already done")) << r.output;
   EXPECT_EQ(decoded(dir / "scans"), (std::vector<int64_t>{0, 1}));
+  auto stats = read_json(dir / "scans" / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["complete"], true);
+  EXPECT_EQ((*stats)["summary"]["kept_from_earlier_run"], 1);
+  EXPECT_TRUE((*stats)["frames"][0].contains("rms_depth_error_mm"));  // kept with its figures
 }
 
 // One out-of-range option per subcommand: exit != 0 and the message names the problem.
