@@ -177,12 +177,15 @@ Result<std::vector<StageSummary>> summarize_work_folder(const fs::path& work) {
 
   // Times by stage name.
   if (run.contains("stages") && run["stages"].is_array()) {
-    std::map<std::string, double> seconds;
+    std::map<std::string, nlohmann::json> by_name;
     for (const auto& st : run["stages"])
       if (st.is_object() && st.contains("name") && st["name"].is_string())
-        seconds[st["name"].get<std::string>()] = number(st, "seconds", -1);
+        by_name[st["name"].get<std::string>()] = st;
     for (auto& s : stages)
-      if (seconds.count(s.stage)) s.seconds = seconds[s.stage];
+      if (by_name.count(s.stage)) {
+        s.seconds = number(by_name[s.stage], "seconds", -1);
+        s.kept = by_name[s.stage].value("state", std::string()) == "kept";
+      }
   }
   return stages;
 }
@@ -202,7 +205,7 @@ std::string format_summary_table(const std::vector<StageSummary>& stages, int ma
       frames = std::to_string(s.frames_out);
     std::string time = "-";
     if (s.seconds >= 0) {
-      time = format("%.1f s", s.seconds);
+      time = format("%.1f s", s.seconds) + (s.kept ? "*" : "");
       total += s.seconds;
       any_time = true;
     }
@@ -215,6 +218,11 @@ std::string format_summary_table(const std::vector<StageSummary>& stages, int ma
                   format("%.1f s", total).c_str());
     out += line;
   }
+  for (const auto& s : stages)
+    if (s.kept) {
+      out += "* kept from an earlier run (its outputs were complete); the time is that run's\n";
+      break;
+    }
   for (const auto& s : stages) {
     if (s.failures.empty()) continue;
     out += s.stage + ": " + std::to_string(s.failures.size()) + " frame(s) failed:\n";

@@ -24,6 +24,7 @@ struct StageSummary {
   std::string stage;
   int64_t frames_in = -1, frames_out = -1;  // -1: not known
   double seconds = -1;                      // -1: not recorded
+  bool kept = false;                        // outputs (and time) from an earlier run
   std::string figures;                      // the stage's key figures, one line
   std::vector<std::string> failures;        // "frame N: why", for stages that lost frames
 };

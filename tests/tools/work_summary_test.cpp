@@ -63,7 +63,7 @@ void write_work_folder(const fs::path& w) {
          {"frames", {{{"frame", 0}, {"status", "ok"}}, {{"frame", 1}, {"status", "ok"}}}}});
   write(w / "run.json", {{"stages",
                           {{{"name", "synth"}, {"seconds", 1.5}},
-                           {{"name", "reconstruct"}, {"seconds", 2.0}},
+                           {{"name", "reconstruct"}, {"seconds", 2.0}, {"state", "kept"}},
                            {{"name", "clean"}, {"seconds", 3.25}},
                            {{"name", "map"}, {"seconds", 4.0}},
                            {{"name", "encode"}, {"seconds", 0.5}},
@@ -101,6 +101,8 @@ TEST(WorkSummary, TableShowsTheFiguresTimesAndLostFrames) {
   EXPECT_TRUE(contains(table, "temporal MSE 0.0123 mm^2")) << table;
   EXPECT_TRUE(contains(table, "0.9300 bits/vertex/frame, PSNR 70.12 dB")) << table;
   EXPECT_TRUE(contains(table, "3.2 s")) << table;   // clean's time
+  EXPECT_TRUE(contains(table, "2.0 s*")) << table;  // reconstruct's, from an earlier run
+  EXPECT_TRUE(contains(table, "* kept from an earlier run")) << table;
   EXPECT_TRUE(contains(table, "11.5 s")) << table;  // the total
   EXPECT_TRUE(contains(table, "clean: 1 frame(s) failed:\n  frame 1: landmark 60")) << table;
   EXPECT_FALSE(contains(table, "decode: ")) << table;  // no decode failures
