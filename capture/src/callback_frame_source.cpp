@@ -19,6 +19,14 @@ class CallbackFrameSource final : public FrameSource {
 
   Result<std::optional<CameraFrame>> next() override {
     if (!failure_.is_ok()) return failure_;
+    if (options_.drop_late) {
+      // A camera does not wait for its consumer: slots that passed are lost, and counted.
+      const std::optional<int64_t> now_index = pacer_.index_now();
+      if (now_index && *now_index > index_) {
+        counters_.dropped += *now_index - index_;
+        index_ = *now_index;
+      }
+    }
     if (finished_ || (options_.frame_count > 0 && index_ >= options_.frame_count))
       return std::optional<CameraFrame>();
     pacer_.wait_for(index_);
@@ -37,6 +45,10 @@ class CallbackFrameSource final : public FrameSource {
     CameraFrame frame;
     frame.image = std::move(image).value();
     frame.sequence = index_;
+    if (options_.pattern_cycle > 0) {
+      const int position = static_cast<int>(index_ % options_.pattern_cycle);
+      frame.pattern = position < options_.cue_frames ? -1 : position - options_.cue_frames;
+    }
     if (!options_.paced && options_.fps > 0)
       frame.timestamp =
           Timestamp(static_cast<int64_t>(static_cast<double>(index_) * 1e9 / options_.fps));

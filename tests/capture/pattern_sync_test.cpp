@@ -277,5 +277,48 @@ TEST(FrameGroup, BecomesAFringeSet) {
   EXPECT_EQ(s.timestamp, milliseconds(5));
 }
 
+// ---- tagged frames ----
+
+CameraFrame tagged(int64_t sequence, int pattern) {
+  CameraFrame f = frame_at(sequence, milliseconds(sequence), Timestamp(0),
+                           static_cast<uint8_t>(100 + sequence));
+  f.pattern = pattern;
+  return f;
+}
+
+TEST(TaggedPatternSync, GroupsCompleteCyclesAndDropsBrokenOnes) {
+  // 4 frames per cycle: a cue (untagged) and patterns 0..2.
+  TaggedPatternSync sync({3, 4});
+  std::vector<FrameGroup> groups;
+  auto feed = [&](int64_t sequence) {
+    const int position = static_cast<int>(sequence % 4);
+    if (auto g = sync.push(tagged(sequence, position - 1))) groups.push_back(*g);
+  };
+  for (int64_t s = 0; s < 8; ++s) feed(s);  // cycles 0 and 1, complete
+  for (int64_t s : {8, 9, 11}) feed(s);     // cycle 2 lacks pattern 1 (sequence 10 lost)
+  for (int64_t s = 12; s < 16; ++s) feed(s);
+  feed(16);
+  feed(17);  // cycle 4 in progress when the stream ends
+  sync.finish();
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[0].index, 0);
+  EXPECT_EQ(groups[1].index, 1);
+  EXPECT_EQ(groups[2].index, 3);  // the cycle number: dropped cycle 2 leaves a gap
+  EXPECT_EQ(groups[2].sequences, std::vector<int64_t>({13, 14, 15}));
+  EXPECT_EQ(value_of(groups[2].images[0]), 113);
+  EXPECT_EQ(groups[2].timestamp, milliseconds(13));
+  EXPECT_EQ(sync.counters().cycles_dropped, 2);
+  ASSERT_EQ(sync.dropped().size(), 2u);
+  EXPECT_TRUE(contains(sync.dropped()[0], "cycle 2: pattern 1 never arrived")) << sync.dropped()[0];
+  EXPECT_TRUE(contains(sync.dropped()[1], "the stream ended")) << sync.dropped()[1];
+
+  TaggedPatternSync twice({2, 2});
+  EXPECT_FALSE(twice.push(tagged(0, 0)));
+  EXPECT_FALSE(twice.push(tagged(1, 0)));  // pattern 0 again in cycle 0: never a wrong pair
+  EXPECT_EQ(twice.counters().cycles_dropped, 1);
+  EXPECT_TRUE(contains(twice.dropped().front(), "arrived twice"));
+  EXPECT_FALSE(TaggedSyncOptions({3, 2}).check().is_ok());
+}
+
 }  // namespace
 }  // namespace gvkit
