@@ -1,5 +1,6 @@
 #include "gvkit/capture/callback_frame_source.hpp"
 
+#include <chrono>
 #include <utility>
 
 #include "pacer.hpp"
@@ -30,7 +31,14 @@ class CallbackFrameSource final : public FrameSource {
     if (finished_ || (options_.frame_count > 0 && index_ >= options_.frame_count))
       return std::optional<CameraFrame>();
     pacer_.wait_for(index_);
+    const auto generating = std::chrono::steady_clock::now();
     Result<cv::Mat> image = generator_(index_);
+    if (options_.drop_late) {
+      // The generator's own time is the simulation's, not the consumer's: the camera's clock
+      // pauses meanwhile, so only a slow consumer makes frames late.
+      const auto spent = std::chrono::steady_clock::now() - generating;
+      pacer_.pause_for(spent);
+    }
     if (!image.is_ok())
       return failure_ = image.status().with_context(name_ + ": frame " + std::to_string(index_));
     if (image->empty()) {
@@ -64,7 +72,9 @@ class CallbackFrameSource final : public FrameSource {
   std::string describe() const override {
     std::string text = name_ + " (generated frames";
     if (options_.fps > 0) text += ", " + std::to_string(options_.fps) + " fps";
-    text += options_.paced ? ", paced)" : ", unpaced)";
+    text += options_.paced ? ", paced" : ", unpaced";
+    if (options_.drop_late) text += ", late frames dropped";
+    text += ")";
     return text;
   }
 

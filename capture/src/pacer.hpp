@@ -19,6 +19,10 @@ class Pacer {
     const auto due = *start_ + period() * index;
     if (due > now) std::this_thread::sleep_until(due);
   }
+  // Moves every later due time back by d (the clock pauses, e.g. while a simulation catches up).
+  void pause_for(std::chrono::steady_clock::duration d) {
+    if (start_) *start_ += d;
+  }
   // The index whose time slot [start + i / fps, start + (i + 1) / fps) holds now; nullopt before
   // the first wait_for or when unpaced.
   std::optional<int64_t> index_now() const {

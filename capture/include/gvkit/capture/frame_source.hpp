@@ -69,7 +69,8 @@ struct FrameSourceOptions {
   int pattern_cycle = 0;
   int cue_frames = 0;
   // synthetic/callback, paced: behave like a camera: a frame whose time slot passed while the
-  // consumer was busy is never generated; it is counted as dropped (a sequence gap).
+  // consumer was busy is never generated; it is counted as dropped (a sequence gap). Time spent
+  // inside the generator pauses the clock (a slow simulation lowers the rate, it drops nothing).
   bool drop_late = false;
 
   // Names the first out-of-range field ("fps: -1 is negative").
