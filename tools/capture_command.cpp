@@ -620,6 +620,10 @@ void run_capture(const CaptureArgs& a) {
   const Status result = pipeline.wait();
   std::signal(SIGINT, previous_handler);
   g_running_pipeline = nullptr;
+  // A cycle still incomplete when capture stopped was cut by the stop, not lost: it is counted
+  // apart from the cycles the sync dropped.
+  const int64_t cycles_dropped =
+      run->cycles_dropped_at_limit.value_or(run->sync_counters().cycles_dropped);
   {
     std::lock_guard<std::mutex> lock(run->sync_mutex);
     if (run->tagged) run->tagged->finish();
@@ -627,8 +631,6 @@ void run_capture(const CaptureArgs& a) {
   }
   const LiveStatus status = pipeline.status();
   const SyncCounters sync_counters = run->sync_counters();
-  const int64_t cycles_dropped =
-      run->cycles_dropped_at_limit.value_or(sync_counters.cycles_dropped);
   Status closed;
   if (run->writer) {
     const int64_t dropped_sets = cycles_dropped + status.stages[1].dropped;
@@ -669,7 +671,7 @@ void run_capture(const CaptureArgs& a) {
       {"dropped_by_source", status.source.dropped},
       {"errored_by_source", status.source.errored},
       {"cycles_dropped_by_sync", cycles_dropped},
-      {"cycles_dropped_after_the_limit", sync_counters.cycles_dropped - cycles_dropped},
+      {"cycles_cut_by_the_stop", sync_counters.cycles_dropped - cycles_dropped},
       {"frames_unused_by_sync", sync_counters.frames_unused},
       {"ground_truth_missing", run->ground_truth_missing},
       {"stopped_by", result.is_ok() ? "" : result.message()}};

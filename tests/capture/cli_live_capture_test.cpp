@@ -4,8 +4,12 @@
 // its cue frames; the preview with and without a display; bad options exit != 0 with a message.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <string>
+#include <thread>
 
 #include "gvkit/capture/session_reader.hpp"
 #include "gvkit/core/image_io.hpp"
@@ -179,6 +183,42 @@ TEST(CliLiveCapture, PreviewShowsTheReconstructionsUnderXvfb) {
   EXPECT_EQ((*stats)["summary"]["reconstructed"], 3);
 }
 #endif
+
+TEST(CliLiveCapture, KilledCaptureLeavesASessionThatOpensAndReplays) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  TempDir dir;
+  const char* env = std::getenv("GVKIT_BINARY");
+  const std::string binary = env ? env : GVKIT_BINARY_PATH;
+  const fs::path session = dir / "s", pid_file = dir / "pid";
+  const std::string command =
+      binary + " capture --source synthetic: --pattern psp3-f16 --size 64x48 --no-status --ict " +
+      (data / "ict-facekit").string() + " -o " + session.string() +
+      " >/dev/null 2>&1 & echo $! > " + pid_file.string();
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  FILE* f = std::fopen(pid_file.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  long pid = 0;
+  ASSERT_EQ(std::fscanf(f, "%ld", &pid), 1);
+  std::fclose(f);
+  // Kill it once a few sets are listed (it would run until stopped otherwise).
+  size_t listed = 0;
+  for (int i = 0; i < 600 && listed < 3; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (auto s = capture::SessionReader::open(session)) listed = s->frame_count();
+  }
+  ::kill(static_cast<pid_t>(pid), SIGKILL);
+  ASSERT_GE(listed, 3u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  auto s = capture::SessionReader::open(session);
+  ASSERT_TRUE(s.is_ok()) << s.status().message();
+  for (size_t i = 0; i < s->frame_count(); ++i) EXPECT_TRUE(s->read_frame(i).is_ok());
+  auto replay = run_gvkit("capture --source file:" + session.string() + " --no-status -o " +
+                          (dir / "replay").string());
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  auto back = capture::SessionReader::open(dir / "replay");
+  ASSERT_TRUE(back.is_ok());
+  EXPECT_EQ(back->frame_count(), s->frame_count());
+}
 
 TEST(CliLiveCapture, BadOptionsExitNonZeroWithAMessage) {
   TempDir dir;
