@@ -95,72 +95,6 @@ bool have_display() {
   return (display && *display) || (wayland && *wayland);
 }
 
-// Software sync, live: presentations come from the projector loop (main thread), frames from
-// the pipeline; a cycle is matched once the next cycle's first pattern showed and a frame later
-// than that arrived (match_software_sync on that cycle alone).
-class LiveSoftwareSync {
- public:
-  LiveSoftwareSync(int n, Timestamp latency) : n_(n), latency_(latency) {}
-
-  void presented(const PatternPresentation& p) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    presentations_.push_back(p);
-  }
-
-  std::optional<FrameGroup> push(const CameraFrame& frame) {
-    frames_.push_back(frame);
-    ++counters_.frames_in;
-    std::lock_guard<std::mutex> lock(mutex_);
-    while (true) {
-      // The oldest cycle with all n presentations and the next cycle's first one.
-      if (presentations_.empty()) return std::nullopt;
-      const int64_t cycle = presentations_.front().cycle;
-      std::vector<PatternPresentation> mine;
-      std::optional<Timestamp> end;
-      for (const PatternPresentation& p : presentations_) {
-        if (p.cycle == cycle)
-          mine.push_back(p);
-        else if (p.cycle > cycle && (!end || p.presented < *end))
-          end = p.presented;
-      }
-      if (!end || frames_.back().timestamp < *end + latency_) return std::nullopt;
-      SoftwareSyncOptions o;
-      o.patterns_per_cycle = n_;
-      o.display_latency = latency_;
-      o.stream_end = *end;
-      std::vector<CameraFrame> window;
-      for (const CameraFrame& f : frames_)
-        if (f.timestamp < *end + latency_) window.push_back(f);
-      SoftwareSyncResult r = match_software_sync(mine, window, o);
-      presentations_.erase(
-          std::remove_if(presentations_.begin(), presentations_.end(),
-                         [&](const PatternPresentation& p) { return p.cycle == cycle; }),
-          presentations_.end());
-      const size_t used = window.size();
-      frames_.erase(frames_.begin(), frames_.begin() + static_cast<std::ptrdiff_t>(used));
-      counters_.frames_unused += static_cast<int64_t>(used) - (r.groups.empty() ? 0 : n_);
-      if (r.groups.empty()) {
-        ++counters_.cycles_dropped;
-        continue;
-      }
-      FrameGroup group = std::move(r.groups.front());
-      group.index = cycle;
-      ++counters_.groups;
-      return group;
-    }
-  }
-
-  const SyncCounters& counters() const { return counters_; }
-
- private:
-  int n_;
-  Timestamp latency_;
-  std::mutex mutex_;  // guards presentations_
-  std::vector<PatternPresentation> presentations_;
-  std::deque<CameraFrame> frames_;  // frames_ is used by the sync stage only
-  SyncCounters counters_;
-};
-
 struct FrameAccuracy {
   int64_t index = 0;
   double valid_share = 0;
@@ -182,7 +116,7 @@ struct CaptureRun {
   // sync stage
   std::optional<TaggedPatternSync> tagged;
   std::optional<HardwareTriggeredSync> cue;
-  std::unique_ptr<LiveSoftwareSync> software;
+  std::unique_ptr<SoftwareSyncStream> software;
   std::mutex sync_mutex;  // guards the sync counters read by the status thread
 
   // record stage
@@ -376,6 +310,8 @@ void run_capture(const CaptureArgs& a) {
   if (args.queue < 1 || args.queue > 1024)
     throw CommandFailed(
         invalid_argument("--queue " + std::to_string(args.queue) + " is outside 1..1024"));
+  if (!(args.display_latency_ms >= 0 && args.display_latency_ms <= 1000))
+    throw CommandFailed(invalid_argument("--display-latency-ms must be in 0..1000"));
   if (args.preview_stride < 1 || args.preview_stride > 16)
     throw CommandFailed(invalid_argument("--preview-stride must be 1..16"));
   const QueueFullPolicy policy = value_or_throw(parse_queue_full_policy(args.policy));
@@ -532,9 +468,12 @@ void run_capture(const CaptureArgs& a) {
     run->tagged.emplace(TaggedSyncOptions{n, run->frames_per_cycle});
   else if (run->sync_mode == "cue")
     run->cue.emplace(HardwareSyncOptions::cue(n));
-  else
-    run->software = std::make_unique<LiveSoftwareSync>(
-        n, Timestamp(static_cast<int64_t>(args.display_latency_ms * 1e6)));
+  else {
+    SoftwareSyncOptions o;
+    o.patterns_per_cycle = n;
+    o.display_latency = Timestamp(static_cast<int64_t>(args.display_latency_ms * 1e6));
+    run->software = std::make_unique<SoftwareSyncStream>(o);
+  }
   if (!args.scans.empty()) throw_if_error(ensure_directory(args.scans));
 
   // ---- the pipeline ----

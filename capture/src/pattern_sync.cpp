@@ -140,6 +140,66 @@ SoftwareSyncResult match_software_sync(const std::vector<PatternPresentation>& p
   return result;
 }
 
+SoftwareSyncStream::SoftwareSyncStream(SoftwareSyncOptions options) : options_(options) {
+  GVKIT_CHECK(options_.check().is_ok(), options_.check().message());
+  options_.stream_end = Timestamp(0);
+}
+
+void SoftwareSyncStream::presented(const PatternPresentation& presentation) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  presentations_.push_back(presentation);
+}
+
+SyncCounters SoftwareSyncStream::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return counters_;
+}
+
+std::optional<FrameGroup> SoftwareSyncStream::push(const CameraFrame& frame) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  frames_.push_back(frame);
+  ++counters_.frames_in;
+  const int n = options_.patterns_per_cycle;
+  while (!presentations_.empty()) {
+    // The oldest cycle, and the first presentation of a later one (where this cycle ends).
+    const int64_t cycle = presentations_.front().cycle;
+    std::vector<PatternPresentation> mine;
+    std::optional<Timestamp> end;
+    for (const PatternPresentation& p : presentations_) {
+      if (p.cycle == cycle)
+        mine.push_back(p);
+      else if (p.cycle > cycle && (!end || p.presented < *end))
+        end = p.presented;
+    }
+    if (!end) return std::nullopt;
+    const Timestamp end_seen = *end + options_.display_latency;
+    if (frames_.back().timestamp < end_seen) return std::nullopt;  // frames may still come
+    SoftwareSyncOptions o = options_;
+    o.stream_end = *end;
+    std::vector<CameraFrame> window;
+    while (!frames_.empty() && frames_.front().timestamp < end_seen) {
+      window.push_back(std::move(frames_.front()));
+      frames_.pop_front();
+    }
+    SoftwareSyncResult r = match_software_sync(mine, window, o);
+    presentations_.erase(
+        std::remove_if(presentations_.begin(), presentations_.end(),
+                       [&](const PatternPresentation& p) { return p.cycle == cycle; }),
+        presentations_.end());
+    if (r.groups.empty()) {
+      ++counters_.cycles_dropped;
+      counters_.frames_unused += static_cast<int64_t>(window.size());
+      continue;
+    }
+    counters_.frames_unused += static_cast<int64_t>(window.size()) - n;
+    FrameGroup group = std::move(r.groups.front());
+    group.index = cycle;
+    ++counters_.groups;
+    return group;
+  }
+  return std::nullopt;
+}
+
 // ---- hardware-triggered projector ----
 
 Status HardwareSyncOptions::check() const {

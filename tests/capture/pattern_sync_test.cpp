@@ -277,6 +277,35 @@ TEST(FrameGroup, BecomesAFringeSet) {
   EXPECT_EQ(s.timestamp, milliseconds(5));
 }
 
+TEST(SoftwareSyncStream, MatchesLiveAsTheBatchMatcherDoes) {
+  for (const int offset_ms : {0, 3, 17}) {
+    SoftwareScene scene = make_scene(5, 3, milliseconds(offset_ms));
+    // Cycle 2 loses its pattern-1 frames (700..800 ms): that cycle is dropped, the others not.
+    std::vector<CameraFrame> frames;
+    for (const CameraFrame& f : scene.frames)
+      if (f.timestamp < milliseconds(700) || f.timestamp >= milliseconds(800)) frames.push_back(f);
+    SoftwareSyncOptions o;
+    o.patterns_per_cycle = 3;
+    SoftwareSyncStream stream(o);
+    std::vector<FrameGroup> groups;
+    size_t shown = 0;
+    for (const CameraFrame& f : frames) {
+      // The projector loop runs ahead of the camera: presentations up to this frame's time.
+      while (shown < scene.shown.size() && scene.shown[shown].presented <= f.timestamp)
+        stream.presented(scene.shown[shown++]);
+      if (auto g = stream.push(f)) groups.push_back(*g);
+    }
+    // Cycle 4 has no next cycle to end it: still pending.
+    ASSERT_EQ(groups.size(), 3u) << "offset " << offset_ms;
+    EXPECT_EQ(groups[0].index, 0);
+    EXPECT_EQ(groups[1].index, 1);
+    EXPECT_EQ(groups[2].index, 3);
+    for (const FrameGroup& g : groups)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(value_of(g.images[k]), 200 + k);
+    EXPECT_EQ(stream.counters().cycles_dropped, 1);
+  }
+}
+
 // ---- tagged frames ----
 
 CameraFrame tagged(int64_t sequence, int pattern) {

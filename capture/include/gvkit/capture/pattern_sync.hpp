@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -76,6 +77,30 @@ struct SoftwareSyncResult {
 SoftwareSyncResult match_software_sync(const std::vector<PatternPresentation>& presentations,
                                        const std::vector<CameraFrame>& frames,
                                        const SoftwareSyncOptions& options);
+
+// (a) live: presentations (from the projector loop) and frames (from the camera) arrive as they
+// happen, on two threads. A cycle is matched with match_software_sync once the next cycle's first
+// presentation is known and a frame later than it arrived; it is then complete or dropped.
+class SoftwareSyncStream {
+ public:
+  // options.stream_end is ignored (the next cycle's first presentation ends each cycle).
+  explicit SoftwareSyncStream(SoftwareSyncOptions options);
+
+  // Thread-safe; presentations of a cycle must come before those of later cycles.
+  void presented(const PatternPresentation& presentation);
+  // Feeds the next camera frame (timestamps non-decreasing; one thread). Returns the oldest
+  // cycle it completes; group index = the presentation cycle number.
+  std::optional<FrameGroup> push(const CameraFrame& frame);
+
+  SyncCounters counters() const;
+
+ private:
+  SoftwareSyncOptions options_;
+  mutable std::mutex mutex_;  // guards presentations_ and counters_
+  std::vector<PatternPresentation> presentations_;
+  std::deque<CameraFrame> frames_;
+  SyncCounters counters_;
+};
 
 // ---- (b) hardware-triggered projector ----
 
