@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "gvkit/capture/session_reader.hpp"
+#include "gvkit/capture/synthetic_rig.hpp"
+#include "gvkit/core/calibration_io.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "support/test_support.hpp"
@@ -145,6 +147,16 @@ TEST(CliLiveCapture, PreviewNeedsADisplayUnlessOptional) {
   ::unsetenv("WAYLAND_DISPLAY");
   auto none = run_gvkit(common + (dir / "a").string());
   auto optional = run_gvkit(common + (dir / "b").string() + " --preview-optional");
+  // The projector window needs a display too.
+  fs::create_directories(dir / "images");
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(write_image(dir / "images" / ("frame_00000" + std::to_string(i) + ".png"),
+                            cv::Mat(8, 8, CV_8U, cv::Scalar(9)))
+                    .is_ok());
+  ASSERT_TRUE(write_calibration(dir / "rig.yaml", capture::synthetic_calibration()).is_ok());
+  auto project = run_gvkit("capture --source file:" + (dir / "images").string() +
+                           " --pattern psp3-f16 --project 0 --calibration " +
+                           (dir / "rig.yaml").string() + " -o " + (dir / "c").string());
   if (display) ::setenv("DISPLAY", saved_display.c_str(), 1);
   if (wayland) ::setenv("WAYLAND_DISPLAY", saved_wayland.c_str(), 1);
   EXPECT_NE(none.exit_code, 0);
@@ -154,6 +166,9 @@ TEST(CliLiveCapture, PreviewNeedsADisplayUnlessOptional) {
   ASSERT_EQ(optional.exit_code, 0) << optional.output;
   EXPECT_TRUE(contains(optional.output, "capturing without the preview")) << optional.output;
   EXPECT_TRUE(capture::SessionReader::open(dir / "b").is_ok());
+  EXPECT_NE(project.exit_code, 0);
+  EXPECT_TRUE(contains(project.output, "DISPLAY")) << project.output;
+  EXPECT_FALSE(fs::exists(dir / "c" / "session.json"));
 }
 
 #ifdef GVKIT_WITH_PLAYER
