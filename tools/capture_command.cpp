@@ -418,8 +418,8 @@ void run_capture(const CaptureArgs& a) {
     so.width = so.height = 0;
   } else if (run->replayed) {
     run->calibration = run->replayed->calibration();
-    so.paced = args.fps > 0;
   }
+  if (scheme == "file") so.paced = args.fps > 0;  // a replay stands in for a camera at --fps
   if (args.fps > 0)
     throw_if_error(
         check_pattern_rate(run->frames_per_cycle, args.fps, projector_hz)

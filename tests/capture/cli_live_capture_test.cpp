@@ -7,6 +7,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <thread>
@@ -198,6 +199,43 @@ TEST(CliLiveCapture, PreviewShowsTheReconstructionsUnderXvfb) {
   EXPECT_EQ((*stats)["summary"]["reconstructed"], 3);
 }
 #endif
+
+TEST(CliLiveCapture, ProjectedPatternsPairWithFramesBySoftwareSyncUnderXvfb) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  TempDir dir;
+  // The camera: a folder of images replayed in real time at 15 frames/s (--fps 5 x 3 patterns);
+  // the patterns go fullscreen on the virtual screen and frames pair by presentation time.
+  fs::create_directories(dir / "images");
+  for (int i = 0; i < 150; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%06d.png", i);
+    ASSERT_TRUE(
+        write_image(dir / "images" / name, cv::Mat(12, 16, CV_8U, cv::Scalar(i % 256))).is_ok());
+  }
+  ASSERT_TRUE(write_calibration(dir / "rig.yaml", capture::synthetic_calibration()).is_ok());
+  const char* env = std::getenv("GVKIT_BINARY");
+  const std::string binary = env ? env : GVKIT_BINARY_PATH;
+  const std::string command = "xvfb-run -a -s '-screen 0 640x480x24' " + binary +
+                              " capture --source file:" + (dir / "images").string() +
+                              " --pattern psp3-f16 --project 0 --fps 5 --frames 3 --no-status "
+                              "--calibration " +
+                              (dir / "rig.yaml").string() + " -o " + (dir / "s").string() +
+                              " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  auto s = capture::SessionReader::open(dir / "s");
+  ASSERT_TRUE(s.is_ok()) << s.status().message();
+  EXPECT_EQ(s->frame_count(), 3u);
+  EXPECT_EQ(s->info().source["sync"], "software");
+  // Each set holds three consecutive camera frames (one per pattern, in order).
+  for (size_t i = 0; i < s->frame_count(); ++i) {
+    auto set = s->read_frame(i);
+    ASSERT_TRUE(set.is_ok());
+    const int first = set->images[0].at<uint8_t>(0, 0);
+    for (int k = 1; k < 3; ++k)
+      EXPECT_GT(set->images[static_cast<size_t>(k)].at<uint8_t>(0, 0), first);
+  }
+}
 
 TEST(CliLiveCapture, KilledCaptureLeavesASessionThatOpensAndReplays) {
   GVKIT_REQUIRE_SHARED_DATA(data);
