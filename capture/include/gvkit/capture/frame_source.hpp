@@ -3,10 +3,12 @@
 // One interface, one backend per file, chosen by URI:
 //   v4l2:/dev/videoN      a V4L2 device, mmap streaming (GREY, Y16, YUYV luma, MJPEG)
 //   libcamera:<id>        a libcamera camera by id (or by index "libcamera:0")
-//   file:<path>           a folder of images (frame_NNNNNN.png or any sorted image files), or a
-//                         video file (OpenCV videoio / FFmpeg)
+//   file:<path>           a folder of images (frame_NNNNNN.png or any sorted image files), a
+//                         session folder (frames tagged with their patterns), or a video file
+//                         (OpenCV videoio / FFmpeg)
 //   synthetic:            the generator in FrameSourceOptions::synthetic_generator (the
-//                         projector-camera renderer plugs in there)
+//                         projector-camera renderer: SyntheticStream::generator(),
+//                         synthetic_stream.hpp)
 
 #include <cstdint>
 #include <functional>
