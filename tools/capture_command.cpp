@@ -30,6 +30,7 @@
 #include "gvkit/capture/pattern_projector.hpp"
 #include "gvkit/capture/pattern_set.hpp"
 #include "gvkit/capture/pattern_sync.hpp"
+#include "gvkit/capture/projector_gamma.hpp"
 #include "gvkit/capture/reconstructor.hpp"
 #include "gvkit/capture/scan_accuracy.hpp"
 #include "gvkit/capture/session_reader.hpp"
@@ -66,7 +67,7 @@ struct CaptureArgs {
   SourceArgs camera;
   int project = -1;
   int64_t frames = 0;
-  double seconds = 0, fps = 0, projector_rate = 0, display_latency_ms = 0;
+  double seconds = 0, fps = 0, projector_rate = 0, display_latency_ms = 0, gamma_compensate = 0;
   int queue = 8, preview_stride = 2;
   bool reconstruct = false, preview = false, preview_optional = false, quiet_status = false;
   // synthetic:
@@ -310,6 +311,8 @@ void run_capture(const CaptureArgs& a) {
   if (args.queue < 1 || args.queue > 1024)
     throw CommandFailed(
         invalid_argument("--queue " + std::to_string(args.queue) + " is outside 1..1024"));
+  if (!(args.gamma_compensate == 0 || (args.gamma_compensate >= 0.2 && args.gamma_compensate <= 5)))
+    throw CommandFailed(invalid_argument("--gamma-compensate must be 0 (off) or in [0.2, 5]"));
   if (!(args.display_latency_ms >= 0 && args.display_latency_ms <= 1000))
     throw CommandFailed(invalid_argument("--display-latency-ms must be in 0..1000"));
   if (args.preview_stride < 1 || args.preview_stride > 16)
@@ -452,6 +455,7 @@ void run_capture(const CaptureArgs& a) {
           check_pattern_rate(n, args.fps, projector_hz)
               .with_context("--pattern " + args.pattern + " on " + projector->describe()));
     std::vector<cv::Mat> images = run->patterns->generate(projector->size());
+    if (args.gamma_compensate > 0) capture::compensate_gamma(images, args.gamma_compensate);
     for (cv::Mat& image : images) image.convertTo(image, CV_8U, 255.0);
     throw_if_error(projector->set_patterns(images));
 #else
@@ -639,6 +643,8 @@ void run_capture(const CaptureArgs& a) {
                             {"seconds", args.seconds},
                             {"fps", args.fps},
                             {"projector_rate_hz", projector_hz},
+                            {"gamma_compensate", args.gamma_compensate},
+                            {"display_latency_ms", args.display_latency_ms},
                             {"queue", args.queue},
                             {"policy", args.policy},
                             {"reconstruct", args.reconstruct},
@@ -707,6 +713,10 @@ void add_capture_command(CLI::App& app) {
                   "with --project, 120 for synthetic, else unchecked)");
   cmd->add_option("--display-latency-ms", a->display_latency_ms,
                   "Software sync: delay from buffer swap to light on the face")
+      ->capture_default_str();
+  cmd->add_option("--gamma-compensate", a->gamma_compensate,
+                  "--project: send the patterns through a v^(1/G) LUT for a projector of gamma G "
+                  "(0 = off)")
       ->capture_default_str();
   cmd->add_option("--calibration", a->calibration,
                   "Rig calibration (required for cameras; default: the synthetic rig's, or the "
