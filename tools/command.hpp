@@ -34,6 +34,7 @@ void add_reconstruct_command(CLI::App& app);
 void add_devices_command(CLI::App& app);
 void add_calibrate_command(CLI::App& app);
 void add_record_command(CLI::App& app);
+void add_capture_command(CLI::App& app);
 // `gvkit facemap` and its subcommands (tools/facemap_*_command.cpp).
 void add_facemap_command(CLI::App& app);
 void add_facemap_clean_command(CLI::App& facemap);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_devices_command(app);
   gvkit::tools::add_calibrate_command(app);
   gvkit::tools::add_record_command(app);
+  gvkit::tools::add_capture_command(app);
   gvkit::tools::add_facemap_command(app);
   gvkit::tools::add_facemap_map_command(app);
   gvkit::tools::add_facemap_compare_command(app);

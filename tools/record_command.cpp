@@ -10,32 +10,23 @@
 #include "gvkit/capture/frame_source.hpp"
 #include "gvkit/capture/live_pipeline.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "source_args.hpp"
 
 namespace gvkit::tools {
 namespace {
 
 struct RecordArgs {
-  std::string source, output, size, pixel_format = "auto", policy = "block";
+  std::string source, output, policy = "block";
+  SourceArgs camera;
   int64_t frames = 0;
-  double seconds = 0, fps = 0, exposure_us = 0;
-  int buffers = 4, queue = 8, png_compression = 1;
+  double seconds = 0, fps = 0;
+  int queue = 8, png_compression = 1;
   bool paced = false, quiet_status = false;
 };
 
 void run_record(const RecordArgs& a) {
-  FrameSourceOptions so;
-  if (!a.size.empty()) {
-    int w = 0, h = 0;
-    char tail = 0;
-    if (std::sscanf(a.size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w <= 0 || h <= 0)
-      throw CommandFailed(invalid_argument("--size '" + a.size + "': expected WxH, e.g. 640x480"));
-    so.width = w;
-    so.height = h;
-  }
+  FrameSourceOptions so = value_or_throw(frame_source_options(a.camera));
   so.fps = a.fps;
-  so.exposure_us = a.exposure_us;
-  so.pixel_format = a.pixel_format;
-  so.buffer_count = a.buffers;
   so.paced = a.paced;
   if (a.frames < 0) throw CommandFailed(invalid_argument("--frames must be >= 0"));
   if (a.queue < 1 || a.queue > 1024)
@@ -96,10 +87,10 @@ void run_record(const RecordArgs& a) {
         {"frames", a.frames},
         {"seconds", a.seconds},
         {"fps", a.fps},
-        {"exposure_us", a.exposure_us},
-        {"size", a.size},
-        {"pixel_format", a.pixel_format},
-        {"buffers", a.buffers},
+        {"exposure_us", a.camera.exposure_us},
+        {"size", a.camera.size},
+        {"pixel_format", a.camera.pixel_format},
+        {"buffers", a.camera.buffers},
         {"queue", a.queue},
         {"policy", a.policy},
         {"paced", a.paced},
@@ -124,11 +115,7 @@ void add_record_command(CLI::App& app) {
   cmd->add_option("--frames", a->frames, "Stop after this many frames (0 = no limit)");
   cmd->add_option("--seconds", a->seconds, "Stop after this long (0 = no limit)");
   cmd->add_option("--fps", a->fps, "Frame rate to ask the camera for");
-  cmd->add_option("--exposure-us", a->exposure_us, "Manual exposure in microseconds");
-  cmd->add_option("--size", a->size, "Frame size WxH to ask the camera for");
-  cmd->add_option("--pixel-format", a->pixel_format, "auto, GREY, Y16, YUYV or MJPG")
-      ->capture_default_str();
-  cmd->add_option("--buffers", a->buffers, "Driver buffers (2..32)")->capture_default_str();
+  add_source_flags(cmd, a->camera, "Frame size WxH to ask the camera for");
   cmd->add_option("--queue", a->queue, "Frames queued in front of the writer")
       ->capture_default_str();
   cmd->add_option("--policy", a->policy, "When the queue is full: block, drop-oldest, drop-newest")

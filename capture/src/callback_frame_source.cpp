@@ -1,5 +1,6 @@
 #include "gvkit/capture/callback_frame_source.hpp"
 
+#include <chrono>
 #include <utility>
 
 #include "pacer.hpp"
@@ -19,10 +20,25 @@ class CallbackFrameSource final : public FrameSource {
 
   Result<std::optional<CameraFrame>> next() override {
     if (!failure_.is_ok()) return failure_;
+    if (options_.drop_late) {
+      // A camera does not wait for its consumer: slots that passed are lost, and counted.
+      const std::optional<int64_t> now_index = pacer_.index_now();
+      if (now_index && *now_index > index_) {
+        counters_.dropped += *now_index - index_;
+        index_ = *now_index;
+      }
+    }
     if (finished_ || (options_.frame_count > 0 && index_ >= options_.frame_count))
       return std::optional<CameraFrame>();
     pacer_.wait_for(index_);
+    const auto generating = std::chrono::steady_clock::now();
     Result<cv::Mat> image = generator_(index_);
+    if (options_.drop_late) {
+      // The generator's own time is the simulation's, not the consumer's: the camera's clock
+      // pauses meanwhile, so only a slow consumer makes frames late.
+      const auto spent = std::chrono::steady_clock::now() - generating;
+      pacer_.pause_for(spent);
+    }
     if (!image.is_ok())
       return failure_ = image.status().with_context(name_ + ": frame " + std::to_string(index_));
     if (image->empty()) {
@@ -37,6 +53,10 @@ class CallbackFrameSource final : public FrameSource {
     CameraFrame frame;
     frame.image = std::move(image).value();
     frame.sequence = index_;
+    if (options_.pattern_cycle > 0) {
+      const int position = static_cast<int>(index_ % options_.pattern_cycle);
+      frame.pattern = position < options_.cue_frames ? -1 : position - options_.cue_frames;
+    }
     if (!options_.paced && options_.fps > 0)
       frame.timestamp =
           Timestamp(static_cast<int64_t>(static_cast<double>(index_) * 1e9 / options_.fps));
@@ -52,7 +72,9 @@ class CallbackFrameSource final : public FrameSource {
   std::string describe() const override {
     std::string text = name_ + " (generated frames";
     if (options_.fps > 0) text += ", " + std::to_string(options_.fps) + " fps";
-    text += options_.paced ? ", paced)" : ", unpaced)";
+    text += options_.paced ? ", paced" : ", unpaced";
+    if (options_.drop_late) text += ", late frames dropped";
+    text += ")";
     return text;
   }
 

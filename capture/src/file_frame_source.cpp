@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "gvkit/capture/session_reader.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
@@ -209,6 +210,70 @@ class VideoFileSource final : public FrameSource {
   FrameSourceCounters counters_;
 };
 
+// A session folder (session.json) replayed image by image: frame f's image k comes out as
+// sequence f.index * N + k tagged with pattern k, carrying f's recorded timestamp, so a sync on
+// the tags rebuilds the recorded fringe sets (and a dropped frame of the recording stays a gap).
+class SessionReplaySource final : public FrameSource {
+ public:
+  SessionReplaySource(capture::SessionReader reader, const FrameSourceOptions& options)
+      : reader_(std::move(reader)),
+        options_(options),
+        n_(reader_.info().images_per_frame),
+        pacer_(options.paced ? options.fps : 0) {
+    counters_.dropped = reader_.info().dropped_frames * n_;
+  }
+
+  Result<std::optional<CameraFrame>> next() override {
+    if (!failure_.is_ok()) return failure_;
+    if (image_ == 0) {
+      if (position_ >= reader_.frame_count()) {
+        if (!options_.loop || reader_.frame_count() == 0) return std::optional<CameraFrame>();
+        position_ = 0;
+        ++loops_;
+      }
+      Result<FringeSet> set = reader_.read_frame(position_);
+      if (!set.is_ok())
+        return failure_ = set.status().with_context("file:" + reader_.dir().string());
+      current_ = std::move(set).value();
+    }
+    pacer_.wait_for(delivered_);
+    const int64_t span =
+        reader_.info().frames.empty() ? 0 : (reader_.info().frames.back().index + 1) * n_;
+    CameraFrame frame;
+    frame.image = current_.images[static_cast<size_t>(image_)];
+    frame.sequence = current_.index * n_ + image_ + loops_ * span;
+    frame.pattern = image_;
+    frame.timestamp = options_.paced ? monotonic_now() : current_.timestamp;
+    ++delivered_;
+    ++counters_.frames;
+    if (++image_ == n_) {
+      image_ = 0;
+      ++position_;
+    }
+    return std::optional<CameraFrame>(std::move(frame));
+  }
+
+  FrameSourceCounters counters() const override { return counters_; }
+  std::string describe() const override {
+    const capture::SessionInfo& info = reader_.info();
+    return "file:" + reader_.dir().string() + " (session, " + std::to_string(info.frames.size()) +
+           " frames of " + std::to_string(n_) + " images, " + info.pattern + ", " +
+           std::to_string(info.width) + "x" + std::to_string(info.height) + ")";
+  }
+
+ private:
+  capture::SessionReader reader_;
+  FrameSourceOptions options_;
+  int n_;
+  detail::Pacer pacer_;
+  size_t position_ = 0;
+  int image_ = 0;
+  int64_t loops_ = 0, delivered_ = 0;
+  FringeSet current_;
+  Status failure_;
+  FrameSourceCounters counters_;
+};
+
 }  // namespace
 
 Result<std::unique_ptr<FrameSource>> open_file_source(const std::string& path_text,
@@ -219,11 +284,10 @@ Result<std::unique_ptr<FrameSource>> open_file_source(const std::string& path_te
   if (!fs::exists(path, ec)) return not_found(path_text + ": no such file or folder");
   if (fs::is_directory(path, ec)) {
     if (fs::exists(path / "session.json", ec)) {
-      // Session folders (session.json) replay through the session reader of the capture module;
-      // that reader plugs in here. Until then they are refused rather than misread.
-      return unsupported(path_text +
-                         ": a session folder (session.json); session replay is not in this build "
-                         "yet; replay its frame images with file:<folder>/<frames subfolder>");
+      GVKIT_ASSIGN_OR_RETURN(capture::SessionReader reader, capture::SessionReader::open(path));
+      if (reader.frame_count() == 0) return not_found(path_text + ": the session holds no frames");
+      return std::unique_ptr<FrameSource>(
+          std::make_unique<SessionReplaySource>(std::move(reader), options));
     }
     int64_t dropped = 0;
     Result<std::vector<ListedFrame>> frames = fs::exists(path / "frames.json", ec)

@@ -29,6 +29,11 @@ Status FrameSourceOptions::check() const {
     return bad("timeout_ms", std::to_string(timeout_ms) + " is outside [1, 600000]");
   if (frame_count < 0) return bad("frame_count", std::to_string(frame_count) + " is negative");
   if (paced && fps <= 0) return bad("paced", "needs fps > 0");
+  if (pattern_cycle < 0 || pattern_cycle > 1024)
+    return bad("pattern_cycle", std::to_string(pattern_cycle) + " is outside [0, 1024]");
+  if (cue_frames < 0 || (cue_frames > 0 && cue_frames >= pattern_cycle))
+    return bad("cue_frames", std::to_string(cue_frames) + " must be in [0, pattern_cycle)");
+  if (drop_late && !paced) return bad("drop_late", "needs paced");
   return Status::ok();
 }
 

@@ -19,6 +19,18 @@ class Pacer {
     const auto due = *start_ + period() * index;
     if (due > now) std::this_thread::sleep_until(due);
   }
+  // Moves every later due time back by d (the clock pauses, e.g. while a simulation catches up).
+  void pause_for(std::chrono::steady_clock::duration d) {
+    if (start_) *start_ += d;
+  }
+  // The index whose time slot [start + i / fps, start + (i + 1) / fps) holds now; nullopt before
+  // the first wait_for or when unpaced.
+  std::optional<int64_t> index_now() const {
+    if (fps_ <= 0 || !start_) return std::nullopt;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - *start_).count();
+    return static_cast<int64_t>(elapsed * fps_);
+  }
 
  private:
   std::chrono::steady_clock::duration period() const {

@@ -140,6 +140,66 @@ SoftwareSyncResult match_software_sync(const std::vector<PatternPresentation>& p
   return result;
 }
 
+SoftwareSyncStream::SoftwareSyncStream(SoftwareSyncOptions options) : options_(options) {
+  GVKIT_CHECK(options_.check().is_ok(), options_.check().message());
+  options_.stream_end = Timestamp(0);
+}
+
+void SoftwareSyncStream::presented(const PatternPresentation& presentation) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  presentations_.push_back(presentation);
+}
+
+SyncCounters SoftwareSyncStream::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return counters_;
+}
+
+std::optional<FrameGroup> SoftwareSyncStream::push(const CameraFrame& frame) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  frames_.push_back(frame);
+  ++counters_.frames_in;
+  const int n = options_.patterns_per_cycle;
+  while (!presentations_.empty()) {
+    // The oldest cycle, and the first presentation of a later one (where this cycle ends).
+    const int64_t cycle = presentations_.front().cycle;
+    std::vector<PatternPresentation> mine;
+    std::optional<Timestamp> end;
+    for (const PatternPresentation& p : presentations_) {
+      if (p.cycle == cycle)
+        mine.push_back(p);
+      else if (p.cycle > cycle && (!end || p.presented < *end))
+        end = p.presented;
+    }
+    if (!end) return std::nullopt;
+    const Timestamp end_seen = *end + options_.display_latency;
+    if (frames_.back().timestamp < end_seen) return std::nullopt;  // frames may still come
+    SoftwareSyncOptions o = options_;
+    o.stream_end = *end;
+    std::vector<CameraFrame> window;
+    while (!frames_.empty() && frames_.front().timestamp < end_seen) {
+      window.push_back(std::move(frames_.front()));
+      frames_.pop_front();
+    }
+    SoftwareSyncResult r = match_software_sync(mine, window, o);
+    presentations_.erase(
+        std::remove_if(presentations_.begin(), presentations_.end(),
+                       [&](const PatternPresentation& p) { return p.cycle == cycle; }),
+        presentations_.end());
+    if (r.groups.empty()) {
+      ++counters_.cycles_dropped;
+      counters_.frames_unused += static_cast<int64_t>(window.size());
+      continue;
+    }
+    counters_.frames_unused += static_cast<int64_t>(window.size()) - n;
+    FrameGroup group = std::move(r.groups.front());
+    group.index = cycle;
+    ++counters_.groups;
+    return group;
+  }
+  return std::nullopt;
+}
+
 // ---- hardware-triggered projector ----
 
 Status HardwareSyncOptions::check() const {
@@ -246,5 +306,74 @@ std::optional<FrameGroup> HardwareTriggeredSync::push(const CameraFrame& frame) 
 }
 
 void HardwareTriggeredSync::finish() { drop_cycle_in_progress(); }
+
+// ---- tagged frames ----
+
+Status TaggedSyncOptions::check() const {
+  if (patterns_per_cycle < 1 || patterns_per_cycle > 1024)
+    return invalid_argument("tagged sync: patterns_per_cycle " +
+                            std::to_string(patterns_per_cycle) + " is outside 1..1024");
+  if (frames_per_cycle < patterns_per_cycle || frames_per_cycle > 1024)
+    return invalid_argument("tagged sync: frames_per_cycle " + std::to_string(frames_per_cycle) +
+                            " must be in patterns_per_cycle..1024");
+  return Status::ok();
+}
+
+TaggedPatternSync::TaggedPatternSync(TaggedSyncOptions options) : options_(options) {
+  GVKIT_CHECK(options_.check().is_ok(), options_.check().message());
+}
+
+void TaggedPatternSync::drop(const std::string& why) {
+  if (cycle_ >= 0 && have_ > 0) {
+    ++counters_.cycles_dropped;
+    counters_.frames_unused += have_;
+    dropped_.push_back("cycle " + std::to_string(cycle_) + ": " + why);
+    if (dropped_.size() > 100) dropped_.pop_front();
+  }
+  frames_.clear();
+  have_ = 0;
+}
+
+std::optional<FrameGroup> TaggedPatternSync::push(const CameraFrame& frame) {
+  ++counters_.frames_in;
+  const int n = options_.patterns_per_cycle;
+  if (frame.pattern < 0 || frame.pattern >= n || frame.sequence < 0) {
+    ++counters_.frames_unused;  // a cue or an untagged frame
+    return std::nullopt;
+  }
+  const int64_t cycle = frame.sequence / options_.frames_per_cycle;
+  if (cycle != cycle_) {
+    if (have_ > 0) {
+      int missing = 0;
+      while (missing < n && !frames_[static_cast<size_t>(missing)].image.empty()) ++missing;
+      drop("pattern " + std::to_string(missing) + " never arrived");
+    }
+    cycle_ = cycle;
+    frames_.assign(static_cast<size_t>(n), CameraFrame());
+  }
+  CameraFrame& slot = frames_[static_cast<size_t>(frame.pattern)];
+  if (!slot.image.empty()) {
+    drop("pattern " + std::to_string(frame.pattern) + " arrived twice");
+    cycle_ = -1;
+    ++counters_.frames_unused;
+    return std::nullopt;
+  }
+  slot = frame;
+  if (++have_ < n) return std::nullopt;
+  FrameGroup group;
+  for (CameraFrame& f : frames_) {
+    group.images.push_back(f.image);
+    group.sequences.push_back(f.sequence);
+  }
+  group.timestamp = frames_.front().timestamp;
+  group.index = cycle_;
+  ++counters_.groups;
+  frames_.clear();
+  have_ = 0;
+  cycle_ = -1;
+  return group;
+}
+
+void TaggedPatternSync::finish() { drop("the stream ended"); }
 
 }  // namespace gvkit

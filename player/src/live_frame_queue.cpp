@@ -62,6 +62,10 @@ int64_t LiveFrameQueue::pushed() const {
   std::lock_guard lock(mutex_);
   return pushed_;
 }
+size_t LiveFrameQueue::pending() const {
+  std::lock_guard lock(mutex_);
+  return pending_.size();
+}
 int64_t LiveFrameQueue::dropped() const {
   std::lock_guard lock(mutex_);
   return dropped_;

@@ -387,6 +387,7 @@ Status run_player_window(const PlayerWindowOptions& options) {
           ImGui::Text("live: %lld frames shown, %lld dropped",
                       static_cast<long long>(s.live_frames),
                       static_cast<long long>(options.live->dropped()));
+          if (options.live_status) ImGui::TextUnformatted(options.live_status().c_str());
         }
         if (s.error_stats)
           ImGui::Text("RMS %.4f mm  max %.3f mm  PSNR %.2f dB", s.error_stats->rms_mm,
@@ -477,6 +478,9 @@ Status run_player_window(const PlayerWindowOptions& options) {
         }
         glfwSwapBuffers(window);
         if (last) break;
+        if (!seq && options.close_when_live_ends && options.live->closed() &&
+            options.live->pending() == 0)
+          break;
       }
       if (s.image_texture) glDeleteTextures(1, &s.image_texture);
       prefetcher.reset();

@@ -4,10 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <thread>
 
 #include <opencv2/videoio.hpp>
 
 #include "gvkit/capture/callback_frame_source.hpp"
+#include "gvkit/capture/pattern_sync.hpp"
+#include "gvkit/capture/session_writer.hpp"
+#include "gvkit/capture/synthetic_rig.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "support/test_support.hpp"
 
@@ -211,9 +215,9 @@ TEST(FileSource, LoopsAndRejectsBadFolders) {
   std::fputs("{}", f);
   std::fclose(f);
   auto s = FrameSource::create("file:" + session.path().string(), {});
-  ASSERT_FALSE(s.is_ok());
-  EXPECT_EQ(s.status().code(), StatusCode::kUnsupported);
-  EXPECT_TRUE(contains(s.status().message(), "session folder"));
+  ASSERT_FALSE(s.is_ok());  // a broken session.json is named, never misread as images
+  EXPECT_TRUE(contains(s.status().message(), "session.json")) << s.status().message();
+  EXPECT_TRUE(contains(s.status().message(), "not a gvkit session")) << s.status().message();
 
   auto garbage_path = dir / "clip.avi";
   f = std::fopen(garbage_path.c_str(), "w");
@@ -246,6 +250,83 @@ TEST(FileSource, ReplaysAVideoAsGrey) {
     EXPECT_LE(cv::norm((*frame)->image, ramp(n), cv::NORM_INF), 1.0);
   }
   EXPECT_EQ(n, 3);
+}
+
+TEST(FileFrameSource, ReplaysASessionFolderWithPatternTags) {
+  TempDir dir;
+  capture::SessionInfo info;
+  info.pattern = "psp3-f16";
+  info.images_per_frame = 3;
+  info.width = 32;
+  info.height = 24;
+  auto writer = capture::SessionWriter::create(dir / "s", info, capture::synthetic_calibration());
+  ASSERT_TRUE(writer.is_ok()) << writer.status().message();
+  for (int64_t index : {0, 1, 3}) {  // frame 2 was dropped by the recording
+    FringeSet set;
+    set.index = index;
+    set.timestamp = Timestamp(1000 * index);
+    for (int k = 0; k < 3; ++k) set.images.push_back(ramp(static_cast<int>(index) * 3 + k));
+    ASSERT_TRUE((*writer)->append(set).is_ok());
+  }
+  ASSERT_TRUE((*writer)->add_dropped(1).is_ok());
+
+  auto source = FrameSource::create("file:" + (dir / "s").string(), {});
+  ASSERT_TRUE(source.is_ok()) << source.status().message();
+  EXPECT_TRUE(contains((*source)->describe(), "session, 3 frames of 3 images"))
+      << (*source)->describe();
+  TaggedPatternSync sync({3, 3});
+  std::vector<FringeSet> sets;
+  int frames = 0;
+  while (true) {
+    auto frame = (*source)->next();
+    ASSERT_TRUE(frame.is_ok()) << frame.status().message();
+    if (!frame->has_value()) break;
+    const CameraFrame& f = **frame;
+    EXPECT_EQ(f.pattern, frames % 3);
+    EXPECT_EQ(f.sequence / 3, std::vector<int64_t>({0, 1, 3})[frames / 3]);
+    EXPECT_EQ(f.timestamp.count(), 1000 * (f.sequence / 3));
+    ++frames;
+    if (auto group = sync.push(f)) sets.push_back(to_fringe_set(std::move(*group)));
+  }
+  EXPECT_EQ(frames, 9);
+  EXPECT_EQ((*source)->counters().dropped, 3);  // one dropped frame of 3 images
+  ASSERT_EQ(sets.size(), 3u);
+  EXPECT_EQ(sets[2].index, 3);
+  for (const FringeSet& set : sets)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(cv::norm(set.images[static_cast<size_t>(k)],
+                         ramp(static_cast<int>(set.index) * 3 + k), cv::NORM_INF),
+                0);
+  EXPECT_EQ(sync.counters().cycles_dropped, 0);
+}
+
+TEST(CallbackFrameSource, TagsPatternsAndDropsLateFramesLikeACamera) {
+  FrameSourceOptions o;
+  o.pattern_cycle = 4;
+  o.cue_frames = 1;
+  o.frame_count = 8;
+  auto source = make_callback_source([](int64_t i) { return Result<cv::Mat>(ramp(int(i))); }, o);
+  std::vector<int> tags;
+  while (auto f = source->next()) {
+    ASSERT_TRUE(f.is_ok());
+    if (!f->has_value()) break;
+    tags.push_back((*f)->pattern);
+  }
+  EXPECT_EQ(tags, std::vector<int>({-1, 0, 1, 2, -1, 0, 1, 2}));
+
+  FrameSourceOptions paced;
+  paced.fps = 100;
+  paced.paced = true;
+  paced.drop_late = true;
+  auto late = make_callback_source([](int64_t i) { return Result<cv::Mat>(ramp(int(i))); }, paced);
+  ASSERT_TRUE(late->next().is_ok());
+  std::this_thread::sleep_for(std::chrono::milliseconds(55));  // ~5 slots pass unread
+  auto f = late->next();
+  ASSERT_TRUE(f.is_ok() && f->has_value());
+  EXPECT_GE((*f)->sequence, 4);
+  EXPECT_EQ(late->counters().dropped, (*f)->sequence - 1);
+  paced.paced = false;
+  EXPECT_TRUE(contains(paced.check().message(), "drop_late")) << paced.check().message();
 }
 
 }  // namespace

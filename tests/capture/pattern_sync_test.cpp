@@ -277,5 +277,77 @@ TEST(FrameGroup, BecomesAFringeSet) {
   EXPECT_EQ(s.timestamp, milliseconds(5));
 }
 
+TEST(SoftwareSyncStream, MatchesLiveAsTheBatchMatcherDoes) {
+  for (const int offset_ms : {0, 3, 17}) {
+    SoftwareScene scene = make_scene(5, 3, milliseconds(offset_ms));
+    // Cycle 2 loses its pattern-1 frames (700..800 ms): that cycle is dropped, the others not.
+    std::vector<CameraFrame> frames;
+    for (const CameraFrame& f : scene.frames)
+      if (f.timestamp < milliseconds(700) || f.timestamp >= milliseconds(800)) frames.push_back(f);
+    SoftwareSyncOptions o;
+    o.patterns_per_cycle = 3;
+    SoftwareSyncStream stream(o);
+    std::vector<FrameGroup> groups;
+    size_t shown = 0;
+    for (const CameraFrame& f : frames) {
+      // The projector loop runs ahead of the camera: presentations up to this frame's time.
+      while (shown < scene.shown.size() && scene.shown[shown].presented <= f.timestamp)
+        stream.presented(scene.shown[shown++]);
+      if (auto g = stream.push(f)) groups.push_back(*g);
+    }
+    // Cycle 4 has no next cycle to end it: still pending.
+    ASSERT_EQ(groups.size(), 3u) << "offset " << offset_ms;
+    EXPECT_EQ(groups[0].index, 0);
+    EXPECT_EQ(groups[1].index, 1);
+    EXPECT_EQ(groups[2].index, 3);
+    for (const FrameGroup& g : groups)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(value_of(g.images[k]), 200 + k);
+    EXPECT_EQ(stream.counters().cycles_dropped, 1);
+  }
+}
+
+// ---- tagged frames ----
+
+CameraFrame tagged(int64_t sequence, int pattern) {
+  CameraFrame f = frame_at(sequence, milliseconds(sequence), Timestamp(0),
+                           static_cast<uint8_t>(100 + sequence));
+  f.pattern = pattern;
+  return f;
+}
+
+TEST(TaggedPatternSync, GroupsCompleteCyclesAndDropsBrokenOnes) {
+  // 4 frames per cycle: a cue (untagged) and patterns 0..2.
+  TaggedPatternSync sync({3, 4});
+  std::vector<FrameGroup> groups;
+  auto feed = [&](int64_t sequence) {
+    const int position = static_cast<int>(sequence % 4);
+    if (auto g = sync.push(tagged(sequence, position - 1))) groups.push_back(*g);
+  };
+  for (int64_t s = 0; s < 8; ++s) feed(s);  // cycles 0 and 1, complete
+  for (int64_t s : {8, 9, 11}) feed(s);     // cycle 2 lacks pattern 1 (sequence 10 lost)
+  for (int64_t s = 12; s < 16; ++s) feed(s);
+  feed(16);
+  feed(17);  // cycle 4 in progress when the stream ends
+  sync.finish();
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[0].index, 0);
+  EXPECT_EQ(groups[1].index, 1);
+  EXPECT_EQ(groups[2].index, 3);  // the cycle number: dropped cycle 2 leaves a gap
+  EXPECT_EQ(groups[2].sequences, std::vector<int64_t>({13, 14, 15}));
+  EXPECT_EQ(value_of(groups[2].images[0]), 113);
+  EXPECT_EQ(groups[2].timestamp, milliseconds(13));
+  EXPECT_EQ(sync.counters().cycles_dropped, 2);
+  ASSERT_EQ(sync.dropped().size(), 2u);
+  EXPECT_TRUE(contains(sync.dropped()[0], "cycle 2: pattern 1 never arrived")) << sync.dropped()[0];
+  EXPECT_TRUE(contains(sync.dropped()[1], "the stream ended")) << sync.dropped()[1];
+
+  TaggedPatternSync twice({2, 2});
+  EXPECT_FALSE(twice.push(tagged(0, 0)));
+  EXPECT_FALSE(twice.push(tagged(1, 0)));  // pattern 0 again in cycle 0: never a wrong pair
+  EXPECT_EQ(twice.counters().cycles_dropped, 1);
+  EXPECT_TRUE(contains(twice.dropped().front(), "arrived twice"));
+  EXPECT_FALSE(TaggedSyncOptions({3, 2}).check().is_ok());
+}
+
 }  // namespace
 }  // namespace gvkit

@@ -3,10 +3,12 @@
 // One interface, one backend per file, chosen by URI:
 //   v4l2:/dev/videoN      a V4L2 device, mmap streaming (GREY, Y16, YUYV luma, MJPEG)
 //   libcamera:<id>        a libcamera camera by id (or by index "libcamera:0")
-//   file:<path>           a folder of images (frame_NNNNNN.png or any sorted image files), or a
-//                         video file (OpenCV videoio / FFmpeg)
+//   file:<path>           a folder of images (frame_NNNNNN.png or any sorted image files), a
+//                         session folder (frames tagged with their patterns), or a video file
+//                         (OpenCV videoio / FFmpeg)
 //   synthetic:            the generator in FrameSourceOptions::synthetic_generator (the
-//                         projector-camera renderer plugs in there)
+//                         projector-camera renderer: SyntheticStream::generator(),
+//                         synthetic_stream.hpp)
 
 #include <cstdint>
 #include <functional>
@@ -27,6 +29,10 @@ struct CameraFrame {
   int64_t sequence = 0;    // the source's frame counter; gaps mean frames were dropped
   Timestamp timestamp{0};  // monotonic ns (start of exposure where the source knows it)
   Timestamp exposure{0};   // exposure duration where known, else 0
+  // Position of the projected pattern this frame saw, where the source knows it (synthetic:
+  // frame index mod FrameSourceOptions::pattern_cycle; replay of a session folder); -1 when
+  // unknown (cameras: pattern_sync.hpp finds it) or for a frame that is no fringe image (a cue).
+  int pattern = -1;
 };
 
 // What a source has done so far. frames counts delivered frames; dropped counts frames the
@@ -59,6 +65,15 @@ struct FrameSourceOptions {
   int64_t frame_count = 0;             // synthetic/callback: stop after this many (0 = until the
                                        // generator returns an empty image)
   FrameGenerator synthetic_generator;  // the image source behind "synthetic:"
+  // synthetic/callback: frames per projected pattern cycle; > 0 tags frame i with pattern
+  // (i mod pattern_cycle) - cue_frames, or -1 for the cue_frames cue frames that open each cycle
+  // (0 = untagged).
+  int pattern_cycle = 0;
+  int cue_frames = 0;
+  // synthetic/callback, paced: behave like a camera: a frame whose time slot passed while the
+  // consumer was busy is never generated; it is counted as dropped (a sequence gap). Time spent
+  // inside the generator pauses the clock (a slow simulation lowers the rate, it drops nothing).
+  bool drop_late = false;
 
   // Names the first out-of-range field ("fps: -1 is negative").
   Status check() const;

@@ -8,11 +8,15 @@
 //      the mean-intensity signature of one cycle (a bright or dark cue frame is the usual one),
 //      checked again on every cycle; after a dropped frame or a cycle that does not match, the
 //      incomplete cycle is dropped and counted and the sync searches again.
-// Neither ever pairs a frame with the wrong pattern silently: a cycle that cannot be matched
+//  (c) Tagged frames: the source knows which pattern each frame saw (CameraFrame::pattern; the
+//      synthetic rig and the replay of a session folder), so a cycle is complete when patterns
+//      0..n-1 of one cycle arrived.
+// None ever pairs a frame with the wrong pattern silently: a cycle that cannot be matched
 // completely is dropped and counted.
 
 #include <cstdint>
 #include <deque>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -74,6 +78,30 @@ SoftwareSyncResult match_software_sync(const std::vector<PatternPresentation>& p
                                        const std::vector<CameraFrame>& frames,
                                        const SoftwareSyncOptions& options);
 
+// (a) live: presentations (from the projector loop) and frames (from the camera) arrive as they
+// happen, on two threads. A cycle is matched with match_software_sync once the next cycle's first
+// presentation is known and a frame later than it arrived; it is then complete or dropped.
+class SoftwareSyncStream {
+ public:
+  // options.stream_end is ignored (the next cycle's first presentation ends each cycle).
+  explicit SoftwareSyncStream(SoftwareSyncOptions options);
+
+  // Thread-safe; presentations of a cycle must come before those of later cycles.
+  void presented(const PatternPresentation& presentation);
+  // Feeds the next camera frame (timestamps non-decreasing; one thread). Returns the oldest
+  // cycle it completes; group index = the presentation cycle number.
+  std::optional<FrameGroup> push(const CameraFrame& frame);
+
+  SyncCounters counters() const;
+
+ private:
+  SoftwareSyncOptions options_;
+  mutable std::mutex mutex_;  // guards presentations_ and counters_
+  std::vector<PatternPresentation> presentations_;
+  std::deque<CameraFrame> frames_;
+  SyncCounters counters_;
+};
+
 // ---- (b) hardware-triggered projector ----
 
 struct HardwareSyncOptions {
@@ -123,6 +151,42 @@ class HardwareTriggeredSync {
   bool locked_ = false;
   std::optional<int64_t> last_sequence_;
   SyncCounters counters_;
+};
+
+// ---- (c) frames tagged with their pattern ----
+
+struct TaggedSyncOptions {
+  int patterns_per_cycle = 3;
+  // Frames per cycle of the source (>= patterns_per_cycle; the extra frames, e.g. a cue, carry
+  // pattern -1 and are ignored). Frame sequence s belongs to cycle s / frames_per_cycle.
+  int frames_per_cycle = 3;
+  Status check() const;
+};
+
+class TaggedPatternSync {
+ public:
+  explicit TaggedPatternSync(TaggedSyncOptions options);
+
+  // Feeds the next frame (arrival order). Returns a group when the frame completes its cycle;
+  // the group's index is the cycle number (sequence / frames_per_cycle), so dropped cycles leave
+  // gaps. A cycle that lacks a pattern, or repeats one, is dropped and counted.
+  std::optional<FrameGroup> push(const CameraFrame& frame);
+  // Ends the stream: a cycle in progress is dropped and counted.
+  void finish();
+
+  const SyncCounters& counters() const { return counters_; }
+  // One line per dropped cycle (the last 100): which cycle and why.
+  const std::deque<std::string>& dropped() const { return dropped_; }
+
+ private:
+  void drop(const std::string& why);
+
+  TaggedSyncOptions options_;
+  int64_t cycle_ = -1;               // the cycle in progress
+  std::vector<CameraFrame> frames_;  // its frames by pattern (empty image = not yet)
+  int have_ = 0;
+  SyncCounters counters_;
+  std::deque<std::string> dropped_;
 };
 
 }  // namespace gvkit

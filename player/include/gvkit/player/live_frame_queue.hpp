@@ -41,6 +41,7 @@ class LiveFrameQueue {
   bool closed() const;
   int64_t pushed() const;   // frames accepted by push
   int64_t dropped() const;  // frames never taken (overflow or superseded)
+  size_t pending() const;   // frames pushed and not yet taken
 
  private:
   const size_t capacity_;

@@ -9,6 +9,7 @@
 // (lit, texture, normals, wireframe, error), L loop, Esc/Q quit.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -24,6 +25,11 @@ struct PlayerWindowOptions {
   // What to show: a sequence, or frames pushed live into `live` (then sequence may be null).
   std::shared_ptr<FrameSequence> sequence;
   std::shared_ptr<LiveFrameQueue> live;
+  // Live only: a line shown under the frame counts (e.g. the capture pipeline's status with its
+  // drop counts), asked for every picture; and whether the window closes by itself once `live`
+  // is closed and its last frame was shown.
+  std::function<std::string()> live_status;
+  bool close_when_live_ends = false;
   // Optional reference on the same domain: error shading, RMS and PSNR per frame.
   std::shared_ptr<FrameSequence> reference;
   int width = 1280, height = 800;  // window size (screen coordinates)
