@@ -10,7 +10,8 @@
 //   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N]
-//                            [--no-peers] [--peer-preset P]
+//                            [--no-peers] [--peer-preset P] [--rate-only]
+// (--rate-only: the rate-control and threads tables only)
 #include <time.h>
 
 #include <chrono>
@@ -144,150 +145,8 @@ std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) 
   return r;
 }
 
-}  // namespace
-}  // namespace gvkit::bench
-
-int main(int argc, char** argv) {
-  using namespace gvkit;
-  using namespace gvkit::bench;
-  std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
-  bool peers = true;
-  int gop = 30;
-  testing::GeometryVideoOptions vo;
-  vo.frames = 30;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--ict" && i + 1 < argc)
-      ict = argv[++i];
-    else if (a == "--gv" && i + 1 < argc)
-      gv_dir = argv[++i];
-    else if (a == "--size" && i + 1 < argc)
-      vo.size = std::atoi(argv[++i]);
-    else if (a == "--frames" && i + 1 < argc)
-      vo.frames = std::atoi(argv[++i]);
-    else if (a == "--gop" && i + 1 < argc)
-      gop = std::atoi(argv[++i]);
-    else if (a == "--no-peers")
-      peers = false;
-    else if (a == "--peer-preset" && i + 1 < argc)
-      peer_preset = argv[++i];
-    else {
-      std::fprintf(stderr,
-                   "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
-                   "[--gop N] [--no-peers] [--peer-preset P]\n");
-      return 2;
-    }
-  }
-  Material m;
-  if (!gv_dir.empty()) {
-    auto files = list_frame_files(gv_dir, ".exr");
-    if (!files.is_ok() || files->empty()) {
-      std::fprintf(stderr, "%s: no frame_NNNNNN.exr files\n", gv_dir.c_str());
-      return 1;
-    }
-    for (const auto& f : *files) m.frames.push_back(read_geometry_image_exr(f.path).value());
-  } else {
-    auto frames = testing::make_ict_face_video(ict, vo);
-    if (!frames.is_ok()) {
-      std::fprintf(stderr, "%s\n", frames.status().message().c_str());
-      return 1;
-    }
-    m.frames = std::move(frames).value();
-  }
-  auto info = codec::make_sequence_info(m.frames, 16, vo.fps);
-  if (!info.is_ok()) {
-    std::fprintf(stderr, "%s\n", info.status().message().c_str());
-    return 1;
-  }
-  m.info = *info;
-  m.vertices = static_cast<double>(m.info.domain_pixels());
-  m.peak = m.info.box_diagonal_mm();
-  std::printf(
-      "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm, 16-bit step "
-      "%.5f mm; gvid: I frame every %d, P frames between, fast preset\n",
-      gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
-      m.frames.size(), m.vertices, m.peak, m.info.step_mm(), gop);
-
-  EncoderOptions base;
-  base.preset = Preset::kFast;
-  base.intra_period = gop;
-  const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
-
-  // Value-domain prediction.
-  print_header();
-  std::vector<std::vector<RdPoint>> vp_curves;
-  const ValuePrediction modes[4] = {ValuePrediction::kNone, ValuePrediction::kOffset,
-                                    ValuePrediction::kWeighted, ValuePrediction::kAffine};
-  for (ValuePrediction mode : modes) {
-    EncoderOptions o = base;
-    o.value_prediction = mode;
-    vp_curves.push_back(
-        qp_curve(m, o, std::string("value prediction ") + value_prediction_name(mode), qps));
-  }
-  std::vector<double> lossless_bpv;
-  for (ValuePrediction mode : modes) {
-    EncoderOptions o = base;
-    o.lossless = true;
-    o.value_prediction = mode;
-    const Run r = run_ours(m, o);
-    print_row(std::string("lossless, value prediction ") + value_prediction_name(mode), "-", r);
-    lossless_bpv.push_back(r.point.rate);
-  }
-
-  // Temporal-difference prediction off (everything else as the "none" curve).
-  EncoderOptions no_td = base;
-  no_td.td_prediction = false;
-  const std::vector<RdPoint> no_td_curve = qp_curve(m, no_td, "TD prediction off", qps);
-  no_td.lossless = true;
-  const Run no_td_lossless = run_ours(m, no_td);
-  print_row("lossless, TD prediction off", "-", no_td_lossless);
-
-  // P-frame QP offsets.
-  std::vector<std::vector<RdPoint>> pqp_curves;
-  for (int off : {2, 4, 6}) {
-    EncoderOptions o = base;
-    o.p_qp_offset = off;
-    pqp_curves.push_back(qp_curve(m, o, "P-frame QP offset +" + std::to_string(off), qps));
-  }
-
-  // Near-lossless bounds (with affine value prediction and without).
-  std::vector<RdPoint> near_points;
-  for (double e : {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0}) {
-    EncoderOptions o = base;
-    o.max_error_mm = e;
-    const Run r = run_ours(m, o);
-    char setting[64];
-    std::snprintf(setting, sizeof setting, "E = %.2f mm (%.1f %% of lossless)", e,
-                  100.0 * r.point.rate / lossless_bpv[0]);
-    print_row("max-error-mm", setting, r);
-    if (r.max_mm > e) std::printf("BOUND VIOLATED: %.5f > %.5f mm\n", r.max_mm, e);
-    near_points.push_back(r.point);
-  }
-
-  // Per-plane QP offsets.
-  std::vector<std::vector<RdPoint>> plane_curves;
-  const int offsets[2][3] = {{0, 0, 3}, {3, 3, 0}};
-  for (const auto& off : offsets) {
-    EncoderOptions o = base;
-    for (int i = 0; i < 3; ++i) o.plane_qp_offset[i] = off[i];
-    plane_curves.push_back(qp_curve(m, o,
-                                    "plane QP offsets " + std::to_string(off[0]) + "/" +
-                                        std::to_string(off[1]) + "/" + std::to_string(off[2]),
-                                    qps));
-  }
-
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
-  for (int i = 1; i < 4; ++i)
-    print_bd(std::string("value prediction ") + value_prediction_name(modes[i]) + " vs none",
-             vp_curves[0], vp_curves[i]);
-  print_bd("TD prediction on vs off", no_td_curve, vp_curves[0]);
-  for (int i = 0; i < 3; ++i)
-    print_bd("P-frame QP offset +" + std::to_string(2 * (i + 1)) + " vs 0", vp_curves[0],
-             pqp_curves[i]);
-  print_bd("max-error-mm (near-lossless) vs QP curve", vp_curves[0], near_points);
-  print_bd("plane QP offsets 0/0/+3 vs none", vp_curves[0], plane_curves[0]);
-  print_bd("plane QP offsets +3/+3/0 vs none", vp_curves[0], plane_curves[1]);
-
+// Rate control (achieved rate, buffer) and threads (wall time, identical bytes).
+void report_rate_and_threads(const Material& m, const EncoderOptions& base) {
   // Rate control: the constant-QP rates bracket the targets.
   std::printf(
       "\n| rate control target (kbit/s) | achieved (kbit/s) | PSNR (dB) | max buffer fullness "
@@ -333,6 +192,161 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+}
+
+}  // namespace
+}  // namespace gvkit::bench
+
+int main(int argc, char** argv) {
+  using namespace gvkit;
+  using namespace gvkit::bench;
+  std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
+  bool peers = true, rate_only = false;
+  int gop = 30;
+  testing::GeometryVideoOptions vo;
+  vo.frames = 30;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--ict" && i + 1 < argc)
+      ict = argv[++i];
+    else if (a == "--gv" && i + 1 < argc)
+      gv_dir = argv[++i];
+    else if (a == "--size" && i + 1 < argc)
+      vo.size = std::atoi(argv[++i]);
+    else if (a == "--frames" && i + 1 < argc)
+      vo.frames = std::atoi(argv[++i]);
+    else if (a == "--gop" && i + 1 < argc)
+      gop = std::atoi(argv[++i]);
+    else if (a == "--rate-only")
+      rate_only = true;
+    else if (a == "--no-peers")
+      peers = false;
+    else if (a == "--peer-preset" && i + 1 < argc)
+      peer_preset = argv[++i];
+    else {
+      std::fprintf(stderr,
+                   "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
+                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only]\n");
+      return 2;
+    }
+  }
+  Material m;
+  if (!gv_dir.empty()) {
+    auto files = list_frame_files(gv_dir, ".exr");
+    if (!files.is_ok() || files->empty()) {
+      std::fprintf(stderr, "%s: no frame_NNNNNN.exr files\n", gv_dir.c_str());
+      return 1;
+    }
+    for (const auto& f : *files) m.frames.push_back(read_geometry_image_exr(f.path).value());
+  } else {
+    auto frames = testing::make_ict_face_video(ict, vo);
+    if (!frames.is_ok()) {
+      std::fprintf(stderr, "%s\n", frames.status().message().c_str());
+      return 1;
+    }
+    m.frames = std::move(frames).value();
+  }
+  auto info = codec::make_sequence_info(m.frames, 16, vo.fps);
+  if (!info.is_ok()) {
+    std::fprintf(stderr, "%s\n", info.status().message().c_str());
+    return 1;
+  }
+  m.info = *info;
+  m.vertices = static_cast<double>(m.info.domain_pixels());
+  m.peak = m.info.box_diagonal_mm();
+  std::printf(
+      "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm, 16-bit step "
+      "%.5f mm; gvid: I frame every %d, P frames between, fast preset\n",
+      gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
+      m.frames.size(), m.vertices, m.peak, m.info.step_mm(), gop);
+
+  EncoderOptions base;
+  base.preset = Preset::kFast;
+  base.intra_period = gop;
+  const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
+
+  if (rate_only) {
+    report_rate_and_threads(m, base);
+    return 0;
+  }
+  // Value-domain prediction.
+  print_header();
+  std::vector<std::vector<RdPoint>> vp_curves;
+  const ValuePrediction modes[4] = {ValuePrediction::kNone, ValuePrediction::kOffset,
+                                    ValuePrediction::kWeighted, ValuePrediction::kAffine};
+  for (ValuePrediction mode : modes) {
+    EncoderOptions o = base;
+    o.value_prediction = mode;
+    vp_curves.push_back(
+        qp_curve(m, o, std::string("value prediction ") + value_prediction_name(mode), qps));
+  }
+  std::vector<double> lossless_bpv;
+  for (ValuePrediction mode : modes) {
+    EncoderOptions o = base;
+    o.lossless = true;
+    o.value_prediction = mode;
+    const Run r = run_ours(m, o);
+    print_row(std::string("lossless, value prediction ") + value_prediction_name(mode), "-", r);
+    lossless_bpv.push_back(r.point.rate);
+  }
+
+  // Temporal-difference prediction off (everything else as the "none" curve).
+  EncoderOptions no_td = base;
+  no_td.td_prediction = false;
+  const std::vector<RdPoint> no_td_curve = qp_curve(m, no_td, "TD prediction off", qps);
+  no_td.lossless = true;
+  const Run no_td_lossless = run_ours(m, no_td);
+  print_row("lossless, TD prediction off", "-", no_td_lossless);
+
+  // P-frame QP offsets.
+  std::vector<std::vector<RdPoint>> pqp_curves;
+  const int kOffsets[4] = {0, 3, 9, 12};  // the default, 6, is the "none" curve above
+  for (int off : kOffsets) {
+    EncoderOptions o = base;
+    o.p_qp_offset = off;
+    pqp_curves.push_back(qp_curve(m, o, "P-frame QP offset +" + std::to_string(off), qps));
+  }
+
+  // Near-lossless bounds (with affine value prediction and without).
+  std::vector<RdPoint> near_points;
+  for (double e : {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0}) {
+    EncoderOptions o = base;
+    o.max_error_mm = e;
+    const Run r = run_ours(m, o);
+    char setting[64];
+    std::snprintf(setting, sizeof setting, "E = %.2f mm (%.1f %% of lossless)", e,
+                  100.0 * r.point.rate / lossless_bpv[0]);
+    print_row("max-error-mm", setting, r);
+    if (r.max_mm > e) std::printf("BOUND VIOLATED: %.5f > %.5f mm\n", r.max_mm, e);
+    near_points.push_back(r.point);
+  }
+
+  // Per-plane QP offsets.
+  std::vector<std::vector<RdPoint>> plane_curves;
+  const int offsets[2][3] = {{0, 0, 3}, {3, 3, 0}};
+  for (const auto& off : offsets) {
+    EncoderOptions o = base;
+    for (int i = 0; i < 3; ++i) o.plane_qp_offset[i] = off[i];
+    plane_curves.push_back(qp_curve(m, o,
+                                    "plane QP offsets " + std::to_string(off[0]) + "/" +
+                                        std::to_string(off[1]) + "/" + std::to_string(off[2]),
+                                    qps));
+  }
+
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int i = 1; i < 4; ++i)
+    print_bd(std::string("value prediction ") + value_prediction_name(modes[i]) + " vs none",
+             vp_curves[0], vp_curves[i]);
+  print_bd("TD prediction on vs off", no_td_curve, vp_curves[0]);
+  print_bd("P-frame QP offset +6 (default) vs 0", pqp_curves[0], vp_curves[0]);
+  for (int i = 1; i < 4; ++i)
+    print_bd("P-frame QP offset +" + std::to_string(kOffsets[i]) + " vs 0", pqp_curves[0],
+             pqp_curves[i]);
+  print_bd("max-error-mm (near-lossless) vs QP curve", vp_curves[0], near_points);
+  print_bd("plane QP offsets 0/0/+3 vs none", vp_curves[0], plane_curves[0]);
+  print_bd("plane QP offsets +3/+3/0 vs none", vp_curves[0], plane_curves[1]);
+
+  report_rate_and_threads(m, base);
 
   if (peers) {
     print_header();

@@ -13,6 +13,9 @@ RateController::RateController(const EncoderOptions& options, double fps) {
   buffer_bits_ = options.bitrate_kbps * 1000.0 * options.buffer_seconds;
   qp_min_ = -6 * (options.bit_depth - 8);
   last_qp_[0] = last_qp_[1] = options.qp;
+  // The decoder starts after half a buffer has arrived (a VBV-style initial delay), so the
+  // buffer starts half full and the steering below keeps it there: no start-up spending spree.
+  fullness_bits_ = max_fullness_bits_ = 0.5 * buffer_bits_;
 }
 
 int RateController::next_qp(bool intra) const {

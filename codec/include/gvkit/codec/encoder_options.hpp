@@ -43,7 +43,7 @@ struct EncoderOptions {
   // P frames: inter macroblocks may predict the temporal difference from their neighbours.
   bool td_prediction = true;
   int plane_qp_offset[3] = {0, 0, 0};
-  int p_qp_offset = 0;  // added to qp in P frames (a finer I frame is a better reference), 0..12 //
+  int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
                         // added to qp for X, Y, Z (lossy frames), -12..12
   // Rate control: > 0 sets the frame QP to meet this rate (kbit/s at the stream's fps) with a
   // buffer of buffer_seconds; qp is the starting QP. 0 = constant QP.

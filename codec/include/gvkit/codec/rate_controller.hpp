@@ -2,7 +2,8 @@
 // Frame-level rate control for a target bitrate with a bounded buffer (encoder only; the stream
 // carries each frame's QP). The model: the coded bits drain from a buffer of buffer_seconds x
 // bitrate bits at bitrate / fps per frame. Each frame's QP comes from a per-type complexity
-// estimate (bits ~ complexity 2^(-QP/6)) and a bit target that steers the buffer to half full;
+// estimate (bits ~ complexity 2^(-QP/6)) and a bit target that keeps the buffer half full (it
+// starts half full: the decoder's initial delay);
 // a frame that would overflow the buffer is re-encoded at a higher QP (up to 51).
 
 #include <cstdint>
