@@ -65,10 +65,14 @@ class MacroblockEncoder {
       }
     };
     if (ref_) consider(kMbInter);
-    if (ref_ && p_.td_prediction) consider(kMbInter, true);
-    consider(kMbI16x16);
-    if (p_.allow_8x8) consider(kMbI8x8);
-    consider(kMbI4x4);
+    // Fast preset: a skip macroblock (no residual, predicted motion) is taken at once.
+    const bool early_skip = ref_ && !p_.rdo && best.mb.skip;
+    if (!early_skip) {
+      if (ref_ && p_.td_prediction) consider(kMbInter, true);
+      consider(kMbI16x16);
+      if (p_.allow_8x8) consider(kMbI8x8);
+      consider(kMbI4x4);
+    }
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
     return best.mb;

@@ -176,14 +176,16 @@ TEST(InterTools, ValueTransformFitRecoversAKnownMap) {
   // And the syntax round-trips.
   ByteWriter w;
   write_value_transform(w, fit);
-  ByteReader r(w.str());
+  const std::string bytes = w.str();  // ByteReader views it: keep it alive
+  ByteReader r(bytes);
   auto back = read_value_transform(r);
   ASSERT_TRUE(back.is_ok());
   for (int a = 0; a < 3; ++a) {
     EXPECT_EQ(back->t[a], fit.t[a]);
     for (int b = 0; b < 3; ++b) EXPECT_EQ(back->m[a][b], fit.m[a][b]);
   }
-  ByteReader truncated(w.str().substr(0, 5));
+  const std::string head = bytes.substr(0, 5);
+  ByteReader truncated(head);
   EXPECT_FALSE(read_value_transform(truncated).is_ok());
 }
 
