@@ -119,18 +119,19 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   // Value-domain prediction: fit and apply the transform; signalled only when not the identity.
   std::vector<SamplePlane> transformed;
   const std::vector<SamplePlane>* prediction_ref = reference;
+  bool try_without_transform = false;
   if (reference && options.value_prediction != ValuePrediction::kNone) {
     syntax.value_transform = fit_value_transform(planes, *reference, info.domain_mask,
                                                  options.value_prediction, info.bit_depth);
     if (!syntax.value_transform.is_identity()) {
       transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
-      // Kept only when it brings the reference clearly closer to the frame (sum of absolute
-      // differences over the domain): a fit to local deformation rather than a global motion
-      // moves samples that plain prediction (skip) would have got right.
+      // Tried only when it brings the reference clearly closer to the frame (sum of absolute
+      // differences over the domain), and then kept only when the frame costs less with it.
       if (domain_sad(planes, transformed, info.domain_mask) <
           0.9 * domain_sad(planes, *reference, info.domain_mask)) {
         header.flags |= format::kFrameValuePrediction;
         prediction_ref = &transformed;
+        try_without_transform = true;
       }
     }
   }
@@ -139,6 +140,45 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
     }
+  const auto code_planes = [&](uint8_t flags, const std::vector<SamplePlane>* ref) {
+    std::vector<PlaneEncodeResult> coded(planes.size());
+    run_parallel(static_cast<int>(planes.size()), options.threads, [&](int i) {
+      PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
+      p.rdo = options.preset == Preset::kSlow;
+      p.allow_8x8 = options.preset == Preset::kSlow;
+      p.search_range = options.search_range;
+      coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr);
+    });
+    return coded;
+  };
+  std::vector<PlaneEncodeResult> coded = code_planes(header.flags, prediction_ref);
+  if (try_without_transform) {
+    // Rate-distortion cost of the frame: SSD of the samples + lambda x bits, with the lambda
+    // of the macroblock decisions.
+    const double step = 2.0 * delta + 1.0;
+    const double lambda =
+        bypass ? (delta > 0 ? 0.136 * step * step : 1.0)
+               : 0.85 * std::pow(2.0, (header.qp + 6 * (info.bit_depth - 8) - 12) / 3.0);
+    const auto cost = [&](const std::vector<PlaneEncodeResult>& c, double extra_bits) {
+      double ssd = 0, bits = extra_bits;
+      for (size_t i = 0; i < c.size(); ++i) {
+        bits += 8.0 * static_cast<double>(c[i].bytes.size());
+        for (size_t k = 0; k < planes[i].samples.size(); ++k) {
+          const double d = planes[i].samples[k] - c[i].reconstruction.samples[k];
+          ssd += d * d;
+        }
+      }
+      return ssd + lambda * bits;
+    };
+    ByteWriter transform_syntax;
+    write_value_transform(transform_syntax, syntax.value_transform);
+    const auto without_flags = static_cast<uint8_t>(header.flags & ~format::kFrameValuePrediction);
+    std::vector<PlaneEncodeResult> plain = code_planes(without_flags, reference);
+    if (cost(plain, 0) <= cost(coded, 8.0 * static_cast<double>(transform_syntax.size()))) {
+      coded = std::move(plain);
+      header.flags = without_flags;
+    }
+  }
   ByteWriter payload;
   payload.u8(static_cast<uint8_t>(planes.size()));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
@@ -146,14 +186,6 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     write_value_transform(payload, syntax.value_transform);
   if (header.flags & format::kFramePlaneQp)
     for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
-  std::vector<PlaneEncodeResult> coded(planes.size());
-  run_parallel(static_cast<int>(planes.size()), options.threads, [&](int i) {
-    PlaneCodingParams p = plane_params(info, i, header.flags, header.qp, syntax);
-    p.rdo = options.preset == Preset::kSlow;
-    p.allow_8x8 = options.preset == Preset::kSlow;
-    p.search_range = options.search_range;
-    coded[i] = encode_plane(planes[i], p, prediction_ref ? &(*prediction_ref)[i] : nullptr);
-  });
   std::vector<SamplePlane> recon;
   for (auto& c : coded) {
     payload.u32(static_cast<uint32_t>(c.bytes.size()));
