@@ -23,16 +23,24 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EncodeArgs {
-  std::string input, output, preset = "slow";
+  std::string input, output, preset = "slow", value_prediction = "none";
+  std::vector<int> plane_qp_offsets;
   codec::EncoderOptions options;
   double fps = 30.0;
-  bool no_gv_modes = false;
+  bool no_gv_modes = false, no_td = false;
 };
 
 void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
   options.geometry_modes = !args.no_gv_modes;
+  options.td_prediction = !args.no_td;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
+  options.value_prediction = value_or_throw(codec::parse_value_prediction(args.value_prediction));
+  if (!args.plane_qp_offsets.empty()) {
+    if (args.plane_qp_offsets.size() != 3)
+      throw CommandFailed(invalid_argument("--plane-qp-offsets: give three values (X Y Z)"));
+    for (int i = 0; i < 3; ++i) options.plane_qp_offset[i] = args.plane_qp_offsets[i];
+  }
   throw_if_error(options.check());
   const auto files = value_or_throw(list_frame_files(args.input, ".exr"));
   if (files.empty()) throw CommandFailed(not_found(args.input + ": no frame_NNNNNN.exr files"));
@@ -65,7 +73,8 @@ void run_encode(const EncodeArgs& args) {
                          {"bits_per_vertex", bytes * 8.0 / vertices},
                          {"psnr_db", e.psnr_db(peak)},
                          {"rms_mm", e.rms_mm},
-                         {"max_mm", e.max_mm}});
+                         {"max_mm", e.max_mm},
+                         {"qp", writer->frame_qp()[i]}});
     progress.advance();
   }
   const double seconds =
@@ -89,6 +98,15 @@ void run_encode(const EncodeArgs& args) {
         {"intra_period", options.intra_period},
         {"search_range", options.search_range},
         {"preset", codec::preset_name(options.preset)},
+        {"max_error_mm", options.max_error_mm},
+        {"td_prediction", options.td_prediction},
+        {"value_prediction", codec::value_prediction_name(options.value_prediction)},
+        {"plane_qp_offsets",
+         {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
+        {"p_qp_offset", options.p_qp_offset},
+        {"bitrate_kbps", options.bitrate_kbps},
+        {"buffer_seconds", options.buffer_seconds},
+        {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
        {{"frames", frames.size()},
@@ -103,7 +121,11 @@ void run_encode(const EncodeArgs& args) {
         {"psnr_db", std::isfinite(psnr) ? nlohmann::json(psnr) : nlohmann::json("inf")},
         {"rms_mm", total.rms_mm},
         {"max_mm", total.max_mm},
-        {"encode_fps", n / seconds}}},
+        {"encode_fps", n / seconds},
+        {"max_buffer_fullness_bits",
+         writer->rate_controller() ? writer->rate_controller()->max_fullness_bits() : 0.0},
+        {"buffer_bits",
+         writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0}}},
       {"frames", per_frame}};
   for (auto& f : stats["frames"])
     if (!std::isfinite(f["psnr_db"].get<double>())) f["psnr_db"] = "inf";
@@ -130,6 +152,9 @@ void add_encode_command(CLI::App& app) {
   qp->excludes(lossless);
   cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16");
   cmd->add_flag("--no-gv-modes", args->no_gv_modes, "Disable the four geometry intra modes");
+  cmd->add_flag("--no-td", args->no_td,
+                "P frames: disable temporal-difference prediction (inter + intra-predicted "
+                "difference)");
   cmd->add_flag("--intra-only", args->options.intra_only, "Intra frames only (no P frames)");
   cmd->add_option("--intra-period,--gop", args->options.intra_period,
                   "Frames from one intra frame to the next (P frames between); default 30");
@@ -137,6 +162,26 @@ void add_encode_command(CLI::App& app) {
                   "Motion search range of P frames in samples, 0..32");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
+  auto* max_error = cmd->add_option(
+      "--max-error-mm", args->options.max_error_mm,
+      "Near-lossless: guarantee a point error <= this (mm) on every pixel; 0 = off");
+  max_error->excludes(lossless);
+  max_error->excludes(qp);
+  cmd->add_option("--value-prediction", args->value_prediction,
+                  "P frames: none, offset, weighted (per plane) or affine (3D) map of the "
+                  "reference's xyz");
+  cmd->add_option("--plane-qp-offsets", args->plane_qp_offsets,
+                  "QP offsets of the X, Y, Z planes, -12..12 each")
+      ->expected(3);
+  cmd->add_option("--p-qp-offset", args->options.p_qp_offset,
+                  "Added to --qp in P frames, 0..12 (ignored under --bitrate)");
+  cmd->add_option("--bitrate", args->options.bitrate_kbps,
+                  "Target bitrate in kbit/s (rate control; --qp is the starting QP); 0 = constant "
+                  "QP");
+  cmd->add_option("--buffer-seconds", args->options.buffer_seconds,
+                  "Rate-control buffer in seconds of the target bitrate, 0.1..100");
+  cmd->add_option("--threads", args->options.threads,
+                  "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });
 }
 

@@ -48,8 +48,8 @@ Result<PeerRun> run_peer(const std::vector<std::vector<codec::SamplePlane>>& fra
   ec->pix_fmt = fmt;
   ec->time_base = {1, 30};
   ec->framerate = {30, 1};
-  ec->gop_size = 1;
-  ec->max_b_frames = 0;
+  ec->gop_size = config.gop;
+  ec->max_b_frames = config.bframes;
   ec->thread_count = 1;
   for (const auto& [k, v] : config.options)
     av_opt_set(ec, k.c_str(), v.c_str(), AV_OPT_SEARCH_CHILDREN);

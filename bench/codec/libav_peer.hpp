@@ -1,7 +1,8 @@
 #pragma once
-// Peer codecs through libavcodec, intra-only, on the same quantized planes as ours: each frame
-// is three B-bit planes (X, Y, Z) given as Y, U, V (4:4:4) or G, B, R. The caller quantizes by
-// rounding (quantize_geometry), so no FFmpeg conversion or dithering is involved.
+// Peer codecs through libavcodec, intra-only or with a GOP (PeerConfig::gop), on the same quantized
+// planes as ours: each frame is three B-bit planes (X, Y, Z) given as Y, U, V (4:4:4) or G, B, R.
+// The caller quantizes by rounding (quantize_geometry), so no FFmpeg conversion or dithering is
+// involved.
 
 #include <string>
 #include <utility>
@@ -17,6 +18,8 @@ struct PeerConfig {
   std::string pix_fmt;  // "yuv444p12le", "yuv444p10le", "gbrp16le"
   int bit_depth = 12;
   std::vector<std::pair<std::string, std::string>> options;  // private encoder options
+  int gop = 1;      // frames from one intra frame to the next (1 = intra only)
+  int bframes = 0;  // consecutive B frames (0 = none)
 };
 
 struct PeerRun {

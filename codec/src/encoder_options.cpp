@@ -10,6 +10,27 @@ Result<Preset> parse_preset(const std::string& name) {
   return invalid_argument("preset '" + name + "' unknown (fast or slow)");
 }
 
+const char* value_prediction_name(ValuePrediction mode) {
+  switch (mode) {
+    case ValuePrediction::kOffset:
+      return "offset";
+    case ValuePrediction::kWeighted:
+      return "weighted";
+    case ValuePrediction::kAffine:
+      return "affine";
+    default:
+      return "none";
+  }
+}
+
+Result<ValuePrediction> parse_value_prediction(const std::string& name) {
+  for (ValuePrediction m : {ValuePrediction::kNone, ValuePrediction::kOffset,
+                            ValuePrediction::kWeighted, ValuePrediction::kAffine})
+    if (name == value_prediction_name(m)) return m;
+  return invalid_argument("value prediction '" + name +
+                          "' unknown (none, offset, weighted or affine)");
+}
+
 Status EncoderOptions::check() const {
   if (bit_depth < 8 || bit_depth > 16)
     return invalid_argument("bit depth " + std::to_string(bit_depth) + " out of range (8..16)");
@@ -24,6 +45,28 @@ Status EncoderOptions::check() const {
   if (search_range < 0 || search_range > 32)
     return invalid_argument("search range " + std::to_string(search_range) +
                             " out of range (0..32)");
+  if (!(max_error_mm >= 0) || max_error_mm > 1e6)
+    return invalid_argument("max error " + std::to_string(max_error_mm) +
+                            " mm out of range (0 = off, else > 0)");
+  if (lossless && max_error_mm > 0)
+    return invalid_argument("max error: lossless and a max error exclude each other");
+  for (int i = 0; i < 3; ++i)
+    if (plane_qp_offset[i] < -12 || plane_qp_offset[i] > 12)
+      return invalid_argument("plane QP offset " + std::to_string(plane_qp_offset[i]) +
+                              " out of range (-12..12)");
+  if (p_qp_offset < 0 || p_qp_offset > 12)
+    return invalid_argument("P-frame QP offset " + std::to_string(p_qp_offset) +
+                            " out of range (0..12)");
+  if (!(bitrate_kbps >= 0) || bitrate_kbps > 1e7)
+    return invalid_argument("bitrate " + std::to_string(bitrate_kbps) +
+                            " kbit/s out of range (0 = constant QP)");
+  if (bitrate_kbps > 0 && bypass())
+    return invalid_argument("bitrate: rate control needs lossy coding (not lossless or max error)");
+  if (!(buffer_seconds >= 0.1) || buffer_seconds > 100)
+    return invalid_argument("buffer " + std::to_string(buffer_seconds) +
+                            " s out of range (0.1..100)");
+  if (threads < 1 || threads > 16)
+    return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();
 }
 

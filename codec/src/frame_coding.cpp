@@ -1,29 +1,89 @@
 #include "gvkit/codec/frame_coding.hpp"
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gvkit/codec/byte_io.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/codec/value_prediction.hpp"
 
 namespace gvkit::codec {
 namespace {
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
 
-PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp) {
+// Frame-level syntax of the payload before the plane segments (docs/bitstream.md 2.1).
+struct FrameSyntax {
+  int near_lossless = 0;
+  ValueTransform value_transform;
+  int plane_qp_offset[3] = {0, 0, 0};
+};
+
+PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
+                               const FrameSyntax& syntax) {
   PlaneCodingParams p;
   p.bit_depth = plane < 3 ? info.bit_depth : 8;
   p.lossless = (flags & format::kFrameLossless) != 0;
   p.geometry_modes = (flags & format::kFrameGeometryModes) != 0;
   p.adaptive_levels = (flags & format::kFrameAdaptiveLevels) != 0;
+  p.td_prediction = (flags & format::kFrameTdPrediction) != 0;
+  if (plane < 3) {
+    p.near_lossless = syntax.near_lossless;
+    qp += syntax.plane_qp_offset[plane];
+  }
   p.qp_prime = std::clamp(qp + 6 * (p.bit_depth - 8), 0, 51 + 6 * (p.bit_depth - 8));
   return p;
 }
 
+// Runs job(i) for i in [0, count) on up to `threads` threads; each i writes only its own slot, so
+// the result does not depend on the thread count.
+template <class Job>
+void run_parallel(int count, int threads, const Job& job) {
+  const int n = std::min(count, threads);
+  if (n <= 1) {
+    for (int i = 0; i < count; ++i) job(i);
+    return;
+  }
+  std::atomic<int> next{0};
+  const auto worker = [&] {
+    for (int i = next++; i < count; i = next++) job(i);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+}
+
+// Sum over the domain pixels and the X, Y, Z planes of |a - b|.
+double domain_sad(const std::vector<SamplePlane>& a, const std::vector<SamplePlane>& b,
+                  const cv::Mat& mask) {
+  double sum = 0;
+  for (int y = 0; y < mask.rows; ++y) {
+    const uint8_t* m = mask.ptr<uint8_t>(y);
+    for (int x = 0; x < mask.cols; ++x)
+      if (m[x])
+        for (int p = 0; p < 3; ++p) sum += std::abs(a[p].at(x, y) - b[p].at(x, y));
+  }
+  return sum;
+}
+
 }  // namespace
+
+int near_lossless_delta(const SequenceInfo& info, double max_error_mm) {
+  if (!(max_error_mm > 0)) return 0;
+  // Per axis: input rounding (<= step / 2) plus the residual quantizer (<= delta steps); the
+  // Euclidean point error is at most sqrt(3) (delta + 1/2) step. 1e-4 mm is kept for the float
+  // storage of input and output.
+  const double d = (max_error_mm - 1e-4) / (std::sqrt(3.0) * info.step_mm()) - 0.5;
+  if (d < 0) return -1;
+  return static_cast<int>(std::min(std::floor(d), 65535.0));
+}
 
 Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
                                   const EncoderOptions& options, uint32_t frame_number,
@@ -34,27 +94,103 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   GVKIT_RETURN_IF_ERROR(image.check().with_context(name));
   if (info.has_texture && image.texture.empty())
     return invalid_argument(name + ": texture missing (the sequence has a texture plane)");
+  const int delta = near_lossless_delta(info, options.max_error_mm);
+  if (delta < 0)
+    return invalid_argument(
+        "max error " + std::to_string(options.max_error_mm) + " mm is below the " +
+        std::to_string(info.bit_depth) + "-bit quantization error (" +
+        std::to_string(std::sqrt(3.0) * 0.5 * info.step_mm()) + " mm); raise --bit-depth");
   const std::vector<SamplePlane> planes = quantize_geometry(image, info);
   format::PacketHeader header;
   header.type = reference ? format::FrameType::kPredicted : format::FrameType::kIntra;
   GVKIT_CHECK(!reference || reference->size() == planes.size());
-  header.flags = static_cast<uint8_t>(
-      (options.lossless ? format::kFrameLossless | format::kFrameAdaptiveLevels : 0) |
-      (options.geometry_modes ? format::kFrameGeometryModes : 0));
-  header.qp = options.lossless ? 0 : options.qp;
+  const bool bypass = options.bypass();
+  FrameSyntax syntax;
+  syntax.near_lossless = delta;
+  header.flags =
+      static_cast<uint8_t>((bypass ? format::kFrameLossless | format::kFrameAdaptiveLevels : 0) |
+                           (options.geometry_modes ? format::kFrameGeometryModes : 0) |
+                           (delta > 0 ? format::kFrameNearLossless : 0) |
+                           (reference && options.td_prediction ? format::kFrameTdPrediction : 0));
+  header.qp = bypass ? 0
+                     : std::clamp(options.qp + (reference ? options.p_qp_offset : 0),
+                                  -6 * (info.bit_depth - 8), 51);
   header.frame_number = frame_number;
+  // Value-domain prediction: fit and apply the transform; signalled only when not the identity.
+  std::vector<SamplePlane> transformed;
+  const std::vector<SamplePlane>* prediction_ref = reference;
+  bool try_without_transform = false;
+  if (reference && options.value_prediction != ValuePrediction::kNone) {
+    syntax.value_transform = fit_value_transform(planes, *reference, info.domain_mask,
+                                                 options.value_prediction, info.bit_depth);
+    if (!syntax.value_transform.is_identity()) {
+      transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
+      // Tried only when it brings the reference clearly closer to the frame (sum of absolute
+      // differences over the domain), and then kept only when the frame costs less with it.
+      if (domain_sad(planes, transformed, info.domain_mask) <
+          0.9 * domain_sad(planes, *reference, info.domain_mask)) {
+        header.flags |= format::kFrameValuePrediction;
+        prediction_ref = &transformed;
+        try_without_transform = true;
+      }
+    }
+  }
+  if (!bypass)
+    for (int i = 0; i < 3; ++i) {
+      syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
+      if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
+    }
+  const auto code_planes = [&](uint8_t flags, const std::vector<SamplePlane>* ref) {
+    std::vector<PlaneEncodeResult> coded(planes.size());
+    run_parallel(static_cast<int>(planes.size()), options.threads, [&](int i) {
+      PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
+      p.rdo = options.preset == Preset::kSlow;
+      p.allow_8x8 = options.preset == Preset::kSlow;
+      p.search_range = options.search_range;
+      coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr);
+    });
+    return coded;
+  };
+  std::vector<PlaneEncodeResult> coded = code_planes(header.flags, prediction_ref);
+  if (try_without_transform) {
+    // Rate-distortion cost of the frame: SSD of the samples + lambda x bits, with the lambda
+    // of the macroblock decisions.
+    const double step = 2.0 * delta + 1.0;
+    const double lambda =
+        bypass ? (delta > 0 ? 0.136 * step * step : 1.0)
+               : 0.85 * std::pow(2.0, (header.qp + 6 * (info.bit_depth - 8) - 12) / 3.0);
+    const auto cost = [&](const std::vector<PlaneEncodeResult>& c, double extra_bits) {
+      double ssd = 0, bits = extra_bits;
+      for (size_t i = 0; i < c.size(); ++i) {
+        bits += 8.0 * static_cast<double>(c[i].bytes.size());
+        for (size_t k = 0; k < planes[i].samples.size(); ++k) {
+          const double d = planes[i].samples[k] - c[i].reconstruction.samples[k];
+          ssd += d * d;
+        }
+      }
+      return ssd + lambda * bits;
+    };
+    ByteWriter transform_syntax;
+    write_value_transform(transform_syntax, syntax.value_transform);
+    const auto without_flags = static_cast<uint8_t>(header.flags & ~format::kFrameValuePrediction);
+    std::vector<PlaneEncodeResult> plain = code_planes(without_flags, reference);
+    if (cost(plain, 0) <= cost(coded, 8.0 * static_cast<double>(transform_syntax.size()))) {
+      coded = std::move(plain);
+      header.flags = without_flags;
+    }
+  }
   ByteWriter payload;
   payload.u8(static_cast<uint8_t>(planes.size()));
+  if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
+  if (header.flags & format::kFrameValuePrediction)
+    write_value_transform(payload, syntax.value_transform);
+  if (header.flags & format::kFramePlaneQp)
+    for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
   std::vector<SamplePlane> recon;
-  for (size_t i = 0; i < planes.size(); ++i) {
-    PlaneCodingParams p = plane_params(info, static_cast<int>(i), header.flags, header.qp);
-    p.rdo = options.preset == Preset::kSlow;
-    p.allow_8x8 = options.preset == Preset::kSlow;
-    p.search_range = options.search_range;
-    PlaneEncodeResult coded = encode_plane(planes[i], p, reference ? &(*reference)[i] : nullptr);
-    payload.u32(static_cast<uint32_t>(coded.bytes.size()));
-    payload.bytes(coded.bytes);
-    recon.push_back(std::move(coded.reconstruction));
+  for (auto& c : coded) {
+    payload.u32(static_cast<uint32_t>(c.bytes.size()));
+    payload.bytes(c.bytes);
+    recon.push_back(std::move(c.reconstruction));
   }
   header.payload_size = static_cast<uint32_t>(payload.size());
   header.payload_crc = crc32(payload.str());
@@ -80,9 +216,15 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   const bool predicted = header.type == format::FrameType::kPredicted;
   if (predicted && (!reference || reference->size() != (info.has_texture ? 4u : 3u)))
     return corrupt_data("P frame without a reference frame");
-  if (header.flags > 7) return corrupt_data("frame flags " + std::to_string(header.flags));
-  if (!(header.flags & format::kFrameLossless) &&
-      (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
+  if (header.flags > 127) return corrupt_data("frame flags " + std::to_string(header.flags));
+  const bool lossless = (header.flags & format::kFrameLossless) != 0;
+  if ((header.flags & format::kFrameNearLossless) && !lossless)
+    return corrupt_data("frame flags: near-lossless without transform bypass");
+  if ((header.flags & format::kFramePlaneQp) && lossless)
+    return corrupt_data("frame flags: plane QP offsets in a lossless frame");
+  if ((header.flags & (format::kFrameValuePrediction | format::kFrameTdPrediction)) && !predicted)
+    return corrupt_data("frame flags: inter tools in an intra frame");
+  if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
   const size_t plane_count = r.u8();
@@ -90,6 +232,31 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   if (plane_count != expected)
     return corrupt_data("plane count " + std::to_string(plane_count) + " (header says " +
                         std::to_string(expected) + ")");
+  FrameSyntax syntax;
+  if (header.flags & format::kFrameNearLossless) {
+    syntax.near_lossless = r.u16();
+    if (!r.ok() || syntax.near_lossless == 0)
+      return corrupt_data("near-lossless delta missing or 0");
+  }
+  std::vector<SamplePlane> transformed;
+  const std::vector<SamplePlane>* prediction_ref = predicted ? reference : nullptr;
+  if (header.flags & format::kFrameValuePrediction) {
+    auto transform = read_value_transform(r);
+    if (!transform.is_ok()) return transform.status();
+    syntax.value_transform = *transform;
+    const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
+    for (int i = 0; i < 3; ++i)
+      if ((*reference)[i].width != pw || (*reference)[i].height != ph)
+        return corrupt_data("reference frame size differs");
+    transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
+    prediction_ref = &transformed;
+  }
+  if (header.flags & format::kFramePlaneQp)
+    for (int i = 0; i < 3; ++i) {
+      syntax.plane_qp_offset[i] = static_cast<int8_t>(r.u8());
+      if (!r.ok() || syntax.plane_qp_offset[i] < -12 || syntax.plane_qp_offset[i] > 12)
+        return corrupt_data("plane QP offset missing or out of range (-12..12)");
+    }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   std::vector<SamplePlane> planes;
   for (size_t i = 0; i < plane_count; ++i) {
@@ -97,9 +264,9 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
     const uint32_t size = r.u32();
     const std::string_view bytes = r.bytes(size);
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
-    auto plane = decode_plane(bytes, pw, ph,
-                              plane_params(info, static_cast<int>(i), header.flags, header.qp),
-                              predicted ? &(*reference)[i] : nullptr);
+    auto plane = decode_plane(
+        bytes, pw, ph, plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax),
+        prediction_ref ? &(*prediction_ref)[i] : nullptr);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
   }

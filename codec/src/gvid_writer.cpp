@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <system_error>
 
 namespace gvkit::codec {
@@ -22,6 +23,11 @@ Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
   w->temp_path_ += ".tmp-" + std::to_string(::getpid());
   w->info_ = info;
   w->options_ = options;
+  if (near_lossless_delta(info, options.max_error_mm) < 0)
+    return invalid_argument("max error " + std::to_string(options.max_error_mm) +
+                            " mm is below the quantization error at " +
+                            std::to_string(info.bit_depth) + " bits; raise the bit depth");
+  if (options.bitrate_kbps > 0) w->rate_ = std::make_unique<RateController>(options, info.fps);
   w->out_.open(w->temp_path_, std::ios::binary | std::ios::trunc);
   if (!w->out_) return io_error(path.string() + ": cannot create " + w->temp_path_.string());
   const std::string header = format::write_file_header(info);
@@ -44,8 +50,10 @@ Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
   GVKIT_CHECK(!finished_, "write after finish");
   const auto number = static_cast<uint32_t>(index_.size());
   const bool intra = options_.is_intra(number);
-  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info_, options_, number,
-                                                            intra ? nullptr : &reference_));
+  int qp = 0;
+  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_sequence_frame(frame, info_, options_, number,
+                                                                     reference_, rate_.get(), &qp));
+  frame_qp_.push_back(qp);
   reference_ = std::move(encoded.planes);
   out_.write(encoded.packet.data(), static_cast<std::streamsize>(encoded.packet.size()));
   if (!out_) return io_error(path_.string() + ": write failed at frame " + std::to_string(number));
@@ -74,6 +82,31 @@ Status GvidWriter::finish() {
   return Status::ok();
 }
 
+Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
+                                           const EncoderOptions& options, uint32_t number,
+                                           const std::vector<SamplePlane>& reference,
+                                           RateController* rate, int* qp_used) {
+  const bool intra = options.is_intra(number);
+  const std::vector<SamplePlane>* ref = intra ? nullptr : &reference;
+  EncoderOptions o = options;
+  if (rate) {
+    o.qp = rate->next_qp(intra);
+    o.p_qp_offset = 0;  // the controller sets each frame type's QP itself
+  }
+  if (qp_used) *qp_used = o.bypass() ? 0 : std::min(51, o.qp + (intra ? 0 : o.p_qp_offset));
+  for (;;) {
+    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info, o, number, ref));
+    if (!rate) return encoded;
+    const auto bits = static_cast<int64_t>(encoded.packet.size()) * 8;
+    if (!rate->overflows(bits) || o.qp >= 51) {
+      rate->update(intra, o.qp, bits);
+      if (qp_used) *qp_used = o.qp;
+      return encoded;
+    }
+    o.qp = std::min(51, o.qp + 3);  // would overflow the buffer: coarser
+  }
+}
+
 Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
                                 const EncoderOptions& options) {
   GVKIT_RETURN_IF_ERROR(options.check());
@@ -81,11 +114,13 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
   std::string out = format::write_file_header(info);
   std::vector<format::IndexEntry> index;
   std::vector<SamplePlane> reference;
+  std::unique_ptr<RateController> rate;
+  if (options.bitrate_kbps > 0) rate = std::make_unique<RateController>(options, info.fps);
   for (size_t i = 0; i < frames.size(); ++i) {
     const bool intra = options.is_intra(static_cast<int64_t>(i));
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frames[i], info, options, static_cast<uint32_t>(i),
-                                        intra ? nullptr : &reference));
+                           encode_sequence_frame(frames[i], info, options, static_cast<uint32_t>(i),
+                                                 reference, rate.get()));
     reference = std::move(encoded.planes);
     format::IndexEntry entry;
     entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;

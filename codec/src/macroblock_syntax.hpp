@@ -36,6 +36,7 @@ struct ContextSet {
   CabacContext is_inter[3];
   CabacContext skip[3];
   CabacContext mvd_zero[2];
+  CabacContext td_flag[3];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -70,6 +71,7 @@ struct PlaneState {
   bool predicted = false;          // a P plane: macroblocks may be inter
   std::vector<uint8_t> skip;       // per macroblock (inter, no motion difference, no residual)
   std::vector<int8_t> mv_x, mv_y;  // per macroblock, inter only
+  std::vector<uint8_t> td;         // per macroblock: inter with temporal-difference prediction
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -80,7 +82,8 @@ struct PlaneState {
         cbp8(static_cast<size_t>(mbs_x) * mbs_y * 4),
         skip(mb_type.size()),
         mv_x(mb_type.size()),
-        mv_y(mb_type.size()) {}
+        mv_y(mb_type.size()),
+        td(mb_type.size()) {}
   // Motion vector predictor of a macroblock: the left one's if inter, else the top one's if
   // inter, else zero.
   void mv_predictor(int mb_x, int mb_y, int* px, int* py) const {
@@ -114,6 +117,7 @@ struct MacroblockData {
   int32_t levels[16][16] = {};  // 4x4 blocks in z-order (I4x4, I16x16)
   int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8)
   bool skip = false;            // inter: motion = predictor, no residual
+  bool td = false;              // inter: temporal-difference prediction with modes[0..15]
   int mv_x = 0, mv_y = 0;       // inter: integer motion vector (samples)
 };
 
@@ -281,7 +285,20 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       st.mv_x[mb_index] = static_cast<int8_t>(mb.skip ? px : mb.mv_x);
       st.mv_y[mb_index] = static_cast<int8_t>(mb.skip ? py : mb.mv_y);
       const int gx0 = mb_x * 4, gy0 = mb_y * 4;
-      for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+      const bool td = !mb.skip && params.td_prediction && mb.td;
+      if (!mb.skip && params.td_prediction)
+        coder.encode(ctx.td_flag[flag_ctx(st.td, [](uint8_t k) { return k != 0; })], td);
+      st.td[mb_index] = td;
+      if (td) {
+        for (int b = 0; b < 16; ++b) {
+          const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+          write_mode(coder, ctx, mb.modes[b], most_probable_mode(st, gx, gy, false),
+                     mode_count4(params));
+          st.mode_at(gx, gy) = mb.modes[b];
+        }
+      } else {
+        for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+      }
       if (mb.skip) {
         for (int i = 0; i < 16; ++i) st.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
         for (int q = 0; q < 4; ++q) st.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
@@ -291,6 +308,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       return;
     }
     st.skip[mb_index] = 0;
+    st.td[mb_index] = 0;
   }
   const int is_i16 = mb.type == kMbI16x16;
   coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)],
@@ -335,24 +353,28 @@ inline bool is_coded(int px, int py, int width, int mb_x, int mb_y, int block) {
 inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
                               const PlaneCodingParams& p, uint16_t* plane, int stride, int x0,
                               int y0) {
-  int32_t residual[64];
+  int64_t residual[64];
   const int count = n * n;
   if (p.lossless) {
-    std::copy(levels, levels + count, residual);
+    // Near-lossless: a level counts 2 near + 1 samples (|level| < 2^24, so no overflow).
+    const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
+    for (int i = 0; i < count; ++i) residual[i] = levels[i] * step;
   } else if (!any_nonzero(levels, count)) {
     std::fill(residual, residual + count, 0);
   } else {
     int64_t coeffs[64];
+    int32_t transformed[64];
     dequantize(n, levels, p.qp_prime, coeffs);
     if (n == 4)
-      inverse_transform4x4(coeffs, residual);
+      inverse_transform4x4(coeffs, transformed);
     else
-      inverse_transform8x8(coeffs, residual);
+      inverse_transform8x8(coeffs, transformed);
+    std::copy(transformed, transformed + count, residual);
   }
   const int max_value = (1 << p.bit_depth) - 1;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const int64_t v = static_cast<int64_t>(pred[y * n + x]) + residual[y * n + x];
+      const int64_t v = pred[y * n + x] + residual[y * n + x];
       plane[static_cast<size_t>(y0 + y) * stride + x0 + x] =
           static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
     }
@@ -367,6 +389,45 @@ inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int 
     for (int x = 0; x < 16; ++x)
       pred[y * 16 + x] = ref.at(std::clamp(x0 + x + mv_x, 0, ref.width - 1), sy);
   }
+}
+
+// Temporal-difference prediction: the neighbours of the 4x4 block at (x0, y0) (z-order index
+// `block` of macroblock (mb_x, mb_y)) taken from the difference plane
+// D'(x, y) = clip(recon(x, y) - ref(x + mv_x, y + mv_y) + 2^(B-1), 0, 2^B - 1) (reference
+// coordinates clamped), with the availability and substitution rules of intra prediction.
+inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& ref, int mv_x,
+                                   int mv_y, int x0, int y0, int mb_x, int mb_y, int block,
+                                   int bit_depth) {
+  constexpr int n = 4, stride = 2 * n + 1;
+  const int32_t c = 1 << (bit_depth - 1), max_value = (1 << bit_depth) - 1;
+  const auto d = [&](int x, int y) -> uint16_t {
+    if (x < 0 || y < 0 || x >= recon.width || y >= recon.height) return 0;
+    const int32_t r =
+        ref.at(std::clamp(x + mv_x, 0, ref.width - 1), std::clamp(y + mv_y, 0, ref.height - 1));
+    return static_cast<uint16_t>(std::clamp(recon.at(x, y) - r + c, 0, max_value));
+  };
+  uint16_t local[(n + 1) * stride];
+  for (int i = 0; i < stride; ++i) local[i] = d(x0 - 1 + i, y0 - 1);
+  for (int j = 1; j <= n; ++j) local[j * stride] = d(x0 - 1, y0 - 1 + j);
+  const bool top_right = is_coded(x0 + n, y0 - 1, recon.width, mb_x, mb_y, block);
+  return make_neighbors(local, stride, 1, 1, n, y0 > 0, x0 > 0, top_right, bit_depth);
+}
+
+// The temporal-difference prediction of a 4x4 block: motion-compensated reference plus the
+// intra prediction (mode) of the difference plane, 2^(B-1) removed; not clipped.
+inline void predict_td(const SamplePlane& recon, const SamplePlane& ref, int mv_x, int mv_y, int x0,
+                       int y0, int mb_x, int mb_y, int block, int mode, int bit_depth,
+                       int32_t* pred) {
+  const IntraNeighbors nb =
+      td_neighbors(recon, ref, mv_x, mv_y, x0, y0, mb_x, mb_y, block, bit_depth);
+  int32_t pd[16];
+  predict_intra(4, mode, nb, (1 << bit_depth) - 1, pd);
+  const int32_t c = 1 << (bit_depth - 1);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      pred[y * 4 + x] = ref.at(std::clamp(x0 + x + mv_x, 0, ref.width - 1),
+                               std::clamp(y0 + y + mv_y, 0, ref.height - 1)) +
+                        pd[y * 4 + x] - c;
 }
 
 // Neighbours of the n x n block at (x0, y0), the top-left 4x4 unit of which has z-order index

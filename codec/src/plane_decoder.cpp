@@ -47,7 +47,21 @@ class MacroblockReader {
         st_.mv_x[mb_index] = static_cast<int8_t>(mb.mv_x);
         st_.mv_y[mb_index] = static_cast<int8_t>(mb.mv_y);
         const int gx0 = mb_x * 4, gy0 = mb_y * 4;
-        for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+        mb.td = !mb.skip && p_.td_prediction &&
+                dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
+        st_.td[mb_index] = mb.td;
+        if (mb.td) {
+          for (int b = 0; b < 16; ++b) {
+            const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+            int mode;
+            GVKIT_RETURN_IF_ERROR(
+                read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
+            mb.modes[b] = static_cast<int8_t>(mode);
+            st_.mode_at(gx, gy) = mb.modes[b];
+          }
+        } else {
+          for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+        }
         if (mb.skip) {
           mb.cbp = 0;
           for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
@@ -58,7 +72,9 @@ class MacroblockReader {
         return read_cbp_and_residuals(mb_x, mb_y, mb);
       }
       st_.skip[mb_index] = 0;
+      st_.td[mb_index] = 0;
     }
+    mb.td = false;
     const auto neighbour_type = [&](int dx, int dy, MbType t) {
       const int x = mb_x + dx, y = mb_y + dy;
       if (x < 0 || y < 0) return 0;
@@ -236,7 +252,14 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
                             const PlaneCodingParams& p, const SamplePlane* reference) {
   const int max_value = (1 << p.bit_depth) - 1;
   int32_t pred[256];
-  if (mb.type == kMbI16x16 || mb.type == kMbInter) {
+  if (mb.type == kMbInter && mb.td) {
+    for (int b = 0; b < 16; ++b) {
+      const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
+      predict_td(plane, *reference, mb.mv_x, mb.mv_y, x0, y0, mb_x, mb_y, b, mb.modes[b],
+                 p.bit_depth, pred);
+      reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
+    }
+  } else if (mb.type == kMbI16x16 || mb.type == kMbInter) {
     if (mb.type == kMbInter) {
       predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, pred);
     } else {

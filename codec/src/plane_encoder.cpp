@@ -25,7 +25,12 @@ class MacroblockEncoder {
         p_(p),
         ref_(reference),
         max_value_((1 << p.bit_depth) - 1) {
-    if (p.lossless) {
+    if (p.lossless && p.near_lossless > 0) {
+      // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
+      const double step = 2.0 * p.near_lossless + 1.0;
+      lambda_ = 0.136 * step * step;
+      lambda_sad_ = std::sqrt(lambda_);
+    } else if (p.lossless) {
       lambda_ = 1.0;
       lambda_sad_ = 1.0;
     } else {
@@ -44,11 +49,12 @@ class MacroblockEncoder {
     };
     Candidate best;
     best.cost = std::numeric_limits<double>::infinity();
-    const auto consider = [&](MbType type) {
+    const auto consider = [&](MbType type, bool td = false) {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
-      c.cost = type == kMbInter    ? try_inter(c.mb, trial)
+      c.cost = td                  ? try_td(c.mb, trial)
+               : type == kMbInter  ? try_inter(c.mb, trial)
                : type == kMbI16x16 ? try_i16(c.mb, trial)
                                    : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
       if (c.cost < best.cost) {
@@ -59,9 +65,14 @@ class MacroblockEncoder {
       }
     };
     if (ref_) consider(kMbInter);
-    consider(kMbI16x16);
-    if (p_.allow_8x8) consider(kMbI8x8);
-    consider(kMbI4x4);
+    // Fast preset: a skip macroblock (no residual, predicted motion) is taken at once.
+    const bool early_skip = ref_ && !p_.rdo && best.mb.skip;
+    if (!early_skip) {
+      if (ref_ && p_.td_prediction) consider(kMbInter, true);
+      consider(kMbI16x16);
+      if (p_.allow_8x8) consider(kMbI8x8);
+      consider(kMbI4x4);
+    }
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
     return best.mb;
@@ -103,8 +114,8 @@ class MacroblockEncoder {
           best_y = dy;
         }
       }
-    mb.mv_x = best_x;
-    mb.mv_y = best_y;
+    mb.mv_x = mv_x_ = best_x;
+    mb.mv_y = mv_y_ = best_y;
     predict_inter(*ref_, x0, y0, best_x, best_y, pred);
     const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
     double cost;
@@ -125,7 +136,14 @@ class MacroblockEncoder {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         residual[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
-    if (p_.lossless) {
+    if (p_.lossless && p_.near_lossless > 0) {
+      // Uniform quantizer of step 2 d + 1 with rounding to the nearest: |error| <= d.
+      const int32_t d = p_.near_lossless, step = 2 * d + 1;
+      for (int i = 0; i < n * n; ++i) {
+        const int32_t a = (std::abs(residual[i]) + d) / step;
+        levels[i] = residual[i] < 0 ? -a : a;
+      }
+    } else if (p_.lossless) {
       std::copy(residual, residual + n * n, levels);
     } else {
       int32_t coeffs[64];
@@ -185,15 +203,27 @@ class MacroblockEncoder {
   }
 
   double try_block_modes(int n, int block, int mode_count, int mpm, ContextSet& trial,
-                         int8_t* chosen_mode, int32_t* chosen_levels) {
+                         int8_t* chosen_mode, int32_t* chosen_levels, bool td = false) {
     const int x0 = mb_x_ * 16 + block_x(block) * 4, y0 = mb_y_ * 16 + block_y(block) * 4;
     const int gx = x0 / 4, gy = y0 / 4;
-    const IntraNeighbors nb = block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
+    // Intra: neighbours from the reconstruction; temporal difference: from the difference plane.
+    const IntraNeighbors nb =
+        td ? td_neighbors(recon_, *ref_, mv_x_, mv_y_, x0, y0, mb_x_, mb_y_, block, p_.bit_depth)
+           : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
+    int32_t ref_block[16];
+    if (td)
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+          ref_block[y * 4 + x] = ref_->at(std::clamp(x0 + x + mv_x_, 0, ref_->width - 1),
+                                          std::clamp(y0 + y + mv_y_, 0, ref_->height - 1)) -
+                                 (1 << (p_.bit_depth - 1));
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
     for (int mode = 0; mode < mode_count; ++mode) {
       predict_intra(n, mode, nb, max_value_, pred);
+      if (td)
+        for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
       double cost;
       if (p_.rdo) {
         const bool coded = make_levels(n, pred, x0, y0, levels);
@@ -231,6 +261,26 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
                               &mb.modes[b], mb.levels[b]);
+    }
+    mb.cbp = 0;
+    for (int b = 0; b < 16; ++b)
+      if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+    return cost;
+  }
+
+  // Inter with temporal-difference prediction, at the motion vector of the inter candidate.
+  double try_td(MacroblockData& mb, ContextSet& trial) {
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    mb.mv_x = mv_x_;
+    mb.mv_y = mv_y_;
+    mb.td = true;
+    const double mv_bits = exp_golomb_bits(mv_x_ - px) + exp_golomb_bits(mv_y_ - py) + 3;
+    double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
+    for (int b = 0; b < 16; ++b) {
+      const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
+      cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
+                              &mb.modes[b], mb.levels[b], true);
     }
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
@@ -307,6 +357,7 @@ class MacroblockEncoder {
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
+  int mv_x_ = 0, mv_y_ = 0;  // motion vector of the inter candidate (reused by try_td)
 };
 
 }  // namespace

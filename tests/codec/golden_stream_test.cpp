@@ -28,7 +28,16 @@ struct GoldenCase {
 };
 
 std::vector<GoldenCase> cases() {
-  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter;
+  EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
+      plane_qp;
+  near_affine.max_error_mm = 0.05;  // version 1.2: near-lossless, affine value prediction
+  near_affine.preset = Preset::kFast;
+  near_affine.value_prediction = ValuePrediction::kAffine;
+  plane_qp.qp = 0;  // version 1.2: plane QP offsets, weighted value prediction
+  plane_qp.preset = Preset::kFast;
+  plane_qp.plane_qp_offset[0] = -2;
+  plane_qp.plane_qp_offset[2] = 3;
+  plane_qp.value_prediction = ValuePrediction::kWeighted;
   lossless_inter.lossless = true;  // version 1.1: adaptive level coding, with P frames
   lossless_inter.preset = Preset::kFast;
   for (EncoderOptions* o : {&lossless, &fast, &slow_no_gv, &eight_bit}) o->intra_only = true;
@@ -48,7 +57,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},
           {"analytic_8bit_qp20_64.gvid", 64, 3, eight_bit},
           {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter},
-          {"analytic_lossless_ipp_v1_1_48.gvid", 48, 3, lossless_inter}};
+          {"analytic_lossless_ipp_v1_1_48.gvid", 48, 3, lossless_inter},
+          {"analytic_near_affine_ipp_v1_2_48.gvid", 48, 3, near_affine},
+          {"analytic_planeqp_weighted_ipp_v1_2_48.gvid", 48, 3, plane_qp}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

@@ -92,6 +92,51 @@ TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
+TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --max-error-mm 0.05 --gop 3 --value-prediction affine --threads 2 "
+                       "--preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["max_error_mm"], 0.05);
+  EXPECT_EQ((*stats)["options"]["value_prediction"], "affine");
+  EXPECT_EQ((*stats)["options"]["threads"], 2);
+  EXPECT_LE((*stats)["summary"]["max_mm"].get<double>(), 0.05);
+  for (const auto& f : (*stats)["frames"]) EXPECT_LE(f["max_mm"].get<double>(), 0.05);
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+
+  auto rate = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                        " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
+                        "--preset fast");
+  ASSERT_EQ(rate.exit_code, 0) << rate.output;
+  stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["bitrate_kbps"], 200.0);
+  EXPECT_EQ((*stats)["options"]["td_prediction"], false);
+  EXPECT_LE((*stats)["summary"]["max_buffer_fullness_bits"].get<double>(),
+            (*stats)["summary"]["buffer_bits"].get<double>());
+
+  const std::string in = (dir / "in").string();
+  auto tiny = run_gvkit("encode " + in + " -o " + gvid + " --max-error-mm 0.00001");
+  EXPECT_NE(tiny.exit_code, 0);
+  EXPECT_TRUE(contains(tiny.output, "below the quantization error")) << tiny.output;
+  auto mode = run_gvkit("encode " + in + " -o " + gvid + " --value-prediction rigid");
+  EXPECT_NE(mode.exit_code, 0);
+  EXPECT_TRUE(contains(mode.output, "value prediction 'rigid' unknown")) << mode.output;
+  auto threads = run_gvkit("encode " + in + " -o " + gvid + " --threads 0");
+  EXPECT_NE(threads.exit_code, 0);
+  EXPECT_TRUE(contains(threads.output, "threads 0 out of range")) << threads.output;
+  auto lossless_rate = run_gvkit("encode " + in + " -o " + gvid + " --lossless --bitrate 100");
+  EXPECT_NE(lossless_rate.exit_code, 0);
+  EXPECT_TRUE(contains(lossless_rate.output, "rate control needs lossy coding"))
+      << lossless_rate.output;
+}
+
 TEST(CliCodec, BadOptionsAndInputsFailWithAMessage) {
   TempDir dir;
   write_frames(dir / "in", 1);

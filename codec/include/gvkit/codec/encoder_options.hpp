@@ -16,6 +16,17 @@ enum class Preset {
 const char* preset_name(Preset preset);
 Result<Preset> parse_preset(const std::string& name);
 
+// Value-domain prediction of P frames: the reference's xyz samples pass through a per-frame
+// transform before motion compensation (docs/bitstream.md 2.2).
+enum class ValuePrediction {
+  kNone,
+  kOffset,    // per plane: + offset (translation of the whole geometry)
+  kWeighted,  // per plane: scale + offset (H.264's weighted prediction)
+  kAffine,    // 3D affine map of the reference's (x, y, z) (head motion, scaling)
+};
+const char* value_prediction_name(ValuePrediction mode);
+Result<ValuePrediction> parse_value_prediction(const std::string& name);
+
 struct EncoderOptions {
   int qp = 12;                 // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8)
   bool lossless = false;       // transform bypass: decoded samples equal the quantized input
@@ -25,6 +36,20 @@ struct EncoderOptions {
   int intra_period = 30;       // frames from one I frame to the next (1 = intra only)
   int search_range = 4;        // full-search integer motion range of P frames (samples), 0..32
   Preset preset = Preset::kSlow;
+  // Near-lossless: > 0 guarantees a Euclidean point error <= max_error_mm against the input on
+  // every pixel (needs a bit depth whose quantization alone stays within it); 0 = off.
+  double max_error_mm = 0;
+  ValuePrediction value_prediction = ValuePrediction::kNone;
+  // P frames: inter macroblocks may predict the temporal difference from their neighbours.
+  bool td_prediction = true;
+  int plane_qp_offset[3] = {0, 0, 0};
+  int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
+                        // added to qp for X, Y, Z (lossy frames), -12..12
+  // Rate control: > 0 sets the frame QP to meet this rate (kbit/s at the stream's fps) with a
+  // buffer of buffer_seconds; qp is the starting QP. 0 = constant QP.
+  double bitrate_kbps = 0;
+  double buffer_seconds = 1.0;
+  int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
   Status check() const;
@@ -34,6 +59,8 @@ struct EncoderOptions {
   bool is_intra(int64_t frame_number) const {
     return intra_only || intra_period <= 1 || frame_number % intra_period == 0;
   }
+  // Transform-bypass coding (lossless or near-lossless).
+  bool bypass() const { return lossless || max_error_mm > 0; }
 };
 
 }  // namespace gvkit::codec

@@ -27,6 +27,11 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                                   const EncoderOptions& options, uint32_t frame_number,
                                   const std::vector<SamplePlane>* reference = nullptr);
 
+// Near-lossless residual bound (samples) that keeps the point error within max_error_mm at the
+// sequence's quantization step: 0 when off (or when only exact coding fits), -1 when even the
+// input quantization exceeds it.
+int near_lossless_delta(const SequenceInfo& info, double max_error_mm);
+
 // Limits a decoder puts on what a stream may ask of it.
 struct DecoderLimits {
   int64_t max_pixels = int64_t{1} << 24;  // width * height

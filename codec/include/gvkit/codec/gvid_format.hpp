@@ -18,7 +18,7 @@ inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
-inline constexpr uint8_t kMinorVersion = 1;
+inline constexpr uint8_t kMinorVersion = 2;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -30,7 +30,11 @@ enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1 };
 enum FrameFlag : uint8_t {
   kFrameLossless = 1,
   kFrameGeometryModes = 2,
-  kFrameAdaptiveLevels = 4,  // since 1.1
+  kFrameAdaptiveLevels = 4,    // since 1.1
+  kFrameNearLossless = 8,      // since 1.2: with bit 0, residuals quantized (payload: u16 delta)
+  kFrameValuePrediction = 16,  // since 1.2: P frames, affine map of the reference's xyz
+  kFramePlaneQp = 32,          // since 1.2: lossy frames, per-plane QP offsets
+  kFrameTdPrediction = 64,     // since 1.2: P frames, temporal-difference prediction
 };
 
 struct PacketHeader {

@@ -13,6 +13,7 @@
 #include "gvkit/codec/encoder_options.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/rate_controller.hpp"
 #include "gvkit/codec/sequence_info.hpp"
 #include "gvkit/core/geometry_image.hpp"
 
@@ -38,6 +39,10 @@ class GvidWriter {
   // Size of each frame's packet (header + payload) in bytes.
   const std::vector<int64_t>& frame_bytes() const { return frame_bytes_; }
   int64_t header_bytes() const { return header_bytes_; }
+  // QP of each frame written (0 for bypass frames): options.qp, or the rate controller's.
+  const std::vector<int>& frame_qp() const { return frame_qp_; }
+  // The rate controller when options.bitrate_kbps > 0, else null.
+  const RateController* rate_controller() const { return rate_.get(); }
 
  private:
   GvidWriter() = default;
@@ -48,10 +53,19 @@ class GvidWriter {
   std::vector<format::IndexEntry> index_;
   std::vector<SamplePlane> reference_;  // reconstruction of the last frame written
   std::vector<int64_t> frame_bytes_;
+  std::vector<int> frame_qp_;
+  std::unique_ptr<RateController> rate_;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;
   bool finished_ = false;
 };
+
+// Encodes frame `number` (intra or P from `reference` as options.is_intra says) at options.qp, or
+// with rate control when `rate` is given (the QP used is in *qp_used).
+Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
+                                           const EncoderOptions& options, uint32_t number,
+                                           const std::vector<SamplePlane>& reference,
+                                           RateController* rate, int* qp_used = nullptr);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes.
 Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,

@@ -20,9 +20,17 @@ struct PlaneCodingParams {
   bool lossless = false;  // transform bypass: residuals coded as they are
   bool geometry_modes = true;
   bool adaptive_levels = false;  // |level| - 2 as adaptive-order Exp-Golomb (for lossless)
-  bool allow_8x8 = true;         // encoder only: consider I8x8 macroblocks
-  bool rdo = true;               // encoder only: SSD + lambda * bits (else SATD-based decisions)
-  int search_range = 4;          // encoder only: full-search motion range (samples) of P planes
+  // With lossless (transform bypass): residuals quantized in the sample domain with the step
+  // 2 near_lossless + 1, so every reconstructed sample is within near_lossless of the source
+  // (0 = exact). 0..65535.
+  int near_lossless = 0;
+  // P planes: an inter macroblock may predict each 4x4 block as the motion-compensated
+  // reference plus an intra prediction of the temporal difference (recon - reference) from the
+  // block's neighbours (docs/bitstream.md 4.4).
+  bool td_prediction = false;
+  bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
+  bool rdo = true;        // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  int search_range = 4;   // encoder only: full-search motion range (samples) of P planes
 };
 
 // A plane of samples in [0, 2^bit_depth - 1], row-major.

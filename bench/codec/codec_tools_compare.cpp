@@ -1,0 +1,394 @@
+// codec_tools_compare: the gain of each switchable .gvid tool of format 1.2, measured with P
+// frames on one geometry video, and the peers with a GOP side by side:
+//   - temporal-difference (TD) prediction on / off: BD-rate, lossless
+//   - value-domain prediction (none / offset / weighted / affine): BD-rate against none, lossless
+//   - near-lossless --max-error-mm: rate, PSNR and the max point error reached for each bound,
+//     BD-rate against the QP curve, and each bound's rate next to the lossless rate
+//   - per-plane QP offsets: BD-rate against none
+//   - rate control: achieved bitrate and buffer fullness for several targets
+//   - threads: encode wall time and bytes identical to one thread
+//   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
+//     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
+// Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N]
+//                            [--no-peers] [--peer-preset P] [--rate-only]
+// (--rate-only: the rate-control and threads tables only)
+#include <time.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bd_rate.hpp"
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/geometry_metrics.hpp"
+#include "gvkit/codec/geometry_planes.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "libav_peer.hpp"
+
+namespace gvkit::bench {
+namespace {
+using namespace gvkit::codec;
+
+double cpu_now() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct Material {
+  std::vector<GeometryImage> frames;
+  SequenceInfo info;
+  double vertices = 0, peak = 0;
+};
+
+struct Run {
+  RdPoint point;
+  double max_mm = 0, encode_fps = 0, decode_fps = 0, kbps = 0;
+  std::string bytes;
+};
+
+Run run_ours(const Material& m, const EncoderOptions& options) {
+  SequenceInfo info = m.info;
+  info.bit_depth = options.bit_depth;
+  Run run;
+  double t0 = cpu_now();
+  auto bytes = encode_gvid(m.frames, info, options);
+  if (!bytes.is_ok()) {
+    std::fprintf(stderr, "encode failed: %s\n", bytes.status().message().c_str());
+    std::exit(1);
+  }
+  run.encode_fps = m.frames.size() / (cpu_now() - t0);
+  auto reader = GvidReader::open_memory(*bytes, "tools").value();
+  GeometryError total;
+  int64_t bits = 0;
+  double decode_seconds = 0;
+  for (int64_t f = 0; f < reader->frame_count(); ++f) {
+    t0 = cpu_now();
+    GeometryImage decoded = reader->decode_frame(f).value();
+    decode_seconds += cpu_now() - t0;
+    accumulate(total, geometry_error(m.frames[f], decoded));
+    bits += reader->frame_bits(f);
+  }
+  run.decode_fps = m.frames.size() / decode_seconds;
+  run.max_mm = total.max_mm;
+  run.point = {bits / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  run.kbps = bits / (m.frames.size() / m.info.fps) / 1000.0;
+  run.bytes = std::move(bytes).value();
+  return run;
+}
+
+void print_row(const std::string& name, const std::string& setting, const Run& r) {
+  std::printf("| %s | %s | %.4f | %.2f | %.4f | %.1f | %.1f |\n", name.c_str(), setting.c_str(),
+              r.point.rate, r.point.psnr_db, r.max_mm, r.encode_fps, r.decode_fps);
+  std::fflush(stdout);
+}
+
+void print_header() {
+  std::printf(
+      "\n| configuration | setting | bits/vertex/frame | PSNR (dB) | max error (mm) | encode fps "
+      "(CPU) | decode fps (CPU) |\n|---|---|---|---|---|---|---|\n");
+}
+
+void print_bd(const std::string& what, const std::vector<RdPoint>& anchor,
+              const std::vector<RdPoint>& test) {
+  const auto bd = bd_rate_percent(anchor, test);
+  if (bd)
+    std::printf("| %s | %+.2f %% |\n", what.c_str(), *bd);
+  else
+    std::printf("| %s | no overlap |\n", what.c_str());
+}
+
+std::vector<RdPoint> qp_curve(const Material& m, const EncoderOptions& base,
+                              const std::string& name, const std::vector<int>& qps) {
+  std::vector<RdPoint> points;
+  for (int qp : qps) {
+    EncoderOptions o = base;
+    o.qp = qp;
+    const Run r = run_ours(m, o);
+    print_row(name, "qp " + std::to_string(qp), r);
+    points.push_back(r.point);
+  }
+  return points;
+}
+
+std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
+  SequenceInfo info = m.info;
+  info.bit_depth = config.bit_depth;
+  std::vector<std::vector<SamplePlane>> planes;
+  for (const auto& f : m.frames) planes.push_back(quantize_geometry(f, info));
+  auto run = run_peer(planes, info.width, info.height, config);
+  if (!run.is_ok()) {
+    std::fprintf(stderr, "%s\n", run.status().message().c_str());
+    return std::nullopt;
+  }
+  GeometryError total;
+  int64_t bytes = 0;
+  for (size_t f = 0; f < m.frames.size(); ++f) {
+    accumulate(total, geometry_error(m.frames[f], dequantize_geometry(run->decoded[f], info, f)));
+    bytes += run->frame_bytes[f];
+  }
+  Run r;
+  r.encode_fps = m.frames.size() / run->encode_seconds;
+  r.decode_fps = m.frames.size() / run->decode_seconds;
+  r.max_mm = total.max_mm;
+  r.point = {bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  return r;
+}
+
+// Rate control (achieved rate, buffer) and threads (wall time, identical bytes).
+void report_rate_and_threads(const Material& m, const EncoderOptions& base) {
+  // Rate control: the constant-QP rates bracket the targets.
+  std::printf(
+      "\n| rate control target (kbit/s) | achieved (kbit/s) | PSNR (dB) | max buffer fullness "
+      "(%% of 1 s buffer) |\n|---|---|---|---|\n");
+  for (double target : {500.0, 1000.0, 2000.0, 4000.0}) {
+    EncoderOptions o = base;
+    o.bitrate_kbps = target;
+    o.buffer_seconds = 1.0;
+    RateController rate(o, m.info.fps);
+    std::vector<SamplePlane> reference;
+    int64_t bits = 0;
+    GeometryError total;
+    for (size_t i = 0; i < m.frames.size(); ++i) {
+      auto e =
+          encode_sequence_frame(m.frames[i], m.info, o, static_cast<uint32_t>(i), reference, &rate);
+      reference = e->planes;
+      bits += static_cast<int64_t>(e->packet.size()) * 8;
+      accumulate(total, geometry_error(m.frames[i], e->reconstruction));
+    }
+    std::printf("| %.0f | %.1f | %.2f | %.1f |\n", target,
+                bits / (m.frames.size() / m.info.fps) / 1000.0, total.psnr_db(m.peak),
+                100.0 * rate.max_fullness_bits() / rate.buffer_bits());
+    std::fflush(stdout);
+  }
+
+  // Threads: wall time, identical bytes.
+  std::printf(
+      "\n| threads | preset | encode fps (wall) | bytes identical to 1 thread "
+      "|\n|---|---|---|---|\n");
+  for (Preset preset : {Preset::kFast, Preset::kSlow}) {
+    std::string one;
+    for (int threads : {1, 2, 3}) {
+      EncoderOptions o = base;
+      o.preset = preset;
+      o.qp = 0;
+      o.threads = threads;
+      const double t0 = wall_now();
+      auto bytes = encode_gvid(m.frames, m.info, o).value();
+      const double fps = m.frames.size() / (wall_now() - t0);
+      if (threads == 1) one = bytes;
+      std::printf("| %d | %s | %.1f | %s |\n", threads, preset_name(preset), fps,
+                  bytes == one ? "yes" : "NO");
+      std::fflush(stdout);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gvkit::bench
+
+int main(int argc, char** argv) {
+  using namespace gvkit;
+  using namespace gvkit::bench;
+  std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
+  bool peers = true, rate_only = false;
+  int gop = 30;
+  testing::GeometryVideoOptions vo;
+  vo.frames = 30;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--ict" && i + 1 < argc)
+      ict = argv[++i];
+    else if (a == "--gv" && i + 1 < argc)
+      gv_dir = argv[++i];
+    else if (a == "--size" && i + 1 < argc)
+      vo.size = std::atoi(argv[++i]);
+    else if (a == "--frames" && i + 1 < argc)
+      vo.frames = std::atoi(argv[++i]);
+    else if (a == "--gop" && i + 1 < argc)
+      gop = std::atoi(argv[++i]);
+    else if (a == "--rate-only")
+      rate_only = true;
+    else if (a == "--no-peers")
+      peers = false;
+    else if (a == "--peer-preset" && i + 1 < argc)
+      peer_preset = argv[++i];
+    else {
+      std::fprintf(stderr,
+                   "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
+                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only]\n");
+      return 2;
+    }
+  }
+  Material m;
+  if (!gv_dir.empty()) {
+    auto files = list_frame_files(gv_dir, ".exr");
+    if (!files.is_ok() || files->empty()) {
+      std::fprintf(stderr, "%s: no frame_NNNNNN.exr files\n", gv_dir.c_str());
+      return 1;
+    }
+    for (const auto& f : *files) m.frames.push_back(read_geometry_image_exr(f.path).value());
+  } else {
+    auto frames = testing::make_ict_face_video(ict, vo);
+    if (!frames.is_ok()) {
+      std::fprintf(stderr, "%s\n", frames.status().message().c_str());
+      return 1;
+    }
+    m.frames = std::move(frames).value();
+  }
+  auto info = codec::make_sequence_info(m.frames, 16, vo.fps);
+  if (!info.is_ok()) {
+    std::fprintf(stderr, "%s\n", info.status().message().c_str());
+    return 1;
+  }
+  m.info = *info;
+  m.vertices = static_cast<double>(m.info.domain_pixels());
+  m.peak = m.info.box_diagonal_mm();
+  std::printf(
+      "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm, 16-bit step "
+      "%.5f mm; gvid: I frame every %d, P frames between, fast preset\n",
+      gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
+      m.frames.size(), m.vertices, m.peak, m.info.step_mm(), gop);
+
+  EncoderOptions base;
+  base.preset = Preset::kFast;
+  base.intra_period = gop;
+  const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
+
+  if (rate_only) {
+    report_rate_and_threads(m, base);
+    return 0;
+  }
+  // Value-domain prediction.
+  print_header();
+  std::vector<std::vector<RdPoint>> vp_curves;
+  const ValuePrediction modes[4] = {ValuePrediction::kNone, ValuePrediction::kOffset,
+                                    ValuePrediction::kWeighted, ValuePrediction::kAffine};
+  for (ValuePrediction mode : modes) {
+    EncoderOptions o = base;
+    o.value_prediction = mode;
+    vp_curves.push_back(
+        qp_curve(m, o, std::string("value prediction ") + value_prediction_name(mode), qps));
+  }
+  std::vector<double> lossless_bpv;
+  for (ValuePrediction mode : modes) {
+    EncoderOptions o = base;
+    o.lossless = true;
+    o.value_prediction = mode;
+    const Run r = run_ours(m, o);
+    print_row(std::string("lossless, value prediction ") + value_prediction_name(mode), "-", r);
+    lossless_bpv.push_back(r.point.rate);
+  }
+
+  // Temporal-difference prediction off (everything else as the "none" curve).
+  EncoderOptions no_td = base;
+  no_td.td_prediction = false;
+  const std::vector<RdPoint> no_td_curve = qp_curve(m, no_td, "TD prediction off", qps);
+  no_td.lossless = true;
+  const Run no_td_lossless = run_ours(m, no_td);
+  print_row("lossless, TD prediction off", "-", no_td_lossless);
+
+  // P-frame QP offsets.
+  std::vector<std::vector<RdPoint>> pqp_curves;
+  const int kOffsets[4] = {0, 3, 9, 12};  // the default, 6, is the "none" curve above
+  for (int off : kOffsets) {
+    EncoderOptions o = base;
+    o.p_qp_offset = off;
+    pqp_curves.push_back(qp_curve(m, o, "P-frame QP offset +" + std::to_string(off), qps));
+  }
+
+  // Near-lossless bounds (with affine value prediction and without).
+  std::vector<RdPoint> near_points;
+  for (double e : {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0}) {
+    EncoderOptions o = base;
+    o.max_error_mm = e;
+    const Run r = run_ours(m, o);
+    char setting[64];
+    std::snprintf(setting, sizeof setting, "E = %.2f mm (%.1f %% of lossless)", e,
+                  100.0 * r.point.rate / lossless_bpv[0]);
+    print_row("max-error-mm", setting, r);
+    if (r.max_mm > e) std::printf("BOUND VIOLATED: %.5f > %.5f mm\n", r.max_mm, e);
+    near_points.push_back(r.point);
+  }
+
+  // Per-plane QP offsets.
+  std::vector<std::vector<RdPoint>> plane_curves;
+  const int offsets[2][3] = {{0, 0, 3}, {3, 3, 0}};
+  for (const auto& off : offsets) {
+    EncoderOptions o = base;
+    for (int i = 0; i < 3; ++i) o.plane_qp_offset[i] = off[i];
+    plane_curves.push_back(qp_curve(m, o,
+                                    "plane QP offsets " + std::to_string(off[0]) + "/" +
+                                        std::to_string(off[1]) + "/" + std::to_string(off[2]),
+                                    qps));
+  }
+
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int i = 1; i < 4; ++i)
+    print_bd(std::string("value prediction ") + value_prediction_name(modes[i]) + " vs none",
+             vp_curves[0], vp_curves[i]);
+  print_bd("TD prediction on vs off", no_td_curve, vp_curves[0]);
+  print_bd("P-frame QP offset +6 (default) vs 0", pqp_curves[0], vp_curves[0]);
+  for (int i = 1; i < 4; ++i)
+    print_bd("P-frame QP offset +" + std::to_string(kOffsets[i]) + " vs 0", pqp_curves[0],
+             pqp_curves[i]);
+  print_bd("max-error-mm (near-lossless) vs QP curve", vp_curves[0], near_points);
+  print_bd("plane QP offsets 0/0/+3 vs none", vp_curves[0], plane_curves[0]);
+  print_bd("plane QP offsets +3/+3/0 vs none", vp_curves[0], plane_curves[1]);
+
+  report_rate_and_threads(m, base);
+
+  if (peers) {
+    print_header();
+    const std::string keyint = std::to_string(gop);
+    const auto sweep = [&](const std::string& name, PeerConfig config, const std::string& key,
+                           const std::string& params, const std::vector<int>& peer_qps) {
+      std::vector<RdPoint> points;
+      for (int qp : peer_qps) {
+        PeerConfig c = config;
+        c.options.push_back({key, params + ":qp=" + std::to_string(qp)});
+        auto r = run_peer_config(m, c);
+        if (!r) break;
+        print_row(name, "qp " + std::to_string(qp), *r);
+        points.push_back(r->point);
+      }
+      return points;
+    };
+    PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
+    x265.gop = gop;
+    x265.bframes = 1;
+    const auto x265_points =
+        sweep("x265 12-bit 4:4:4, I" + keyint + " IPBPB ref 5, " + peer_preset, x265, "x265-params",
+              "log-level=error:keyint=" + keyint + ":bframes=1:ref=5", {0, 4, 8, 12, 16, 20, 24});
+    PeerConfig x264{"libx264", "yuv444p10le", 10, {{"preset", peer_preset}, {"tune", "psnr"}}};
+    x264.gop = gop;
+    x264.bframes = 1;
+    const auto x264_points =
+        sweep("x264 10-bit 4:4:4, I" + keyint + " IPBPB ref 5, " + peer_preset, x264, "x264-params",
+              "keyint=" + keyint + ":bframes=1:ref=5", {0, 8, 16, 24});
+    PeerConfig ffv1{"ffv1", "gbrp16le", 16, {{"level", "3"}, {"context", "1"}}};
+    if (auto r = run_peer_config(m, ffv1)) {
+      print_row("FFV1 16-bit gbrp16le lossless (level 3, context 1)", "-", *r);
+      std::printf(
+          "\ngvid lossless vs FFV1: %.3fx (TD on, value prediction none), %.3fx (TD on, affine), "
+          "%.3fx (TD off)\n",
+          lossless_bpv[0] / r->point.rate, lossless_bpv[3] / r->point.rate,
+          no_td_lossless.point.rate / r->point.rate);
+    }
+    std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
+    print_bd("gvid fast (value prediction none) vs x265", x265_points, vp_curves[0]);
+    print_bd("gvid fast (value prediction affine) vs x265", x265_points, vp_curves[3]);
+    print_bd("gvid fast (value prediction none) vs x264", x264_points, vp_curves[0]);
+  }
+  return 0;
+}
