@@ -176,6 +176,10 @@ void run(const MapCommandOptions& o) {
     f["unmapped_pixels"] = m.unmapped_pixels;
     f["interior_extrema"] = m.interior_extrema;
     f["boundary_nonmonotone"] = m.boundary_nonmonotone;
+    if (o.method == "eip") {
+      f["untangled_vertices"] = m.st_untangled;
+      f["cut_method"] = m.cut_method;
+    }
     if (!m.warnings.empty()) f["warnings"] = m.warnings;
     if (!first) first = &r;
     const auto key =

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "gvkit/facemap/map_metrics.hpp"
 #include "gvkit/facemap/triangle_locator.hpp"
@@ -94,6 +95,12 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   out.interior_extrema = flow.field_report.interior_extrema;
   out.boundary_nonmonotone = flow.boundary_nonmonotone;
   out.st_flipped = flow.flipped;
+  out.st_untangled = flow.untangled_vertices;
+  out.cut_method = annulus.cut_method;
+  if (annulus.pinch_faces_removed > 0)
+    out.warnings.push_back(std::to_string(annulus.pinch_faces_removed) +
+                           " faces removed around boundary pinches (a hole touching the rim or "
+                           "another hole at one vertex)");
   const TriSurface& s = annulus.surface;
 
   std::vector<Eigen::Vector2d> st_corners(3 * s.n_triangles());

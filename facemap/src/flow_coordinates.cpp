@@ -6,6 +6,101 @@
 
 namespace gvkit::facemap {
 
+namespace {
+
+// Signed area of triangle k in (s, t).
+double st_area(const TriSurface& s, const std::vector<double>& t,
+               const std::vector<double>& corner_s, int k) {
+  const auto& tri = s.triangles[k];
+  const double s0 = corner_s[3 * k], t0 = t[tri[0]];
+  return (corner_s[3 * k + 1] - s0) * (t[tri[2]] - t0) -
+         (corner_s[3 * k + 2] - s0) * (t[tri[1]] - t0);
+}
+
+int majority_sign(const TriSurface& s, const std::vector<double>& t,
+                  const std::vector<double>& corner_s) {
+  int positive = 0, negative = 0;
+  for (int k = 0; k < s.n_triangles(); ++k) {
+    const double a = st_area(s, t, corner_s, k);
+    positive += a > 0, negative += a < 0;
+  }
+  return positive >= negative ? 1 : -1;
+}
+
+}  // namespace
+
+int count_flipped(const TriSurface& s, const std::vector<double>& t,
+                  const std::vector<double>& corner_s) {
+  const int sign = majority_sign(s, t, corner_s);
+  int flipped = 0;
+  for (int k = 0; k < s.n_triangles(); ++k) flipped += !(sign * st_area(s, t, corner_s, k) > 0);
+  return flipped;
+}
+
+int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixed,
+                              std::vector<double>* t, std::vector<double>* corner_s,
+                              int max_rounds) {
+  const int n = s.n_vertices();
+  const int sign = majority_sign(s, *t, *corner_s);
+  auto is_flipped = [&](int k) { return !(sign * st_area(s, *t, *corner_s, k) > 0); };
+  std::vector<std::vector<int>> corners(n);  // per vertex: its corners 3k + j
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) corners[s.triangles[k][j]].push_back(3 * k + j);
+  std::vector<char> in_region(n, 0);
+  std::vector<int> region;
+  auto add_free_corners_of = [&](int k) {
+    for (int j = 0; j < 3; ++j) {
+      const int v = s.triangles[k][j];
+      if (fixed[v] != 1 && !in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+  };
+  for (int k = 0; k < s.n_triangles(); ++k)
+    if (is_flipped(k)) add_free_corners_of(k);
+  if (region.empty()) return 0;
+  for (int round = 0; round < max_rounds; ++round) {
+    // Gauss-Seidel sweeps of the uniform (Tutte) Laplacian over the region, s unwrapped per
+    // vertex: a corner's s is the vertex's s plus a whole number of periods.
+    for (int sweep = 0; sweep < 100; ++sweep)
+      for (int v : region) {
+        const int c0 = corners[v][0];
+        const double sv = (*corner_s)[c0];
+        double sum_s = 0, sum_t = 0;
+        int count = 0;
+        const bool slides = fixed[v] == 2;
+        for (int c : corners[v]) {
+          const int k = c / 3, j = c % 3;
+          const double offset = std::round((*corner_s)[c] - sv);
+          for (int m = 1; m < 3; ++m) {
+            const int w = s.triangles[k][(j + m) % 3];
+            // A sliding vertex moves along its boundary: only its boundary neighbours count.
+            if (slides && fixed[w] != 2) continue;
+            sum_s += (*corner_s)[3 * k + (j + m) % 3] - offset;
+            sum_t += (*t)[w];
+            ++count;
+          }
+        }
+        if (count == 0) continue;
+        const double new_s = sum_s / count;
+        for (int c : corners[v]) (*corner_s)[c] = new_s + std::round((*corner_s)[c] - sv);
+        if (!slides) (*t)[v] = sum_t / count;
+      }
+    std::vector<int> flipped;
+    for (int k = 0; k < s.n_triangles(); ++k)
+      if (is_flipped(k)) flipped.push_back(k);
+    if (flipped.empty()) break;
+    // Grow the region by two rings around what is still flipped.
+    for (int ring = 0; ring < 2; ++ring) {
+      std::vector<int> around;
+      for (int k : flipped)
+        for (int j = 0; j < 3; ++j)
+          for (int c : corners[s.triangles[k][j]]) around.push_back(c / 3);
+      for (int k : around) add_free_corners_of(k);
+      flipped = std::move(around);
+    }
+  }
+  return static_cast<int>(region.size());
+}
+
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u) {
   const TriSurface& s = annulus.surface;
@@ -108,16 +203,12 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
       double& cs = out.corner_s[3 * k + j];
       cs = uv + std::round(cs - uv);
     }
-  int positive = 0, negative = 0;
-  for (int k = 0; k < s.n_triangles(); ++k) {
-    const auto& tri = s.triangles[k];
-    const double s0 = out.corner_s[3 * k], t0 = out.t[tri[0]];
-    const double a = (out.corner_s[3 * k + 1] - s0) * (out.t[tri[2]] - t0) -
-                     (out.corner_s[3 * k + 2] - s0) * (out.t[tri[1]] - t0);
-    if (a > 0) ++positive;
-    if (a < 0) ++negative;
-  }
-  out.flipped = s.n_triangles() - std::max(positive, negative);
+  // The inner boundary's s is the boundary correspondence; the outer boundary's s is free.
+  std::vector<char> on_boundary(n, 0);
+  for (int v : annulus.outer_loop) on_boundary[v] = 2;
+  for (int v : annulus.inner_loop) on_boundary[v] = 1;
+  out.untangled_vertices = untangle_flow_coordinates(s, on_boundary, &out.t, &out.corner_s);
+  out.flipped = count_flipped(s, out.t, out.corner_s);
   return out;
 }
 

@@ -26,7 +26,26 @@ struct FlowCoordinates {
   HarmonicFieldReport field_report;
   int boundary_nonmonotone = 0;  // inner-boundary steps where psi did not increase
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
+  // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
+  int untangled_vertices = 0;
 };
+
+// Triangles whose (s, t) image has the minority orientation or zero area.
+int count_flipped(const TriSurface& surface, const std::vector<double>& t,
+                  const std::vector<double>& corner_s);
+
+// Removes flips of the discrete flow coordinates: the vertices of flipped triangles move to the
+// mean of their neighbours in (s, t) (a local Tutte embedding with the region's surroundings
+// fixed), the region growing by one ring per round while flips remain. fixed per vertex: 0 free,
+// 1 fixed, 2 on a boundary of constant t whose s may slide (it moves to the mean s of its
+// boundary neighbours; an edge joining two such vertices must be a boundary edge).
+// The discrete conjugate is not exactly orthogonal to f where triangles are obtuse or slivers,
+// and the conjugate is not monotone along the rim where the flow converges onto it; both flip a
+// few triangles, which this moves by a fraction of a triangle. Returns the number of vertices
+// moved.
+int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>& fixed,
+                              std::vector<double>* t, std::vector<double>* corner_s,
+                              int max_rounds = 30);
 
 // key_u: canonical boundary parameter of every key of annulus (from the canonical domain); the
 // names must match annulus.key_names() exactly. Empty: plain arc length from keys[0].
