@@ -202,6 +202,27 @@ void run(const MapCommandOptions& o) {
     if (o.same_vertices && first != &r && first->positions.size() == r.positions.size()) {
       const auto td = facemap::true_surface_drift(*first->mapped, m, r.positions);
       f["true_drift_mm"] = drift_json(td);
+      if (domain) {
+        // RMS drift per band of t (0 at the rim, 1 at the eyes, mouth and cuts).
+        std::array<double, 4> sum2{};
+        std::array<int, 4> count{};
+        for (size_t p = 0; p < m.pixel_source.size(); ++p) {
+          const auto& a = first->mapped->pixel_source[p];
+          const auto& b = m.pixel_source[p];
+          if (a.empty() || b.empty()) continue;
+          cv::Vec3d pa(0, 0, 0), pb(0, 0, 0);
+          for (const auto& w : a) pa += w.weight * r.positions[w.vertex];
+          for (const auto& w : b) pb += w.weight * r.positions[w.vertex];
+          const double t =
+              domain->st(static_cast<int>(p) % size.width, static_cast<int>(p) / size.width).y();
+          const int band = std::clamp(static_cast<int>(t * 4), 0, 3);
+          sum2[band] += cv::norm(pa - pb) * cv::norm(pa - pb);
+          ++count[band];
+        }
+        nlohmann::json bands = nlohmann::json::array();
+        for (int k = 0; k < 4; ++k) bands.push_back(count[k] ? std::sqrt(sum2[k] / count[k]) : 0.0);
+        f["true_drift_rms_mm_by_t_quarter"] = bands;
+      }
       sum_true += td.rms * td.rms;
       ++n_true;
     }

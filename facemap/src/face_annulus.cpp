@@ -299,67 +299,117 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
   if (lip == key_vertex[60] || lip == key_vertex[64])
     return failed_precondition("landmark 62 lands on a mouth corner of the mouth boundary");
 
-  // c: from the left inner eye corner (42) to the right one (39).
-  std::vector<SurfacePoint> c_points;
-  if (edge_paths) {
-    GVKIT_ASSIGN_OR_RETURN(c_points, shortest_edge_path(cm.mesh, key_vertex[42], key_vertex[39],
-                                                        boundary_flags(), {}, "c"));
-  } else {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
-    std::vector<char> is_39(cm.mesh.n_vertices(), 0);
-    is_39[key_vertex[39].idx()] = 1;
-    GVKIT_ASSIGN_OR_RETURN(
-        c_points, trace_cut(cm.mesh, to_39, key_vertex[42], is_39,
-                            loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]),
-                            loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]),
-                            options.path, options.slide_along_start));
-  }
-  GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c_points, {}, {}, "c"));
-  std::vector<Mesh::VertexHandle> c = insert_path(cm, c_points);
-  if (c.size() < 2) return failed_precondition("face annulus: the cut between the eyes is empty");
-  // Where the trimmed cut meets the eyes is where the keys 42 and 39 are from now on.
-  key_vertex[42] = c.front();
-  key_vertex[39] = c.back();
+  // The interior vertex nearest to a landmark, off the flagged vertices (none when empty).
+  auto nearest_interior = [&](int landmark, const std::vector<char>& avoid) {
+    const cv::Vec3f& q = landmarks.points_mm[landmark];
+    const Mesh::Point p(q[0], q[1], q[2]);
+    double best = std::numeric_limits<double>::infinity();
+    Mesh::VertexHandle out;
+    for (auto v : cm.mesh.vertices()) {
+      if (cm.mesh.is_boundary(v) || (!avoid.empty() && avoid[v.idx()])) continue;
+      const double dd = (cm.mesh.point(v) - p).sqrnorm();
+      if (dd < best) best = dd, out = v;
+    }
+    return out;
+  };
+  const std::vector<char> no_loop(cm.mesh.n_vertices(), 0);
+  const std::vector<char> left_eye =
+      loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]);
+  const std::vector<char> right_eye =
+      loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]);
 
-  // The middle of c by arc length: an existing path vertex, or a split of the edge there.
-  std::vector<double> arc(c.size(), 0.0);
-  for (size_t i = 1; i < c.size(); ++i)
-    arc[i] = arc[i - 1] + (cm.mesh.point(c[i]) - cm.mesh.point(c[i - 1])).norm();
-  const double half = 0.5 * arc.back();
-  size_t seg = 0;
-  while (seg + 2 < c.size() && arc[seg + 1] < half) ++seg;
-  const double seg_len = arc[seg + 1] - arc[seg];
-  const double t = seg_len > 0 ? (half - arc[seg]) / seg_len : 0.5;
+  // c: from the left inner eye corner (42) to the right one (39), through the top of the nose
+  // bridge (27) unless c_through_nose_bridge is off.
+  std::vector<Mesh::VertexHandle> c;
   Mesh::VertexHandle mid;
   size_t mid_index = 0;
-  if (t < 0.25 && seg > 0) {
-    mid = c[seg], mid_index = seg;
-  } else if (t > 0.75 && seg + 2 < c.size()) {
-    mid = c[seg + 1], mid_index = seg + 1;
+  if (options.c_through_nose_bridge) {
+    const Mesh::VertexHandle bridge = nearest_interior(27, {});
+    if (!bridge.is_valid()) return failed_precondition("face annulus: no vertex for landmark 27");
+    std::vector<SurfacePoint> c1_points, c2_points;
+    if (edge_paths) {
+      GVKIT_ASSIGN_OR_RETURN(c1_points, shortest_edge_path(cm.mesh, key_vertex[42], bridge,
+                                                           boundary_flags(), {}, "c (from 42)"));
+    } else {
+      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_bridge, distance(cm.mesh, {bridge}));
+      std::vector<char> is_bridge(cm.mesh.n_vertices(), 0);
+      is_bridge[bridge.idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(
+          c1_points, trace_cut(cm.mesh, to_bridge, key_vertex[42], is_bridge, left_eye, no_loop,
+                               options.path, options.slide_along_start));
+    }
+    GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c1_points, {}, {}, "c (from 42)"));
+    c = insert_path(cm, c1_points);
+    if (c.size() < 2) return failed_precondition("face annulus: the cut from 42 is empty");
+    const std::vector<char> on_c1 = flags_of(cm.mesh, c);
+    if (edge_paths) {
+      std::vector<char> blocked = boundary_flags();
+      for (size_t i = 0; i < blocked.size(); ++i) blocked[i] |= on_c1[i];
+      GVKIT_ASSIGN_OR_RETURN(
+          c2_points, shortest_edge_path(cm.mesh, bridge, key_vertex[39], blocked, {}, "c (to 39)"));
+    } else {
+      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
+      std::vector<char> is_39(cm.mesh.n_vertices(), 0);
+      is_39[key_vertex[39].idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(
+          c2_points, trace_cut(cm.mesh, to_39, bridge, is_39, {}, right_eye, options.path, false));
+    }
+    GVKIT_RETURN_IF_ERROR(
+        check_path(cm.mesh, c2_points, on_c1, edges_of(cm.mesh, {&c}), "c (to 39)"));
+    const std::vector<Mesh::VertexHandle> c2 = insert_path(cm, c2_points);
+    if (c2.size() < 2) return failed_precondition("face annulus: the cut to 39 is empty");
+    mid = bridge;
+    mid_index = c.size() - 1;
+    c.insert(c.end(), c2.begin() + 1, c2.end());
+    key_vertex[42] = c.front();
+    key_vertex[39] = c.back();
   } else {
-    const auto h = cm.mesh.find_halfedge(c[seg], c[seg + 1]);
-    GVKIT_CHECK(h.is_valid(), "consecutive path vertices share an edge");
-    mid = split_edge_at(cm, h, t);
-    c.insert(c.begin() + static_cast<std::ptrdiff_t>(seg) + 1, mid);
-    mid_index = seg + 1;
+    std::vector<SurfacePoint> c_points;
+    if (edge_paths) {
+      GVKIT_ASSIGN_OR_RETURN(c_points, shortest_edge_path(cm.mesh, key_vertex[42], key_vertex[39],
+                                                          boundary_flags(), {}, "c"));
+    } else {
+      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
+      std::vector<char> is_39(cm.mesh.n_vertices(), 0);
+      is_39[key_vertex[39].idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(c_points,
+                             trace_cut(cm.mesh, to_39, key_vertex[42], is_39, left_eye, right_eye,
+                                       options.path, options.slide_along_start));
+    }
+    GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c_points, {}, {}, "c"));
+    c = insert_path(cm, c_points);
+    if (c.size() < 2) return failed_precondition("face annulus: the cut between the eyes is empty");
+    // Where the trimmed cut meets the eyes is where the keys 42 and 39 are from now on.
+    key_vertex[42] = c.front();
+    key_vertex[39] = c.back();
+
+    // The middle of c by arc length: an existing path vertex, or a split of the edge there.
+    std::vector<double> arc(c.size(), 0.0);
+    for (size_t i = 1; i < c.size(); ++i)
+      arc[i] = arc[i - 1] + (cm.mesh.point(c[i]) - cm.mesh.point(c[i - 1])).norm();
+    const double half = 0.5 * arc.back();
+    size_t seg = 0;
+    while (seg + 2 < c.size() && arc[seg + 1] < half) ++seg;
+    const double seg_len = arc[seg + 1] - arc[seg];
+    const double t = seg_len > 0 ? (half - arc[seg]) / seg_len : 0.5;
+    if (t < 0.25 && seg > 0) {
+      mid = c[seg], mid_index = seg;
+    } else if (t > 0.75 && seg + 2 < c.size()) {
+      mid = c[seg + 1], mid_index = seg + 1;
+    } else {
+      const auto h = cm.mesh.find_halfedge(c[seg], c[seg + 1]);
+      GVKIT_CHECK(h.is_valid(), "consecutive path vertices share an edge");
+      mid = split_edge_at(cm, h, t);
+      c.insert(c.begin() + static_cast<std::ptrdiff_t>(seg) + 1, mid);
+      mid_index = seg + 1;
+    }
   }
   if (mid_index == 0 || mid_index + 1 >= c.size())
     return failed_precondition("face annulus: the middle of c is an end of c");
 
   // The nose tip: the vertex nearest to landmark 30 off the boundaries and off c.
-  const std::vector<char> on_c = flags_of(cm.mesh, c);
-  Mesh::VertexHandle nose;
-  {
-    const cv::Vec3f& q = landmarks.points_mm[30];
-    const Mesh::Point p(q[0], q[1], q[2]);
-    double best = std::numeric_limits<double>::infinity();
-    for (auto v : cm.mesh.vertices()) {
-      if (cm.mesh.is_boundary(v) || on_c[v.idx()]) continue;
-      const double dd = (cm.mesh.point(v) - p).sqrnorm();
-      if (dd < best) best = dd, nose = v;
-    }
-    if (!nose.is_valid()) return failed_precondition("face annulus: no vertex for the nose tip");
-  }
+  const Mesh::VertexHandle nose = nearest_interior(30, flags_of(cm.mesh, c));
+  if (!nose.is_valid()) return failed_precondition("face annulus: no vertex for the nose tip");
 
   // d, first part: from the middle of c to the nose tip, on the side of c facing the nose.
   std::vector<SurfacePoint> d1_points;
@@ -449,6 +499,32 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
   });
   a.outer_loop = loops[first_is_outer ? 0 : 1];
   a.inner_loop = loops[first_is_outer ? 1 : 0];
+  // The rim anchor: where the line from the nose tip (30) through the chin (8) leaves the face
+  // in the frontal (x, y) plane (the farthest crossing of the rim along the line).
+  {
+    const cv::Vec3f& q30 = landmarks.points_mm[30];
+    const cv::Vec3f& q8 = landmarks.points_mm[8];
+    const Eigen::Vector2d o(q30[0], q30[1]);
+    const Eigen::Vector2d dir = Eigen::Vector2d(q8[0] - q30[0], q8[1] - q30[1]).normalized();
+    const auto& loop = a.outer_loop;
+    const int m = static_cast<int>(loop.size());
+    double best_along = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < m; ++i) {
+      const Eigen::Vector2d r0 = a.surface.xyz[loop[i]].head<2>() - o;
+      const Eigen::Vector2d r1 = a.surface.xyz[loop[(i + 1) % m]].head<2>() - o;
+      const double c0 = dir.x() * r0.y() - dir.y() * r0.x(),
+                   c1 = dir.x() * r1.y() - dir.y() * r1.x();
+      if ((c0 <= 0) == (c1 <= 0) || c0 == c1) continue;
+      const double t = c0 / (c0 - c1);
+      const double along = dir.dot(r0 + t * (r1 - r0));
+      if (along > best_along)
+        best_along = along, a.rim_anchor = {loop[i], loop[(i + 1) % m]}, a.rim_anchor_t = t;
+    }
+    if (a.rim_anchor[0] < 0)
+      return failed_precondition(
+          "face annulus: the line from the nose tip (30) through the chin (8) does not meet the "
+          "rim");
+  }
 
   auto& key_uncut = a.key_vertices_uncut;
   for (int lm : kBoundaryKeyLandmarks)

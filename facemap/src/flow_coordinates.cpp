@@ -102,7 +102,8 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
 }
 
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
-                                         const std::map<std::string, double>& key_u) {
+                                         const std::map<std::string, double>& key_u,
+                                         bool rim_correspondence) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
@@ -192,6 +193,80 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   };
   out.corner_s.resize(psi.size());
   for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
+
+  // The rim's correspondence: arc length from the rim anchor, as a map of psi like phi.
+  if (rim_correspondence && annulus.rim_anchor[0] >= 0) {
+    std::vector<int> outer = annulus.outer_loop;
+    const int mo = static_cast<int>(outer.size());
+    auto psi_step = [&](int a, int b) {  // psi(b) - psi(a) in the triangle of edge a-b
+      auto it = face_of_edge.find({a, b});
+      if (it == face_of_edge.end()) it = face_of_edge.find({b, a});
+      GVKIT_CHECK(it != face_of_edge.end(), "outer loop follows boundary edges");
+      return psi[corner(it->second, b)] - psi[corner(it->second, a)];
+    };
+    double total = 0;
+    for (int i = 0; i < mo; ++i) total += psi_step(outer[i], outer[(i + 1) % mo]);
+    if (total < 0) std::reverse(outer.begin(), outer.end());
+    // Rotate so the anchor lies on the edge outer[0] -> outer[1], at fraction ta.
+    int start = -1;
+    double ta = 0;
+    for (int i = 0; i < mo && start < 0; ++i) {
+      const int a = outer[i], b = outer[(i + 1) % mo];
+      if (a == annulus.rim_anchor[0] && b == annulus.rim_anchor[1])
+        start = i, ta = annulus.rim_anchor_t;
+      else if (a == annulus.rim_anchor[1] && b == annulus.rim_anchor[0])
+        start = i, ta = 1.0 - annulus.rim_anchor_t;
+    }
+    GVKIT_CHECK(start >= 0, "the rim anchor lies on the outer loop");
+    std::rotate(outer.begin(), outer.begin() + start, outer.end());
+    std::vector<double> len(mo), opsi(mo + 1, 0.0);
+    double length = 0;
+    for (int i = 0; i < mo; ++i) {
+      len[i] = (s.xyz[outer[(i + 1) % mo]] - s.xyz[outer[i]]).norm();
+      length += len[i];
+      opsi[i + 1] = opsi[i] + std::max(psi_step(outer[i], outer[(i + 1) % mo]), 1e-9);
+    }
+    for (double& x : opsi) x /= opsi[mo];
+    // Table from the anchor: relative psi -> rim parameter, both over [0, 1].
+    const double psi_anchor_rel = ta * opsi[1];
+    std::vector<double> tx = {0.0}, tu = {0.0};
+    double arc_acc = (1.0 - ta) * len[0];
+    for (int j = 1; j <= mo; ++j) {
+      tx.push_back(opsi[j] - psi_anchor_rel);
+      tu.push_back(arc_acc / length);
+      if (j < mo) arc_acc += len[j];
+    }
+    tx.push_back(1.0), tu.push_back(1.0);
+    // Absolute psi of the anchor: psi at outer[0] in the triangle of the first edge.
+    auto it = face_of_edge.find({outer[0], outer[1 % mo]});
+    if (it == face_of_edge.end()) it = face_of_edge.find({outer[1 % mo], outer[0]});
+    const double psi0 = psi[corner(it->second, outer[0])] + ta * psi_step(outer[0], outer[1 % mo]);
+    auto phi_rim = [&](double x) {
+      const double y0 = x - psi0;
+      const double shift = std::floor(y0);
+      const double y = y0 - shift;
+      auto hi_it = std::upper_bound(tx.begin(), tx.end(), y);
+      const int hi =
+          std::clamp(static_cast<int>(hi_it - tx.begin()), 1, static_cast<int>(tx.size()) - 1);
+      const int lo = hi - 1;
+      const double w = tx[hi] > tx[lo] ? (y - tx[lo]) / (tx[hi] - tx[lo]) : 0.0;
+      return tu[lo] + std::clamp(w, 0.0, 1.0) * (tu[hi] - tu[lo]) + shift;
+    };
+    // The whole number of periods between the two maps that keeps them closest.
+    double mean_diff = 0;
+    for (int k = 0; k < 64; ++k) {
+      const double x = psi0 + (k + 0.5) / 64;
+      mean_diff += (phi(x) - phi_rim(x)) / 64;
+    }
+    const double periods = std::round(mean_diff);
+    for (int k = 0; k < s.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j) {
+        const double w = out.t[s.triangles[k][j]];
+        const double x = psi[3 * k + j];
+        out.corner_s[3 * k + j] = (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
+      }
+    out.rim_correspondence = true;
+  }
   // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to
   // whole periods), which removes solver round-off there.
   std::vector<double> boundary_u(n, std::numeric_limits<double>::quiet_NaN());

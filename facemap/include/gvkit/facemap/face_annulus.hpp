@@ -3,12 +3,14 @@
 // eyes and the geodesic d from the middle of c to the mouth, inserted into the mesh and cut open,
 // which turns the 4-boundary face into an annulus: outer boundary = rim, inner boundary = eyes,
 // mouth and both sides of c and d. c runs between the inner eye corners (landmarks 39 and 42
-// projected onto the eye boundaries), so c ends at the same features in every frame; d runs
+// projected onto the eye boundaries) over the top of the nose bridge (landmark 27, c's middle),
+// so c ends and bends at the same features in every frame; d runs
 // from the middle of c over the nose tip (landmark 30, the key "30") down to the middle of the
 // upper lip (landmark 62 projected onto the mouth boundary; d ends where it first meets the
 // mouth boundary, the key "d_end"), so d follows the nose line in every frame instead of
 // passing the nose on whichever side is shorter in this frame.
 
+#include <array>
 #include <functional>
 #include <string>
 #include <utility>
@@ -40,6 +42,10 @@ struct FaceAnnulusOptions {
   // Trace the cuts as descent paths (else directly as shortest edge paths), and fall back to
   // shortest edge paths when the descent paths do not give an annulus.
   bool descent_paths = true;
+  // c runs 42 -> 27 -> 39, through the top of the nose bridge, whose vertex is c's middle (the
+  // key c_mid); off: one geodesic 42 -> 39 and its middle by arc length (the seed's wording),
+  // whose route and middle move between frames where the nose bridge is a flat saddle.
+  bool c_through_nose_bridge = true;
   bool edge_path_fallback = true;
   Status check() const;
 };
@@ -56,6 +62,11 @@ struct FaceAnnulus {
   std::vector<int> outer_loop;    // surface vertices, boundary order
   std::vector<int> inner_loop;    // surface vertices, boundary order, starting at the anchor key
   std::vector<BoundaryKey> keys;  // in inner-loop order; keys[0] is "36#0" at position 0
+  // The rim's anchor: the point at rim_anchor_t along the outer-loop edge rim_anchor[0] ->
+  // rim_anchor[1] (surface vertices) where the line from the nose tip (30) through the chin (8)
+  // leaves the face in the frontal (x, y) plane; the origin of the rim's arc length.
+  std::array<int, 2> rim_anchor = {-1, -1};
+  double rim_anchor_t = 0;
   // How the cuts were traced: "descent" (straight lines across triangles down the geodesic
   // distance) or "edge_path" (shortest edge paths with the boundaries and earlier cuts as
   // barriers: the fallback when a descent path touches a boundary, crosses itself or the other

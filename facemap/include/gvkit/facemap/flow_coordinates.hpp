@@ -24,7 +24,8 @@ struct FlowCoordinates {
   std::vector<double> corner_s;
   std::map<std::string, double> key_u;  // boundary parameter of each key
   HarmonicFieldReport field_report;
-  int boundary_nonmonotone = 0;  // inner-boundary steps where psi did not increase
+  int boundary_nonmonotone = 0;     // inner-boundary steps where psi did not increase
+  bool rim_correspondence = false;  // s blended with the rim's arc length (see below)
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
   // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
   int untangled_vertices = 0;
@@ -49,7 +50,15 @@ int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>
 
 // key_u: canonical boundary parameter of every key of annulus (from the canonical domain); the
 // names must match annulus.key_names() exactly. Empty: plain arc length from keys[0].
+// rim_correspondence (used when the annulus has a rim anchor): s is blended between the inner
+// boundary's correspondence (weight t) and the rim's arc length from its anchor (weight 1 - t),
+// both as monotone maps of psi, so every level set of f still maps one to one onto a line of
+// constant t: eyes, mouth and cuts land exactly where h puts them, the rim lands by arc length
+// like the harmonic map's. Off: s on the rim is wherever the integral curves arrive, which
+// slides by up to 17 mm along the chin when the jaw opens (the capacity of the mouth hole
+// changes the flux distribution of grad f).
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
-                                         const std::map<std::string, double>& key_u = {});
+                                         const std::map<std::string, double>& key_u = {},
+                                         bool rim_correspondence = true);
 
 }  // namespace gvkit::facemap
