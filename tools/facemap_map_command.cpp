@@ -34,7 +34,7 @@ namespace fs = std::filesystem;
 using facemap::MappedFace;
 
 struct MapCommandOptions {
-  std::string faces, output, size = "320x320", method = "eip", domain;
+  std::string faces, output, size = "320x320", method = "eip", domain, rim = "arclength";
   int threads = 0;
   bool same_vertices = false;
   bool png = false;
@@ -91,6 +91,8 @@ void run(const MapCommandOptions& o) {
   const cv::Size size = value_or_throw(parse_size(o.size));
   if (o.method != "eip" && o.method != "hm")
     throw CommandFailed(invalid_argument("--method must be eip or hm, got '" + o.method + "'"));
+  if (o.rim != "arclength" && o.rim != "flow")
+    throw CommandFailed(invalid_argument("--rim must be arclength or flow, got '" + o.rim + "'"));
   if (o.threads < 0) throw CommandFailed(invalid_argument("--threads must be >= 0"));
   const auto meshes = value_or_throw(list_frame_files(o.faces, ".ply"));
   if (meshes.empty()) throw CommandFailed(not_found(o.faces + ": no frame_NNNNNN.ply files"));
@@ -101,7 +103,7 @@ void run(const MapCommandOptions& o) {
     const auto spec = o.domain.empty()
                           ? value_or_throw(facemap::CanonicalDomainSpec::load_default())
                           : value_or_throw(facemap::CanonicalDomainSpec::read(o.domain));
-    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size));
+    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, o.rim == "arclength"));
   }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
@@ -259,6 +261,7 @@ void run(const MapCommandOptions& o) {
                                  {{"faces", o.faces},
                                   {"size", o.size},
                                   {"method", o.method},
+                                  {"rim", o.rim},
                                   {"domain", o.domain},
                                   {"threads", o.threads},
                                   {"same_vertices", o.same_vertices},
@@ -283,6 +286,10 @@ void add_facemap_map_command(CLI::App& app) {
       ->required();
   cmd->add_option("--size", o->size, "Geometry image size WxH")->capture_default_str();
   cmd->add_option("--method", o->method, "eip (expression-invariant) or hm (harmonic map)")
+      ->capture_default_str();
+  cmd->add_option("--rim", o->rim,
+                  "EIP rim correspondence: arclength (s blended with the rim's arc length from "
+                  "the nose-chin anchor) or flow (s where the integral curves arrive, the seed's)")
       ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();

@@ -140,7 +140,8 @@ Result<CanonicalDomainSpec> CanonicalDomainSpec::load_default() {
   return read(std::filesystem::path(GVKIT_FACEMAP_DATA_DIR) / "canonical_domain_v1.json");
 }
 
-Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec, cv::Size size) {
+Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec, cv::Size size,
+                                                bool rim_correspondence) {
   const std::string name =
       "canonical domain " + std::to_string(size.width) + "x" + std::to_string(size.height);
   if (size.width < 16 || size.height < 16)
@@ -224,7 +225,7 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.slide_along_start = true;
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
-  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_));
+  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim_correspondence));
 
   const TriSurface& s = d.annulus_.surface;
   d.st_.assign(size.area(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
