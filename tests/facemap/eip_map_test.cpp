@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "gvkit/core/ict_face_model.hpp"
+#include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
 #include "gvkit/facemap/map_metrics.hpp"
@@ -166,6 +167,45 @@ TEST(EipMap, CutsFallBackToEdgePathsWhenTheDescentFails) {
   EXPECT_EQ(annulus->cut_method, "edge_path");
   EXPECT_EQ(annulus->key_names(), domain.key_names());
   EXPECT_EQ(tri_surface_boundary_loops(annulus->surface).size(), 2u);
+}
+
+// The main job's "3 boundary loops": a hole touching the rim at one vertex (a pinch, which
+// OpenMesh counts as a separate loop but cutting separates). Here the fan of an interior vertex
+// next to exactly one rim vertex is removed; the map opens the pinch and maps the frame.
+TEST(EipMap, HoleTouchingTheRimAtOneVertexIsOpened) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({});
+  Mesh mesh = model.face_mesh(pos);
+  const FaceLandmarks landmarks = ict_landmarks(model, pos);
+  const auto loops = boundary_loops(mesh);  // longest first: the rim
+  std::vector<char> rim(mesh.n_vertices(), 0);
+  for (auto v : loops[0]) rim[v.idx()] = 1;
+  Mesh::VertexHandle chosen;
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_boundary(v)) continue;
+    int rim_neighbours = 0, boundary_neighbours = 0;
+    for (auto w : mesh.vv_range(v))
+      rim_neighbours += rim[w.idx()], boundary_neighbours += mesh.is_boundary(w);
+    if (rim_neighbours != 1 || boundary_neighbours != 1) continue;
+    bool isolated_touch = true;  // the faces at the rim edge have no other boundary vertex
+    for (auto f : mesh.vf_range(v))
+      for (auto w : mesh.fv_range(f))
+        if (w != v && mesh.is_boundary(w))
+          for (auto x : mesh.fv_range(f)) isolated_touch &= x == w || !mesh.is_boundary(x);
+    if (isolated_touch && mesh.point(v)[1] < pos[model.landmark_vertices()[8]][1]) {
+      chosen = v;
+      break;
+    }
+  }
+  ASSERT_TRUE(chosen.is_valid());
+  std::vector<Mesh::FaceHandle> fan(mesh.vf_range(chosen).begin(), mesh.vf_range(chosen).end());
+  for (auto f : fan) mesh.delete_face(f, false);
+  mesh.garbage_collection();
+  auto mapped = map_face_eip(mesh, landmarks, domain, heat_geodesic_distance());
+  ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
+  ASSERT_FALSE(mapped->warnings.empty());
+  EXPECT_NE(mapped->warnings[0].find("pinches"), std::string::npos) << mapped->warnings[0];
+  EXPECT_EQ(mapped->st_flipped, 0);
 }
 
 TEST(EipMap, BadInputIsRejectedWithAReason) {
