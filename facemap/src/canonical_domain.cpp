@@ -34,14 +34,16 @@ Result<std::vector<cv::Point2d>> points_from_json(const nlohmann::json& j,
 
 }  // namespace
 
-Result<std::vector<double>> euclidean_distance(const Mesh& mesh,
-                                               const std::vector<Mesh::VertexHandle>& sources) {
-  std::vector<double> d(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+Result<std::vector<std::vector<double>>> euclidean_distance(
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources) {
+  std::vector<std::vector<double>> out;
   for (auto s : sources) {
     const Mesh::Point p = mesh.point(s);
-    for (auto v : mesh.vertices()) d[v.idx()] = std::min(d[v.idx()], (mesh.point(v) - p).norm());
+    std::vector<double> d(mesh.n_vertices());
+    for (auto v : mesh.vertices()) d[v.idx()] = (mesh.point(v) - p).norm();
+    out.push_back(std::move(d));
   }
-  return d;
+  return out;
 }
 
 Result<CanonicalDomainSpec> CanonicalDomainSpec::from_ict(const IctFaceModel& model) {

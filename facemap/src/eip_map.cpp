@@ -10,15 +10,18 @@
 namespace gvkit::facemap {
 
 DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
-  return [options](const Mesh& mesh,
-                   const std::vector<Mesh::VertexHandle>& sources) -> Result<std::vector<double>> {
+  return [options](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources)
+             -> Result<std::vector<std::vector<double>>> {
     GVKIT_RETURN_IF_ERROR(options.check());
     const HeatGeodesics heat(mesh, options);
-    std::vector<double> d = heat.distance(sources);
-    for (double x : d)
-      if (!std::isfinite(x))
-        return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
-    return d;
+    std::vector<std::vector<double>> out;
+    for (auto source : sources) {
+      out.push_back(heat.distance({source}));
+      for (double x : out.back())
+        if (!std::isfinite(x))
+          return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
+    }
+    return out;
   };
 }
 

@@ -313,6 +313,20 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     return out;
   };
   const std::vector<char> no_loop(cm.mesh.n_vertices(), 0);
+  // The points the cuts run through, and (for descent paths) their distance fields, solved once
+  // on the uncut mesh and carried along every edge split as linear interpolation (exact for the
+  // piecewise-linear field the descent follows).
+  const Mesh::VertexHandle bridge = nearest_interior(27, {});
+  const Mesh::VertexHandle nose = nearest_interior(30, {});
+  if (!bridge.is_valid() || !nose.is_valid() || bridge == nose)
+    return failed_precondition("face annulus: no separate vertices for landmarks 27 and 30");
+  enum Field { kToBridge = 0, kTo39 = 1, kToNose = 2, kToLip = 3 };
+  if (!edge_paths) {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields,
+                           distance(cm.mesh, {bridge, key_vertex[39], nose, lip}));
+    GVKIT_CHECK(fields.size() == 4, "one distance field per source");
+    for (const auto& f : fields) cm.add_field(f);
+  }
   const std::vector<char> left_eye =
       loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]);
   const std::vector<char> right_eye =
@@ -324,14 +338,12 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
   Mesh::VertexHandle mid;
   size_t mid_index = 0;
   if (options.c_through_nose_bridge) {
-    const Mesh::VertexHandle bridge = nearest_interior(27, {});
-    if (!bridge.is_valid()) return failed_precondition("face annulus: no vertex for landmark 27");
     std::vector<SurfacePoint> c1_points, c2_points;
     if (edge_paths) {
       GVKIT_ASSIGN_OR_RETURN(c1_points, shortest_edge_path(cm.mesh, key_vertex[42], bridge,
                                                            boundary_flags(), {}, "c (from 42)"));
     } else {
-      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_bridge, distance(cm.mesh, {bridge}));
+      const std::vector<double> to_bridge = cm.field(kToBridge);
       std::vector<char> is_bridge(cm.mesh.n_vertices(), 0);
       is_bridge[bridge.idx()] = 1;
       GVKIT_ASSIGN_OR_RETURN(
@@ -348,7 +360,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
       GVKIT_ASSIGN_OR_RETURN(
           c2_points, shortest_edge_path(cm.mesh, bridge, key_vertex[39], blocked, {}, "c (to 39)"));
     } else {
-      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
+      const std::vector<double> to_39 = cm.field(kTo39);
       std::vector<char> is_39(cm.mesh.n_vertices(), 0);
       is_39[key_vertex[39].idx()] = 1;
       GVKIT_ASSIGN_OR_RETURN(
@@ -369,7 +381,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
       GVKIT_ASSIGN_OR_RETURN(c_points, shortest_edge_path(cm.mesh, key_vertex[42], key_vertex[39],
                                                           boundary_flags(), {}, "c"));
     } else {
-      GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
+      const std::vector<double> to_39 = cm.field(kTo39);
       std::vector<char> is_39(cm.mesh.n_vertices(), 0);
       is_39[key_vertex[39].idx()] = 1;
       GVKIT_ASSIGN_OR_RETURN(c_points,
@@ -408,8 +420,8 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     return failed_precondition("face annulus: the middle of c is an end of c");
 
   // The nose tip: the vertex nearest to landmark 30 off the boundaries and off c.
-  const Mesh::VertexHandle nose = nearest_interior(30, flags_of(cm.mesh, c));
-  if (!nose.is_valid()) return failed_precondition("face annulus: no vertex for the nose tip");
+  if (flags_of(cm.mesh, c)[nose.idx()])
+    return failed_precondition("face annulus: the cut c runs through the nose tip");
 
   // d, first part: from the middle of c to the nose tip, on the side of c facing the nose.
   std::vector<SurfacePoint> d1_points;
@@ -421,7 +433,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     GVKIT_ASSIGN_OR_RETURN(
         d1_points, shortest_edge_path(cm.mesh, mid, nose, blocked, side, "d (to the nose)"));
   } else {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_nose, distance(cm.mesh, {nose}));
+    const std::vector<double> to_nose = cm.field(kToNose);
     std::vector<char> is_nose(cm.mesh.n_vertices(), 0);
     is_nose[nose.idx()] = 1;
     GVKIT_ASSIGN_OR_RETURN(d1_points,
@@ -443,7 +455,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     GVKIT_ASSIGN_OR_RETURN(d2_points,
                            shortest_edge_path(cm.mesh, nose, lip, blocked, {}, "d (to the mouth)"));
   } else {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_lip, distance(cm.mesh, {lip}));
+    const std::vector<double> to_lip = cm.field(kToLip);
     std::vector<char> is_lip(cm.mesh.n_vertices(), 0);
     is_lip[lip.idx()] = 1;
     std::vector<char> is_mouth = loop_flags(cm.mesh, mouth_loop);

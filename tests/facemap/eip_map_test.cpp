@@ -145,16 +145,17 @@ TEST(EipMap, CutsFallBackToEdgePathsWhenTheDescentFails) {
   const auto bridge = mesh.point(Mesh::VertexHandle(nearest_vertices(mesh, probe)[0]));
   const cv::Vec3d pit(bridge[0], bridge[1], bridge[2]);
   const DistanceFunction heat = heat_geodesic_distance();
-  const DistanceFunction pitted =
-      [&](const Mesh& mesh,
-          const std::vector<Mesh::VertexHandle>& sources) -> Result<std::vector<double>> {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<double> d, heat(mesh, sources));
-    for (auto v : mesh.vertices()) {
-      const auto& p = mesh.point(v);
-      const cv::Vec3d x = cv::Vec3d(p[0], p[1], p[2]) - pit;
-      d[v.idx()] -= 40.0 * std::exp(-x.dot(x) / 25.0);
-    }
-    return d;
+  const DistanceFunction pitted = [&](const Mesh& mesh,
+                                      const std::vector<Mesh::VertexHandle>& sources)
+      -> Result<std::vector<std::vector<double>>> {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields, heat(mesh, sources));
+    for (auto& d : fields)
+      for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        const cv::Vec3d x = cv::Vec3d(p[0], p[1], p[2]) - pit;
+        d[v.idx()] -= 40.0 * std::exp(-x.dot(x) / 25.0);
+      }
+    return fields;
   };
   FaceAnnulusOptions no_fallback;
   no_fallback.edge_path_fallback = false;

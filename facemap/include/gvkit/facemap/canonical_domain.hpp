@@ -73,9 +73,9 @@ class CanonicalDomain {
   std::map<std::string, Eigen::Vector2d> key_pixels_;
 };
 
-// Euclidean distance in the mesh's embedding to the nearest source: the geodesic distance on a
-// flat domain (where the straight segment stays inside it).
-Result<std::vector<double>> euclidean_distance(const Mesh& mesh,
-                                               const std::vector<Mesh::VertexHandle>& sources);
+// Euclidean distance in the mesh's embedding from each source (one field per source): the
+// geodesic distance on a flat domain (where the straight segment stays inside it).
+Result<std::vector<std::vector<double>>> euclidean_distance(
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources);
 
 }  // namespace gvkit::facemap

@@ -25,8 +25,9 @@
 
 namespace gvkit::facemap {
 
-// Geodesic distance (mm) from the nearest of the source vertices to every vertex of mesh.
-using DistanceFunction = std::function<Result<std::vector<double>>(
+// Geodesic distance (mm) from each source vertex to every vertex of mesh: one field per source
+// (indexed by vertex idx()), so one factorization can serve all of them.
+using DistanceFunction = std::function<Result<std::vector<std::vector<double>>>(
     const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources)>;
 
 struct FaceAnnulusOptions {
