@@ -312,7 +312,6 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     }
     return out;
   };
-  const std::vector<char> no_loop(cm.mesh.n_vertices(), 0);
   // The points the cuts run through, and (for descent paths) their distance fields, solved once
   // on the uncut mesh and carried along every edge split as linear interpolation (exact for the
   // piecewise-linear field the descent follows).
@@ -346,9 +345,10 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
       const std::vector<double> to_bridge = cm.field(kToBridge);
       std::vector<char> is_bridge(cm.mesh.n_vertices(), 0);
       is_bridge[bridge.idx()] = 1;
-      GVKIT_ASSIGN_OR_RETURN(
-          c1_points, trace_cut(cm.mesh, to_bridge, key_vertex[42], is_bridge, left_eye, no_loop,
-                               options.path, options.slide_along_start));
+      GVKIT_ASSIGN_OR_RETURN(c1_points,
+                             trace_cut(cm.mesh, to_bridge, key_vertex[42], is_bridge, left_eye,
+                                       std::vector<char>(cm.mesh.n_vertices(), 0), options.path,
+                                       options.slide_along_start));
     }
     GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c1_points, {}, {}, "c (from 42)"));
     c = insert_path(cm, c1_points);
@@ -364,7 +364,10 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
       std::vector<char> is_39(cm.mesh.n_vertices(), 0);
       is_39[key_vertex[39].idx()] = 1;
       GVKIT_ASSIGN_OR_RETURN(
-          c2_points, trace_cut(cm.mesh, to_39, bridge, is_39, {}, right_eye, options.path, false));
+          c2_points,
+          trace_cut(cm.mesh, to_39, bridge, is_39, {},
+                    loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]),  // sized now
+                    options.path, false));
     }
     GVKIT_RETURN_IF_ERROR(
         check_path(cm.mesh, c2_points, on_c1, edges_of(cm.mesh, {&c}), "c (to 39)"));
