@@ -34,7 +34,7 @@ namespace fs = std::filesystem;
 using facemap::MappedFace;
 
 struct MapCommandOptions {
-  std::string faces, output, size = "320x320", method = "eip", domain, rim = "arclength";
+  std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle";
   int threads = 0;
   bool same_vertices = false;
   bool png = false;
@@ -91,8 +91,9 @@ void run(const MapCommandOptions& o) {
   const cv::Size size = value_or_throw(parse_size(o.size));
   if (o.method != "eip" && o.method != "hm")
     throw CommandFailed(invalid_argument("--method must be eip or hm, got '" + o.method + "'"));
-  if (o.rim != "arclength" && o.rim != "flow")
-    throw CommandFailed(invalid_argument("--rim must be arclength or flow, got '" + o.rim + "'"));
+  if (o.rim != "arclength" && o.rim != "flow" && o.rim != "angle")
+    throw CommandFailed(
+        invalid_argument("--rim must be arclength, angle or flow, got '" + o.rim + "'"));
   if (o.threads < 0) throw CommandFailed(invalid_argument("--threads must be >= 0"));
   const auto meshes = value_or_throw(list_frame_files(o.faces, ".ply"));
   if (meshes.empty()) throw CommandFailed(not_found(o.faces + ": no frame_NNNNNN.ply files"));
@@ -103,7 +104,10 @@ void run(const MapCommandOptions& o) {
     const auto spec = o.domain.empty()
                           ? value_or_throw(facemap::CanonicalDomainSpec::load_default())
                           : value_or_throw(facemap::CanonicalDomainSpec::read(o.domain));
-    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, o.rim == "arclength"));
+    const auto rim = o.rim == "flow"    ? facemap::RimCorrespondence::kFlow
+                     : o.rim == "angle" ? facemap::RimCorrespondence::kAngle
+                                        : facemap::RimCorrespondence::kArcLength;
+    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, rim));
   }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
@@ -289,7 +293,8 @@ void add_facemap_map_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--rim", o->rim,
                   "EIP rim correspondence: arclength (s blended with the rim's arc length from "
-                  "the nose-chin anchor) or flow (s where the integral curves arrive, the seed's)")
+                  "the nose-chin anchor), angle (with the angle around the nose tip) or flow (s "
+                  "where the integral curves arrive, the seed's)")
       ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();

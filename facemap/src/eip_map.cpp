@@ -94,8 +94,8 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
           "different order on this face than on the canonical domain");
     out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
   }
-  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow, flow_coordinates(annulus, domain.key_u(),
-                                                                domain.flow().rim_correspondence));
+  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow,
+                         flow_coordinates(annulus, domain.key_u(), domain.flow().rim));
   out.interior_extrema = flow.field_report.interior_extrema;
   out.boundary_nonmonotone = flow.boundary_nonmonotone;
   out.st_flipped = flow.flipped;

@@ -521,6 +521,8 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     const cv::Vec3f& q8 = landmarks.points_mm[8];
     const Eigen::Vector2d o(q30[0], q30[1]);
     const Eigen::Vector2d dir = Eigen::Vector2d(q8[0] - q30[0], q8[1] - q30[1]).normalized();
+    a.rim_centre = o;
+    a.rim_direction = dir;
     const auto& loop = a.outer_loop;
     const int m = static_cast<int>(loop.size());
     double best_along = -std::numeric_limits<double>::infinity();

@@ -103,7 +103,7 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
 
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u,
-                                         bool rim_correspondence) {
+                                         RimCorrespondence rim) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
@@ -195,7 +195,7 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
 
   // The rim's correspondence: arc length from the rim anchor, as a map of psi like phi.
-  if (rim_correspondence && annulus.rim_anchor[0] >= 0) {
+  if (rim != RimCorrespondence::kFlow && annulus.rim_anchor[0] >= 0) {
     std::vector<int> outer = annulus.outer_loop;
     const int mo = static_cast<int>(outer.size());
     auto psi_step = [&](int a, int b) {  // psi(b) - psi(a) in the triangle of edge a-b
@@ -230,11 +230,40 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
     // Table from the anchor: relative psi -> rim parameter, both over [0, 1].
     const double psi_anchor_rel = ta * opsi[1];
     std::vector<double> tx = {0.0}, tu = {0.0};
-    double arc_acc = (1.0 - ta) * len[0];
-    for (int j = 1; j <= mo; ++j) {
-      tx.push_back(opsi[j] - psi_anchor_rel);
-      tu.push_back(arc_acc / length);
-      if (j < mo) arc_acc += len[j];
+    if (rim == RimCorrespondence::kArcLength) {
+      double arc_acc = (1.0 - ta) * len[0];
+      for (int j = 1; j <= mo; ++j) {
+        tx.push_back(opsi[j] - psi_anchor_rel);
+        tu.push_back(arc_acc / length);
+        if (j < mo) arc_acc += len[j];
+      }
+    } else {
+      // Unwrapped angle around the nose tip, from the anchor direction, made non-decreasing.
+      const Eigen::Vector2d& o = annulus.rim_centre;
+      const Eigen::Vector2d& dir = annulus.rim_direction;
+      auto angle_of = [&](const Eigen::Vector2d& p) {
+        const Eigen::Vector2d r = p - o;
+        return std::atan2(dir.x() * r.y() - dir.y() * r.x(), dir.dot(r));
+      };
+      const Eigen::Vector2d anchor_xy =
+          (1.0 - ta) * s.xyz[outer[0]].head<2>() + ta * s.xyz[outer[1 % mo]].head<2>();
+      double previous = angle_of(anchor_xy), total = 0;
+      std::vector<double> cumulative;
+      for (int j = 1; j <= mo; ++j) {
+        const double a = angle_of(s.xyz[outer[j % mo]].head<2>());
+        double step = a - previous;
+        step -= 2 * M_PI * std::round(step / (2 * M_PI));
+        total += step;
+        cumulative.push_back(total);
+        previous = a;
+      }
+      const double sign = total < 0 ? -1.0 : 1.0;
+      double running = 0;
+      for (int j = 1; j <= mo; ++j) {
+        running = std::clamp(std::max(running, sign * cumulative[j - 1] / (2 * M_PI)), 0.0, 1.0);
+        tx.push_back(opsi[j] - psi_anchor_rel);
+        tu.push_back(running);
+      }
     }
     tx.push_back(1.0), tu.push_back(1.0);
     // Absolute psi of the anchor: psi at outer[0] in the triangle of the first edge.
@@ -265,7 +294,7 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
         const double x = psi[3 * k + j];
         out.corner_s[3 * k + j] = (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
       }
-    out.rim_correspondence = true;
+    out.rim = rim;
   }
   // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to
   // whole periods), which removes solver round-off there.

@@ -44,9 +44,9 @@ class CanonicalDomain {
   // Rasterizes the holes at size (each hole at least 3 px thick), meshes the domain pixels
   // (one vertex per pixel centre), cuts and solves it. Fails when the size is too small for
   // the holes to stay apart and manifold.
-  // rim_correspondence: see flow_coordinates(); frames must be mapped with the same setting.
+  // rim: see flow_coordinates(); frames are mapped with the same setting.
   static Result<CanonicalDomain> create(const CanonicalDomainSpec& spec, cv::Size size,
-                                        bool rim_correspondence = true);
+                                        RimCorrespondence rim = RimCorrespondence::kAngle);
 
   cv::Size size() const { return size_; }
   const cv::Mat& mask() const { return mask_; }  // CV_8U, 255 inside D

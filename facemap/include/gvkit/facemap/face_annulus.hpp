@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "gvkit/core/face_landmarks.hpp"
 #include "gvkit/core/mesh.hpp"
 #include "gvkit/core/status.hpp"
@@ -68,6 +70,8 @@ struct FaceAnnulus {
   // leaves the face in the frontal (x, y) plane; the origin of the rim's arc length.
   std::array<int, 2> rim_anchor = {-1, -1};
   double rim_anchor_t = 0;
+  Eigen::Vector2d rim_centre = Eigen::Vector2d::Zero();      // nose tip (30) in the frontal plane
+  Eigen::Vector2d rim_direction = Eigen::Vector2d::UnitY();  // unit, toward the chin (8)
   // How the cuts were traced: "descent" (straight lines across triangles down the geodesic
   // distance) or "edge_path" (shortest edge paths with the boundaries and earlier cuts as
   // barriers: the fallback when a descent path touches a boundary, crosses itself or the other
