@@ -257,12 +257,16 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
         cumulative.push_back(total);
         previous = a;
       }
+      // Where the rim is not star-shaped around the nose tip the angle goes back; its running
+      // maximum has flat stretches, so a fifth of arc length keeps u strictly increasing (flat
+      // stretches gave near-zero-area triangles in (s, t)).
       const double sign = total < 0 ? -1.0 : 1.0;
-      double running = 0;
+      double running = 0, arc_acc = (1.0 - ta) * len[0];
       for (int j = 1; j <= mo; ++j) {
         running = std::clamp(std::max(running, sign * cumulative[j - 1] / (2 * M_PI)), 0.0, 1.0);
         tx.push_back(opsi[j] - psi_anchor_rel);
-        tu.push_back(running);
+        tu.push_back(0.8 * running + 0.2 * arc_acc / length);
+        if (j < mo) arc_acc += len[j];
       }
     }
     tx.push_back(1.0), tu.push_back(1.0);
