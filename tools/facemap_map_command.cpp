@@ -36,7 +36,7 @@ namespace fs = std::filesystem;
 using facemap::MappedFace;
 
 struct MapCommandOptions {
-  std::string faces, output, size = "320x320", method = "eip", domain;
+  std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle";
   int threads = 0;
   bool same_vertices = false;
   bool png = false;
@@ -91,7 +91,8 @@ struct FrameResult {
 };
 
 // The figures of one mapped frame that do not depend on other frames.
-nlohmann::json own_entry(const FrameResult& r, const MappedFace& m, int flipped, double seconds) {
+nlohmann::json own_entry(const FrameResult& r, const MappedFace& m, const std::string& method,
+                         int flipped, double seconds) {
   nlohmann::json f = {{"index", r.index}, {"time_s", seconds}};
   f["flipped"] = flipped;
   f["corner_image_flipped"] = m.quality.flipped;
@@ -101,6 +102,10 @@ nlohmann::json own_entry(const FrameResult& r, const MappedFace& m, int flipped,
   f["unmapped_pixels"] = m.unmapped_pixels;
   f["interior_extrema"] = m.interior_extrema;
   f["boundary_nonmonotone"] = m.boundary_nonmonotone;
+  if (method == "eip") {
+    f["untangled_vertices"] = m.st_untangled;
+    f["cut_method"] = m.cut_method;
+  }
   if (!m.warnings.empty()) f["warnings"] = m.warnings;
   nlohmann::json landmarks = nlohmann::json::array();
   for (const auto& p : m.landmarks_px) landmarks.push_back({p.x(), p.y()});
@@ -140,6 +145,9 @@ void run(const MapCommandOptions& o) {
   const cv::Size size = value_or_throw(parse_size(o.size));
   if (o.method != "eip" && o.method != "hm")
     throw CommandFailed(invalid_argument("--method must be eip or hm, got '" + o.method + "'"));
+  if (o.rim != "arclength" && o.rim != "flow" && o.rim != "angle")
+    throw CommandFailed(
+        invalid_argument("--rim must be arclength, angle or flow, got '" + o.rim + "'"));
   if (o.threads < 0) throw CommandFailed(invalid_argument("--threads must be >= 0"));
   const auto meshes = value_or_throw(list_frame_files(o.faces, ".ply"));
   if (meshes.empty()) throw CommandFailed(not_found(o.faces + ": no frame_NNNNNN.ply files"));
@@ -150,18 +158,25 @@ void run(const MapCommandOptions& o) {
     const auto spec = o.domain.empty()
                           ? value_or_throw(facemap::CanonicalDomainSpec::load_default())
                           : value_or_throw(facemap::CanonicalDomainSpec::read(o.domain));
-    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size));
+    const auto rim = o.rim == "flow"    ? facemap::RimCorrespondence::kFlow
+                     : o.rim == "angle" ? facemap::RimCorrespondence::kAngle
+                                        : facemap::RimCorrespondence::kArcLength;
+    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, rim));
   }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   o.threads);
 
-  const nlohmann::json options = {
-      {"faces", o.faces},     {"size", o.size},
-      {"method", o.method},   {"domain", o.domain},
-      {"threads", o.threads}, {"same_vertices", o.same_vertices},
-      {"png", o.png},         {"block_matching", {{"block_size", 16}, {"search_range", 16}}}};
+  const nlohmann::json options = {{"faces", o.faces},
+                                  {"size", o.size},
+                                  {"method", o.method},
+                                  {"rim", o.rim},
+                                  {"domain", o.domain},
+                                  {"threads", o.threads},
+                                  {"same_vertices", o.same_vertices},
+                                  {"png", o.png},
+                                  {"block_matching", {{"block_size", 16}, {"search_range", 16}}}};
   // --same-vertices needs every frame's mapping in memory: no frame is kept from earlier runs.
   FrameStatsFile stats_file(o.output, {{"command", "facemap map"}, {"options", options}},
                             o.resume && !o.same_vertices);
@@ -208,7 +223,7 @@ void run(const MapCommandOptions& o) {
     if (!written.is_ok() || !png.is_ok()) return fail(written.is_ok() ? png : written);
     const int flipped =
         o.method == "eip" ? mapped->st_flipped + domain->flow().flipped : mapped->quality.flipped;
-    r.entry = own_entry(r, *mapped, flipped, seconds);
+    r.entry = own_entry(r, *mapped, o.method, flipped, seconds);
     r.landmarks_px = mapped->landmarks_px;
     r.ok = true;
     if (o.same_vertices) {
@@ -263,6 +278,27 @@ void run(const MapCommandOptions& o) {
     if (o.same_vertices && first != &r && first->positions.size() == r.positions.size()) {
       const auto td = facemap::true_surface_drift(*first->mapped, *r.mapped, r.positions);
       f["true_drift_mm"] = drift_json(td);
+      if (domain) {
+        // RMS drift per band of t (0 at the rim, 1 at the eyes, mouth and cuts).
+        std::array<double, 4> sum2{};
+        std::array<int, 4> count{};
+        for (size_t p = 0; p < m.pixel_source.size(); ++p) {
+          const auto& a = first->mapped->pixel_source[p];
+          const auto& b = m.pixel_source[p];
+          if (a.empty() || b.empty()) continue;
+          cv::Vec3d pa(0, 0, 0), pb(0, 0, 0);
+          for (const auto& w : a) pa += w.weight * r.positions[w.vertex];
+          for (const auto& w : b) pb += w.weight * r.positions[w.vertex];
+          const double t =
+              domain->st(static_cast<int>(p) % size.width, static_cast<int>(p) / size.width).y();
+          const int band = std::clamp(static_cast<int>(t * 4), 0, 3);
+          sum2[band] += cv::norm(pa - pb) * cv::norm(pa - pb);
+          ++count[band];
+        }
+        nlohmann::json bands = nlohmann::json::array();
+        for (int k = 0; k < 4; ++k) bands.push_back(count[k] ? std::sqrt(sum2[k] / count[k]) : 0.0);
+        f["true_drift_rms_mm_by_t_quarter"] = bands;
+      }
       sum_true += td.rms * td.rms;
       ++n_true;
     }
@@ -313,6 +349,11 @@ void add_facemap_map_command(CLI::App& app) {
       ->required();
   cmd->add_option("--size", o->size, "Geometry image size WxH")->capture_default_str();
   cmd->add_option("--method", o->method, "eip (expression-invariant) or hm (harmonic map)")
+      ->capture_default_str();
+  cmd->add_option("--rim", o->rim,
+                  "EIP rim correspondence: arclength (s blended with the rim's arc length from "
+                  "the nose-chin anchor), angle (with the angle around the nose tip) or flow (s "
+                  "where the integral curves arrive, the seed's)")
       ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();

@@ -34,14 +34,16 @@ Result<std::vector<cv::Point2d>> points_from_json(const nlohmann::json& j,
 
 }  // namespace
 
-Result<std::vector<double>> euclidean_distance(const Mesh& mesh,
-                                               const std::vector<Mesh::VertexHandle>& sources) {
-  std::vector<double> d(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+Result<std::vector<std::vector<double>>> euclidean_distance(
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources) {
+  std::vector<std::vector<double>> out;
   for (auto s : sources) {
     const Mesh::Point p = mesh.point(s);
-    for (auto v : mesh.vertices()) d[v.idx()] = std::min(d[v.idx()], (mesh.point(v) - p).norm());
+    std::vector<double> d(mesh.n_vertices());
+    for (auto v : mesh.vertices()) d[v.idx()] = (mesh.point(v) - p).norm();
+    out.push_back(std::move(d));
   }
-  return d;
+  return out;
 }
 
 Result<CanonicalDomainSpec> CanonicalDomainSpec::from_ict(const IctFaceModel& model) {
@@ -140,7 +142,8 @@ Result<CanonicalDomainSpec> CanonicalDomainSpec::load_default() {
   return read(std::filesystem::path(GVKIT_FACEMAP_DATA_DIR) / "canonical_domain_v1.json");
 }
 
-Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec, cv::Size size) {
+Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec, cv::Size size,
+                                                RimCorrespondence rim) {
   const std::string name =
       "canonical domain " + std::to_string(size.width) + "x" + std::to_string(size.height);
   if (size.width < 16 || size.height < 16)
@@ -224,7 +227,7 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.slide_along_start = true;
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
-  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_));
+  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim));
 
   const TriSurface& s = d.annulus_.surface;
   d.st_.assign(size.area(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));

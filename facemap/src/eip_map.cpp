@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "gvkit/facemap/map_metrics.hpp"
 #include "gvkit/facemap/triangle_locator.hpp"
@@ -9,15 +10,18 @@
 namespace gvkit::facemap {
 
 DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
-  return [options](const Mesh& mesh,
-                   const std::vector<Mesh::VertexHandle>& sources) -> Result<std::vector<double>> {
+  return [options](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources)
+             -> Result<std::vector<std::vector<double>>> {
     GVKIT_RETURN_IF_ERROR(options.check());
     const HeatGeodesics heat(mesh, options);
-    std::vector<double> d = heat.distance(sources);
-    for (double x : d)
-      if (!std::isfinite(x))
-        return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
-    return d;
+    std::vector<std::vector<double>> out;
+    for (auto source : sources) {
+      out.push_back(heat.distance({source}));
+      for (double x : out.back())
+        if (!std::isfinite(x))
+          return failed_precondition("geodesic distance: not finite everywhere (several parts?)");
+    }
+    return out;
   };
 }
 
@@ -90,10 +94,17 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
           "different order on this face than on the canonical domain");
     out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
   }
-  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow, flow_coordinates(annulus, domain.key_u()));
+  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow,
+                         flow_coordinates(annulus, domain.key_u(), domain.flow().rim));
   out.interior_extrema = flow.field_report.interior_extrema;
   out.boundary_nonmonotone = flow.boundary_nonmonotone;
   out.st_flipped = flow.flipped;
+  out.st_untangled = flow.untangled_vertices;
+  out.cut_method = annulus.cut_method;
+  if (annulus.pinch_faces_removed > 0)
+    out.warnings.push_back(std::to_string(annulus.pinch_faces_removed) +
+                           " faces removed around boundary pinches (a hole touching the rim or "
+                           "another hole at one vertex)");
   const TriSurface& s = annulus.surface;
 
   std::vector<Eigen::Vector2d> st_corners(3 * s.n_triangles());

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <queue>
 #include <set>
+#include <string>
 
 #include "gvkit/facemap/mesh_cutting.hpp"
 
@@ -13,6 +16,7 @@ namespace {
 
 const char* kCMid = "c_mid";
 const char* kDEnd = "d_end";
+const char* kNose = "30";
 
 // Places the key points on inner_loop: names "<key>#<k>" in loop order starting at "36#0".
 Status locate_keys(FaceAnnulus& a, const std::vector<std::pair<std::string, int>>& key_uncut) {
@@ -100,112 +104,374 @@ void FaceAnnulus::reverse_orientation() {
   for (auto& t : surface.triangles) std::swap(t[1], t[2]);
   std::reverse(outer_loop.begin(), outer_loop.end());
   std::reverse(inner_loop.begin() + 1, inner_loop.end());
-  std::vector<std::pair<std::string, int>> key_uncut;
-  for (size_t i = 0; i < key_vertices_uncut.size(); ++i) {
-    const std::string name = i < kBoundaryKeyLandmarks.size()
-                                 ? std::to_string(kBoundaryKeyLandmarks[i])
-                                 : (i == kBoundaryKeyLandmarks.size() ? kCMid : kDEnd);
-    for (int v : key_vertices_uncut[i]) key_uncut.emplace_back(name, v);
-  }
-  GVKIT_CHECK(locate_keys(*this, key_uncut).is_ok());
+  GVKIT_CHECK(locate_keys(*this, key_vertices_uncut).is_ok());
 }
 
-Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& landmarks,
-                                      const DistanceFunction& distance,
-                                      const FaceAnnulusOptions& options) {
-  GVKIT_RETURN_IF_ERROR(options.check());
-  GVKIT_ASSIGN_OR_RETURN(FaceBoundaries boundaries,
-                         find_face_boundaries(mesh, landmarks, options.boundaries));
-  CuttableMesh cm(mesh);
+namespace {
+
+// Fails when a path (before insertion) visits a vertex or crosses an edge twice, or touches a
+// flagged vertex or edge after its start (an earlier cut it must not run into or cross).
+Status check_path(const Mesh& mesh, const std::vector<SurfacePoint>& path,
+                  const std::vector<char>& forbidden_vertex,
+                  const std::vector<char>& forbidden_edge, const std::string& what) {
+  std::set<int> vertices, edges;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const SurfacePoint& p = path[i];
+    if (p.is_vertex()) {
+      if (!vertices.insert(p.vertex.idx()).second)
+        return failed_precondition("face annulus: the cut " + what + " visits a vertex twice");
+      if (i > 0 && !forbidden_vertex.empty() && forbidden_vertex[p.vertex.idx()])
+        return failed_precondition("face annulus: the cut " + what + " runs into the other cut");
+    } else {
+      const int e = mesh.edge_handle(p.halfedge).idx();
+      if (!edges.insert(e).second)
+        return failed_precondition("face annulus: the cut " + what + " crosses an edge twice");
+      if (!forbidden_edge.empty() && e < static_cast<int>(forbidden_edge.size()) &&
+          forbidden_edge[e])
+        return failed_precondition("face annulus: the cut " + what + " crosses the other cut");
+    }
+  }
+  return Status::ok();
+}
+
+// Shortest path along edges (Euclidean edge lengths) from start to goal through vertices not
+// flagged in blocked (goal may be flagged). first_step, when not empty, flags the vertices the
+// path may take as its first step. Fails when goal cannot be reached.
+Result<std::vector<SurfacePoint>> shortest_edge_path(const Mesh& mesh, Mesh::VertexHandle start,
+                                                     Mesh::VertexHandle goal,
+                                                     const std::vector<char>& blocked,
+                                                     const std::vector<char>& first_step,
+                                                     const std::string& what) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  std::vector<int> parent(n, -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  dist[start.idx()] = 0;
+  queue.emplace(0.0, start.idx());
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > dist[v]) continue;
+    if (v == goal.idx()) break;
+    const Mesh::VertexHandle vh(v);
+    for (auto h : mesh.voh_range(vh)) {
+      const Mesh::VertexHandle w = mesh.to_vertex_handle(h);
+      if (w != goal && blocked[w.idx()]) continue;
+      if (mesh.is_boundary(mesh.edge_handle(h))) continue;
+      if (vh == start && !first_step.empty() && !first_step[w.idx()]) continue;
+      const double nd = d + (mesh.point(w) - mesh.point(vh)).norm();
+      if (nd < dist[w.idx()]) dist[w.idx()] = nd, parent[w.idx()] = v, queue.emplace(nd, w.idx());
+    }
+  }
+  if (!std::isfinite(dist[goal.idx()]))
+    return failed_precondition("face annulus: no edge path for the cut " + what);
+  std::vector<SurfacePoint> path;
+  for (int v = goal.idx(); v >= 0; v = parent[v]) {
+    SurfacePoint p;
+    p.vertex = Mesh::VertexHandle(v);
+    path.push_back(p);
+  }
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+// The neighbours of v (on the cut c, between c's neighbours prev and next) on the side of the
+// nearest one to `toward`: the side a cut from v toward that point must leave c on.
+std::vector<char> side_of_cut(const Mesh& mesh, Mesh::VertexHandle v, Mesh::VertexHandle prev,
+                              Mesh::VertexHandle next, const Mesh::Point& toward) {
+  std::vector<Mesh::VertexHandle> ring;
+  for (auto w : mesh.vv_range(v)) ring.push_back(w);
+  const int n = static_cast<int>(ring.size());
+  const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
+  const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
+  std::vector<char> flags(mesh.n_vertices(), 0);
+  if (ip == n || in == n) return flags;
+  // The two arcs strictly between prev and next in ring order.
+  std::array<std::vector<Mesh::VertexHandle>, 2> arcs;
+  for (int k = (ip + 1) % n; k != in; k = (k + 1) % n) arcs[0].push_back(ring[k]);
+  for (int k = (in + 1) % n; k != ip; k = (k + 1) % n) arcs[1].push_back(ring[k]);
+  double best = std::numeric_limits<double>::infinity();
+  int side = 0;
+  for (int a = 0; a < 2; ++a)
+    for (auto w : arcs[a]) {
+      const double d = (mesh.point(w) - toward).norm();
+      if (d < best) best = d, side = a;
+    }
+  for (auto w : arcs[side]) flags[w.idx()] = 1;
+  return flags;
+}
+
+// A boundary key: the landmark projected onto its loop, as a vertex (splitting the boundary
+// edge there unless a vertex is within snap of it).
+Mesh::VertexHandle boundary_key_vertex(CuttableMesh& cm, std::vector<Mesh::VertexHandle>& loop,
+                                       const cv::Vec3f& q, double snap) {
+  const LoopPoint lp = closest_loop_point(cm.mesh, loop, Eigen::Vector3d(q[0], q[1], q[2]));
+  const int n = static_cast<int>(loop.size());
+  if (lp.t <= snap) return loop[lp.edge];
+  if (lp.t >= 1.0 - snap) return loop[(lp.edge + 1) % n];
+  const auto h = cm.mesh.find_halfedge(loop[lp.edge], loop[(lp.edge + 1) % n]);
+  GVKIT_CHECK(h.is_valid() && cm.mesh.is_boundary(h));
+  const Mesh::VertexHandle v = split_edge_at(cm, h, lp.t);
+  loop.insert(loop.begin() + lp.edge + 1, v);
+  return v;
+}
+
+std::vector<char> flags_of(const Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices) {
+  std::vector<char> flags(mesh.n_vertices(), 0);
+  for (auto v : vertices) flags[v.idx()] = 1;
+  return flags;
+}
+
+std::vector<char> edges_of(const Mesh& mesh,
+                           const std::vector<const std::vector<Mesh::VertexHandle>*>& paths) {
+  std::vector<char> flags(mesh.n_edges(), 0);
+  for (const auto* path : paths)
+    for (size_t i = 1; i < path->size(); ++i) {
+      const auto h = mesh.find_halfedge((*path)[i - 1], (*path)[i]);
+      GVKIT_CHECK(h.is_valid(), "consecutive path vertices share an edge");
+      flags[mesh.edge_handle(h).idx()] = 1;
+    }
+  return flags;
+}
+
+// Opens boundary pinches: a vertex on two boundary fans (a hole touching the rim or another hole
+// at one vertex, or a loop touching itself; OpenMesh counts such loops as separate, but cutting
+// separates the fans and leaves an extra boundary). The faces around such vertices are removed
+// until none is left. Returns the number of faces removed; *original maps the vertices of the
+// result to those of mesh (identity when nothing was removed).
+int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
+  OpenMesh::VPropHandleT<int> index;
+  mesh->add_property(index);
+  for (auto v : mesh->vertices()) mesh->property(index, v) = v.idx();
+  int removed = 0;
+  for (int round = 0; round < 50; ++round) {
+    std::vector<int> boundary_out(mesh->n_vertices(), 0);
+    for (auto h : mesh->halfedges())
+      if (mesh->is_boundary(h)) ++boundary_out[mesh->from_vertex_handle(h).idx()];
+    std::vector<Mesh::FaceHandle> doomed;
+    for (auto f : mesh->faces())
+      for (auto v : mesh->fv_range(f))
+        if (boundary_out[v.idx()] > 1) {
+          doomed.push_back(f);
+          break;
+        }
+    if (doomed.empty()) break;
+    for (auto f : doomed) mesh->delete_face(f, true);
+    removed += static_cast<int>(doomed.size());
+    mesh->garbage_collection();
+  }
+  original->resize(mesh->n_vertices());
+  for (auto v : mesh->vertices()) (*original)[v.idx()] = mesh->property(index, v);
+  mesh->remove_property(index);
+  return removed;
+}
+
+// One attempt at the annulus, with the cuts traced as descent paths or as edge paths.
+Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& original,
+                                  const FaceLandmarks& landmarks, FaceBoundaries boundaries,
+                                  const DistanceFunction& distance,
+                                  const FaceAnnulusOptions& options, bool edge_paths) {
+  CuttableMesh cm(mesh, &original);
+  auto boundary_flags = [&] {
+    std::vector<char> flags(cm.mesh.n_vertices(), 0);
+    for (auto v : cm.mesh.vertices())
+      if (cm.mesh.is_boundary(v)) flags[v.idx()] = 1;
+    return flags;
+  };
 
   // Key landmarks projected onto their loops, as vertices (splitting boundary edges).
   std::map<int, Mesh::VertexHandle> key_vertex;
   for (int lm : kBoundaryKeyLandmarks) {
     auto& loop = boundaries.loops[FaceBoundaries::loop_of_landmark(lm)];
-    const cv::Vec3f& q = landmarks.points_mm[lm];
-    const LoopPoint lp = closest_loop_point(cm.mesh, loop, Eigen::Vector3d(q[0], q[1], q[2]));
-    const int n = static_cast<int>(loop.size());
-    Mesh::VertexHandle v;
-    if (lp.t <= options.key_snap_fraction) {
-      v = loop[lp.edge];
-    } else if (lp.t >= 1.0 - options.key_snap_fraction) {
-      v = loop[(lp.edge + 1) % n];
-    } else {
-      const auto h = cm.mesh.find_halfedge(loop[lp.edge], loop[(lp.edge + 1) % n]);
-      GVKIT_CHECK(h.is_valid() && cm.mesh.is_boundary(h));
-      v = split_edge_at(cm, h, lp.t);
-      loop.insert(loop.begin() + lp.edge + 1, v);
-    }
+    const Mesh::VertexHandle v =
+        boundary_key_vertex(cm, loop, landmarks.points_mm[lm], options.key_snap_fraction);
     for (const auto& [other, ov] : key_vertex)
       if (ov == v)
         return failed_precondition("landmarks " + std::to_string(other) + " and " +
                                    std::to_string(lm) + " land on the same boundary point");
     key_vertex[lm] = v;
   }
+  // d's end: the middle of the upper lip (62) projected onto the mouth boundary.
+  std::vector<Mesh::VertexHandle>& mouth_loop = boundaries.loops[FaceBoundaries::kMouth];
+  const Mesh::VertexHandle lip =
+      boundary_key_vertex(cm, mouth_loop, landmarks.points_mm[62], options.key_snap_fraction);
+  if (lip == key_vertex[60] || lip == key_vertex[64])
+    return failed_precondition("landmark 62 lands on a mouth corner of the mouth boundary");
 
-  // c: from the left inner eye corner (42) down the distance from the right one (39).
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_39, distance(cm.mesh, {key_vertex[39]}));
-  std::vector<char> is_39(cm.mesh.n_vertices(), 0);
-  is_39[key_vertex[39].idx()] = 1;
-  GVKIT_ASSIGN_OR_RETURN(std::vector<SurfacePoint> c_points,
-                         trace_cut(cm.mesh, to_39, key_vertex[42], is_39,
-                                   loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]),
-                                   loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]),
-                                   options.path, options.slide_along_start));
-  std::vector<Mesh::VertexHandle> c = insert_path(cm, c_points);
-  if (c.size() < 2) return failed_precondition("face annulus: the cut between the eyes is empty");
-  // Where the trimmed cut meets the eyes is where the keys 42 and 39 are from now on.
-  key_vertex[42] = c.front();
-  key_vertex[39] = c.back();
+  // The interior vertex nearest to a landmark, off the flagged vertices (none when empty).
+  auto nearest_interior = [&](int landmark, const std::vector<char>& avoid) {
+    const cv::Vec3f& q = landmarks.points_mm[landmark];
+    const Mesh::Point p(q[0], q[1], q[2]);
+    double best = std::numeric_limits<double>::infinity();
+    Mesh::VertexHandle out;
+    for (auto v : cm.mesh.vertices()) {
+      if (cm.mesh.is_boundary(v) || (!avoid.empty() && avoid[v.idx()])) continue;
+      const double dd = (cm.mesh.point(v) - p).sqrnorm();
+      if (dd < best) best = dd, out = v;
+    }
+    return out;
+  };
+  // The points the cuts run through, and (for descent paths) their distance fields, solved once
+  // on the uncut mesh and carried along every edge split as linear interpolation (exact for the
+  // piecewise-linear field the descent follows).
+  const Mesh::VertexHandle bridge = nearest_interior(27, {});
+  const Mesh::VertexHandle nose = nearest_interior(30, {});
+  if (!bridge.is_valid() || !nose.is_valid() || bridge == nose)
+    return failed_precondition("face annulus: no separate vertices for landmarks 27 and 30");
+  enum Field { kToBridge = 0, kTo39 = 1, kToNose = 2, kToLip = 3 };
+  if (!edge_paths) {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields,
+                           distance(cm.mesh, {bridge, key_vertex[39], nose, lip}));
+    GVKIT_CHECK(fields.size() == 4, "one distance field per source");
+    for (const auto& f : fields) cm.add_field(f);
+  }
+  const std::vector<char> left_eye =
+      loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeLeft]);
+  const std::vector<char> right_eye =
+      loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]);
 
-  // The middle of c by arc length: an existing path vertex, or a split of the edge there.
-  std::vector<double> arc(c.size(), 0.0);
-  for (size_t i = 1; i < c.size(); ++i)
-    arc[i] = arc[i - 1] + (cm.mesh.point(c[i]) - cm.mesh.point(c[i - 1])).norm();
-  const double half = 0.5 * arc.back();
-  size_t seg = 0;
-  while (seg + 2 < c.size() && arc[seg + 1] < half) ++seg;
-  const double seg_len = arc[seg + 1] - arc[seg];
-  const double t = seg_len > 0 ? (half - arc[seg]) / seg_len : 0.5;
+  // c: from the left inner eye corner (42) to the right one (39), through the top of the nose
+  // bridge (27) unless c_through_nose_bridge is off.
+  std::vector<Mesh::VertexHandle> c;
   Mesh::VertexHandle mid;
-  if (t < 0.25 && seg > 0) {
-    mid = c[seg];
-  } else if (t > 0.75 && seg + 2 < c.size()) {
-    mid = c[seg + 1];
+  size_t mid_index = 0;
+  if (options.c_through_nose_bridge) {
+    std::vector<SurfacePoint> c1_points, c2_points;
+    if (edge_paths) {
+      GVKIT_ASSIGN_OR_RETURN(c1_points, shortest_edge_path(cm.mesh, key_vertex[42], bridge,
+                                                           boundary_flags(), {}, "c (from 42)"));
+    } else {
+      const std::vector<double> to_bridge = cm.field(kToBridge);
+      std::vector<char> is_bridge(cm.mesh.n_vertices(), 0);
+      is_bridge[bridge.idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(c1_points,
+                             trace_cut(cm.mesh, to_bridge, key_vertex[42], is_bridge, left_eye,
+                                       std::vector<char>(cm.mesh.n_vertices(), 0), options.path,
+                                       options.slide_along_start));
+    }
+    GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c1_points, {}, {}, "c (from 42)"));
+    c = insert_path(cm, c1_points);
+    if (c.size() < 2) return failed_precondition("face annulus: the cut from 42 is empty");
+    const std::vector<char> on_c1 = flags_of(cm.mesh, c);
+    if (edge_paths) {
+      std::vector<char> blocked = boundary_flags();
+      for (size_t i = 0; i < blocked.size(); ++i) blocked[i] |= on_c1[i];
+      GVKIT_ASSIGN_OR_RETURN(
+          c2_points, shortest_edge_path(cm.mesh, bridge, key_vertex[39], blocked, {}, "c (to 39)"));
+    } else {
+      const std::vector<double> to_39 = cm.field(kTo39);
+      std::vector<char> is_39(cm.mesh.n_vertices(), 0);
+      is_39[key_vertex[39].idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(
+          c2_points,
+          trace_cut(cm.mesh, to_39, bridge, is_39, {},
+                    loop_flags(cm.mesh, boundaries.loops[FaceBoundaries::kEyeRight]),  // sized now
+                    options.path, false));
+    }
+    GVKIT_RETURN_IF_ERROR(
+        check_path(cm.mesh, c2_points, on_c1, edges_of(cm.mesh, {&c}), "c (to 39)"));
+    const std::vector<Mesh::VertexHandle> c2 = insert_path(cm, c2_points);
+    if (c2.size() < 2) return failed_precondition("face annulus: the cut to 39 is empty");
+    mid = bridge;
+    mid_index = c.size() - 1;
+    c.insert(c.end(), c2.begin() + 1, c2.end());
+    key_vertex[42] = c.front();
+    key_vertex[39] = c.back();
   } else {
-    const auto h = cm.mesh.find_halfedge(c[seg], c[seg + 1]);
-    GVKIT_CHECK(h.is_valid(), "consecutive path vertices share an edge");
-    mid = split_edge_at(cm, h, t);
-    c.insert(c.begin() + static_cast<std::ptrdiff_t>(seg) + 1, mid);
-  }
+    std::vector<SurfacePoint> c_points;
+    if (edge_paths) {
+      GVKIT_ASSIGN_OR_RETURN(c_points, shortest_edge_path(cm.mesh, key_vertex[42], key_vertex[39],
+                                                          boundary_flags(), {}, "c"));
+    } else {
+      const std::vector<double> to_39 = cm.field(kTo39);
+      std::vector<char> is_39(cm.mesh.n_vertices(), 0);
+      is_39[key_vertex[39].idx()] = 1;
+      GVKIT_ASSIGN_OR_RETURN(c_points,
+                             trace_cut(cm.mesh, to_39, key_vertex[42], is_39, left_eye, right_eye,
+                                       options.path, options.slide_along_start));
+    }
+    GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, c_points, {}, {}, "c"));
+    c = insert_path(cm, c_points);
+    if (c.size() < 2) return failed_precondition("face annulus: the cut between the eyes is empty");
+    // Where the trimmed cut meets the eyes is where the keys 42 and 39 are from now on.
+    key_vertex[42] = c.front();
+    key_vertex[39] = c.back();
 
-  // d: from the middle of c down the distance from the upper lip's middle (landmark 62 projected
-  // onto the mouth boundary). Where d first touches the mouth boundary is d's end.
-  const std::vector<Mesh::VertexHandle>& mouth_loop = boundaries.loops[FaceBoundaries::kMouth];
-  Mesh::VertexHandle lip;
-  {
-    const cv::Vec3f& q = landmarks.points_mm[62];
-    const LoopPoint lp = closest_loop_point(cm.mesh, mouth_loop, Eigen::Vector3d(q[0], q[1], q[2]));
-    lip = mouth_loop[lp.t < 0.5 ? lp.edge : (lp.edge + 1) % mouth_loop.size()];
-    if (lip == key_vertex[60] || lip == key_vertex[64])
-      return failed_precondition("landmark 62 lands on a mouth corner of the mouth boundary");
+    // The middle of c by arc length: an existing path vertex, or a split of the edge there.
+    std::vector<double> arc(c.size(), 0.0);
+    for (size_t i = 1; i < c.size(); ++i)
+      arc[i] = arc[i - 1] + (cm.mesh.point(c[i]) - cm.mesh.point(c[i - 1])).norm();
+    const double half = 0.5 * arc.back();
+    size_t seg = 0;
+    while (seg + 2 < c.size() && arc[seg + 1] < half) ++seg;
+    const double seg_len = arc[seg + 1] - arc[seg];
+    const double t = seg_len > 0 ? (half - arc[seg]) / seg_len : 0.5;
+    if (t < 0.25 && seg > 0) {
+      mid = c[seg], mid_index = seg;
+    } else if (t > 0.75 && seg + 2 < c.size()) {
+      mid = c[seg + 1], mid_index = seg + 1;
+    } else {
+      const auto h = cm.mesh.find_halfedge(c[seg], c[seg + 1]);
+      GVKIT_CHECK(h.is_valid(), "consecutive path vertices share an edge");
+      mid = split_edge_at(cm, h, t);
+      c.insert(c.begin() + static_cast<std::ptrdiff_t>(seg) + 1, mid);
+      mid_index = seg + 1;
+    }
   }
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> to_lip, distance(cm.mesh, {lip}));
-  std::vector<char> is_lip(cm.mesh.n_vertices(), 0);
-  is_lip[lip.idx()] = 1;
-  std::vector<char> is_mouth = loop_flags(cm.mesh, mouth_loop);
-  is_mouth[key_vertex[60].idx()] = is_mouth[key_vertex[64].idx()] = 0;
-  GVKIT_ASSIGN_OR_RETURN(
-      std::vector<SurfacePoint> d_points,
-      trace_cut(cm.mesh, to_lip, mid, is_lip, {}, is_mouth, options.path, false));
-  std::vector<Mesh::VertexHandle> d = insert_path(cm, d_points);
+  if (mid_index == 0 || mid_index + 1 >= c.size())
+    return failed_precondition("face annulus: the middle of c is an end of c");
+
+  // The nose tip: the vertex nearest to landmark 30 off the boundaries and off c.
+  if (flags_of(cm.mesh, c)[nose.idx()])
+    return failed_precondition("face annulus: the cut c runs through the nose tip");
+
+  // d, first part: from the middle of c to the nose tip, on the side of c facing the nose.
+  std::vector<SurfacePoint> d1_points;
+  if (edge_paths) {
+    std::vector<char> blocked = boundary_flags();
+    for (auto v : c) blocked[v.idx()] = 1;
+    const std::vector<char> side =
+        side_of_cut(cm.mesh, mid, c[mid_index - 1], c[mid_index + 1], cm.mesh.point(nose));
+    GVKIT_ASSIGN_OR_RETURN(
+        d1_points, shortest_edge_path(cm.mesh, mid, nose, blocked, side, "d (to the nose)"));
+  } else {
+    const std::vector<double> to_nose = cm.field(kToNose);
+    std::vector<char> is_nose(cm.mesh.n_vertices(), 0);
+    is_nose[nose.idx()] = 1;
+    GVKIT_ASSIGN_OR_RETURN(d1_points,
+                           trace_descent_path(cm.mesh, to_nose, mid, is_nose, options.path));
+  }
+  GVKIT_RETURN_IF_ERROR(check_path(cm.mesh, d1_points, flags_of(cm.mesh, c),
+                                   edges_of(cm.mesh, {&c}), "d (to the nose)"));
+  std::vector<Mesh::VertexHandle> d = insert_path(cm, d1_points);
+  if (d.size() < 2) return failed_precondition("face annulus: the cut to the nose tip is empty");
+
+  // d, second part: from the nose tip down to the upper lip; it ends where it first touches
+  // the mouth boundary (not at a mouth corner).
+  std::vector<char> earlier = flags_of(cm.mesh, c);
+  for (auto v : d) earlier[v.idx()] = 1;
+  std::vector<SurfacePoint> d2_points;
+  if (edge_paths) {
+    std::vector<char> blocked = boundary_flags();
+    for (size_t i = 0; i < blocked.size(); ++i) blocked[i] |= earlier[i];
+    GVKIT_ASSIGN_OR_RETURN(d2_points,
+                           shortest_edge_path(cm.mesh, nose, lip, blocked, {}, "d (to the mouth)"));
+  } else {
+    const std::vector<double> to_lip = cm.field(kToLip);
+    std::vector<char> is_lip(cm.mesh.n_vertices(), 0);
+    is_lip[lip.idx()] = 1;
+    std::vector<char> is_mouth = loop_flags(cm.mesh, mouth_loop);
+    is_mouth[key_vertex[60].idx()] = is_mouth[key_vertex[64].idx()] = 0;
+    GVKIT_ASSIGN_OR_RETURN(
+        d2_points, trace_cut(cm.mesh, to_lip, nose, is_lip, {}, is_mouth, options.path, false));
+  }
+  GVKIT_RETURN_IF_ERROR(
+      check_path(cm.mesh, d2_points, earlier, edges_of(cm.mesh, {&c, &d}), "d (to the mouth)"));
+  const std::vector<Mesh::VertexHandle> d2 = insert_path(cm, d2_points);
+  if (d2.size() < 2) return failed_precondition("face annulus: the cut to the mouth is empty");
+  d.insert(d.end(), d2.begin() + 1, d2.end());
   const Mesh::VertexHandle d_end = d.back();
-  const std::set<Mesh::VertexHandle> c_set(c.begin(), c.end());
-  for (size_t i = 1; i < d.size(); ++i)
-    if (c_set.count(d[i]))
-      return failed_precondition(
-          "face annulus: the cut d from the middle of c to the mouth "
-          "runs back into c");
 
   std::vector<char> cut(cm.mesh.n_edges(), 0);
   for (const auto* path : {&c, &d})
@@ -216,7 +482,6 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
         return failed_precondition("face annulus: a cut runs along a boundary");
       cut[cm.mesh.edge_handle(h).idx()] = 1;
     }
-
   // An interior edge joining two vertices of the same boundary of the annulus would make
   // triangles whose corners all have the same t (zero area in (s, t)); split such edges.
   {
@@ -249,20 +514,81 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
   });
   a.outer_loop = loops[first_is_outer ? 0 : 1];
   a.inner_loop = loops[first_is_outer ? 1 : 0];
-
-  std::vector<std::pair<std::string, int>> key_uncut;
-  a.key_vertices_uncut.resize(kBoundaryKeyLandmarks.size() + 2);
-  for (size_t i = 0; i < kBoundaryKeyLandmarks.size(); ++i) {
-    const int v = key_vertex[kBoundaryKeyLandmarks[i]].idx();
-    a.key_vertices_uncut[i] = {v};
-    key_uncut.emplace_back(std::to_string(kBoundaryKeyLandmarks[i]), v);
+  // The rim anchor: where the line from the nose tip (30) through the chin (8) leaves the face
+  // in the frontal (x, y) plane (the farthest crossing of the rim along the line).
+  {
+    const cv::Vec3f& q30 = landmarks.points_mm[30];
+    const cv::Vec3f& q8 = landmarks.points_mm[8];
+    const Eigen::Vector2d o(q30[0], q30[1]);
+    const Eigen::Vector2d dir = Eigen::Vector2d(q8[0] - q30[0], q8[1] - q30[1]).normalized();
+    a.rim_centre = o;
+    a.rim_direction = dir;
+    const auto& loop = a.outer_loop;
+    const int m = static_cast<int>(loop.size());
+    double best_along = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < m; ++i) {
+      const Eigen::Vector2d r0 = a.surface.xyz[loop[i]].head<2>() - o;
+      const Eigen::Vector2d r1 = a.surface.xyz[loop[(i + 1) % m]].head<2>() - o;
+      const double c0 = dir.x() * r0.y() - dir.y() * r0.x(),
+                   c1 = dir.x() * r1.y() - dir.y() * r1.x();
+      if ((c0 <= 0) == (c1 <= 0) || c0 == c1) continue;
+      const double t = c0 / (c0 - c1);
+      const double along = dir.dot(r0 + t * (r1 - r0));
+      if (along > best_along)
+        best_along = along, a.rim_anchor = {loop[i], loop[(i + 1) % m]}, a.rim_anchor_t = t;
+    }
+    if (a.rim_anchor[0] < 0)
+      return failed_precondition(
+          "face annulus: the line from the nose tip (30) through the chin (8) does not meet the "
+          "rim");
   }
-  a.key_vertices_uncut[kBoundaryKeyLandmarks.size()] = {mid.idx()};
-  a.key_vertices_uncut[kBoundaryKeyLandmarks.size() + 1] = {d_end.idx()};
+
+  auto& key_uncut = a.key_vertices_uncut;
+  for (int lm : kBoundaryKeyLandmarks)
+    key_uncut.emplace_back(std::to_string(lm), key_vertex[lm].idx());
   key_uncut.emplace_back(kCMid, mid.idx());
+  key_uncut.emplace_back(kNose, nose.idx());
   key_uncut.emplace_back(kDEnd, d_end.idx());
+  a.cut_method = edge_paths ? "edge_path" : "descent";
   GVKIT_RETURN_IF_ERROR(locate_keys(a, key_uncut));
+  // Copies of each key: 36, 45, 60, 64 once; 39, 42, the nose tip and d's end twice (both sides
+  // of a cut); c's middle three times. Fewer means a cut ran along a boundary or the other cut.
+  std::map<std::string, int> copies;
+  for (const auto& k : a.keys) ++copies[k.name.substr(0, k.name.find('#'))];
+  const std::map<std::string, int> expected = {{"36", 1},  {"45", 1},  {"60", 1},
+                                               {"64", 1},  {"39", 2},  {"42", 2},
+                                               {kNose, 2}, {kDEnd, 2}, {kCMid, 3}};
+  if (copies != expected)
+    return failed_precondition(
+        "face annulus: the cuts leave the key points in an unexpected "
+        "arrangement on the inner boundary");
   return a;
+}
+
+}  // namespace
+
+Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& landmarks,
+                                      const DistanceFunction& distance,
+                                      const FaceAnnulusOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  Mesh work = mesh;
+  std::vector<int> original;
+  const int pinch_faces = open_boundary_pinches(&work, &original);
+  GVKIT_ASSIGN_OR_RETURN(FaceBoundaries boundaries,
+                         find_face_boundaries(work, landmarks, options.boundaries));
+  auto attempt = [&](bool edge_paths) {
+    Result<FaceAnnulus> a =
+        build_annulus(work, original, landmarks, boundaries, distance, options, edge_paths);
+    if (a.is_ok()) a->pinch_faces_removed = pinch_faces;
+    return a;
+  };
+  if (!options.descent_paths) return attempt(true);
+  Result<FaceAnnulus> descent = attempt(false);
+  if (descent.is_ok() || !options.edge_path_fallback) return descent;
+  Result<FaceAnnulus> edge = attempt(true);
+  if (edge.is_ok()) return edge;
+  return failed_precondition(descent.status().message() +
+                             "; as edge paths: " + edge.status().message());
 }
 
 }  // namespace gvkit::facemap

@@ -6,8 +6,104 @@
 
 namespace gvkit::facemap {
 
+namespace {
+
+// Signed area of triangle k in (s, t).
+double st_area(const TriSurface& s, const std::vector<double>& t,
+               const std::vector<double>& corner_s, int k) {
+  const auto& tri = s.triangles[k];
+  const double s0 = corner_s[3 * k], t0 = t[tri[0]];
+  return (corner_s[3 * k + 1] - s0) * (t[tri[2]] - t0) -
+         (corner_s[3 * k + 2] - s0) * (t[tri[1]] - t0);
+}
+
+int majority_sign(const TriSurface& s, const std::vector<double>& t,
+                  const std::vector<double>& corner_s) {
+  int positive = 0, negative = 0;
+  for (int k = 0; k < s.n_triangles(); ++k) {
+    const double a = st_area(s, t, corner_s, k);
+    positive += a > 0, negative += a < 0;
+  }
+  return positive >= negative ? 1 : -1;
+}
+
+}  // namespace
+
+int count_flipped(const TriSurface& s, const std::vector<double>& t,
+                  const std::vector<double>& corner_s) {
+  const int sign = majority_sign(s, t, corner_s);
+  int flipped = 0;
+  for (int k = 0; k < s.n_triangles(); ++k) flipped += !(sign * st_area(s, t, corner_s, k) > 0);
+  return flipped;
+}
+
+int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixed,
+                              std::vector<double>* t, std::vector<double>* corner_s,
+                              int max_rounds) {
+  const int n = s.n_vertices();
+  const int sign = majority_sign(s, *t, *corner_s);
+  auto is_flipped = [&](int k) { return !(sign * st_area(s, *t, *corner_s, k) > 0); };
+  std::vector<std::vector<int>> corners(n);  // per vertex: its corners 3k + j
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) corners[s.triangles[k][j]].push_back(3 * k + j);
+  std::vector<char> in_region(n, 0);
+  std::vector<int> region;
+  auto add_free_corners_of = [&](int k) {
+    for (int j = 0; j < 3; ++j) {
+      const int v = s.triangles[k][j];
+      if (fixed[v] != 1 && !in_region[v]) in_region[v] = 1, region.push_back(v);
+    }
+  };
+  for (int k = 0; k < s.n_triangles(); ++k)
+    if (is_flipped(k)) add_free_corners_of(k);
+  if (region.empty()) return 0;
+  for (int round = 0; round < max_rounds; ++round) {
+    // Gauss-Seidel sweeps of the uniform (Tutte) Laplacian over the region, s unwrapped per
+    // vertex: a corner's s is the vertex's s plus a whole number of periods.
+    for (int sweep = 0; sweep < 100; ++sweep)
+      for (int v : region) {
+        const int c0 = corners[v][0];
+        const double sv = (*corner_s)[c0];
+        double sum_s = 0, sum_t = 0;
+        int count = 0;
+        const bool slides = fixed[v] == 2;
+        for (int c : corners[v]) {
+          const int k = c / 3, j = c % 3;
+          const double offset = std::round((*corner_s)[c] - sv);
+          for (int m = 1; m < 3; ++m) {
+            const int w = s.triangles[k][(j + m) % 3];
+            // A sliding vertex moves along its boundary: only its boundary neighbours count.
+            if (slides && fixed[w] != 2) continue;
+            sum_s += (*corner_s)[3 * k + (j + m) % 3] - offset;
+            sum_t += (*t)[w];
+            ++count;
+          }
+        }
+        if (count == 0) continue;
+        const double new_s = sum_s / count;
+        for (int c : corners[v]) (*corner_s)[c] = new_s + std::round((*corner_s)[c] - sv);
+        if (!slides) (*t)[v] = sum_t / count;
+      }
+    std::vector<int> flipped;
+    for (int k = 0; k < s.n_triangles(); ++k)
+      if (is_flipped(k)) flipped.push_back(k);
+    if (flipped.empty()) break;
+    // Grow the region by two rings around what is still flipped.
+    for (int ring = 0; ring < 2; ++ring) {
+      std::vector<int> around;
+      for (int k : flipped)
+        for (int j = 0; j < 3; ++j)
+          for (int c : corners[s.triangles[k][j]]) around.push_back(c / 3);
+      for (int k : around) add_free_corners_of(k);
+      flipped = std::move(around);
+    }
+  }
+  return static_cast<int>(region.size());
+}
+
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
-                                         const std::map<std::string, double>& key_u) {
+                                         const std::map<std::string, double>& key_u,
+                                         RimCorrespondence rim) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
@@ -97,6 +193,113 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   };
   out.corner_s.resize(psi.size());
   for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
+
+  // The rim's correspondence: arc length from the rim anchor, as a map of psi like phi.
+  if (rim != RimCorrespondence::kFlow && annulus.rim_anchor[0] >= 0) {
+    std::vector<int> outer = annulus.outer_loop;
+    const int mo = static_cast<int>(outer.size());
+    auto psi_step = [&](int a, int b) {  // psi(b) - psi(a) in the triangle of edge a-b
+      auto it = face_of_edge.find({a, b});
+      if (it == face_of_edge.end()) it = face_of_edge.find({b, a});
+      GVKIT_CHECK(it != face_of_edge.end(), "outer loop follows boundary edges");
+      return psi[corner(it->second, b)] - psi[corner(it->second, a)];
+    };
+    double total = 0;
+    for (int i = 0; i < mo; ++i) total += psi_step(outer[i], outer[(i + 1) % mo]);
+    if (total < 0) std::reverse(outer.begin(), outer.end());
+    // Rotate so the anchor lies on the edge outer[0] -> outer[1], at fraction ta.
+    int start = -1;
+    double ta = 0;
+    for (int i = 0; i < mo && start < 0; ++i) {
+      const int a = outer[i], b = outer[(i + 1) % mo];
+      if (a == annulus.rim_anchor[0] && b == annulus.rim_anchor[1])
+        start = i, ta = annulus.rim_anchor_t;
+      else if (a == annulus.rim_anchor[1] && b == annulus.rim_anchor[0])
+        start = i, ta = 1.0 - annulus.rim_anchor_t;
+    }
+    GVKIT_CHECK(start >= 0, "the rim anchor lies on the outer loop");
+    std::rotate(outer.begin(), outer.begin() + start, outer.end());
+    std::vector<double> len(mo), opsi(mo + 1, 0.0);
+    double length = 0;
+    for (int i = 0; i < mo; ++i) {
+      len[i] = (s.xyz[outer[(i + 1) % mo]] - s.xyz[outer[i]]).norm();
+      length += len[i];
+      opsi[i + 1] = opsi[i] + std::max(psi_step(outer[i], outer[(i + 1) % mo]), 1e-9);
+    }
+    for (double& x : opsi) x /= opsi[mo];
+    // Table from the anchor: relative psi -> rim parameter, both over [0, 1].
+    const double psi_anchor_rel = ta * opsi[1];
+    std::vector<double> tx = {0.0}, tu = {0.0};
+    if (rim == RimCorrespondence::kArcLength) {
+      double arc_acc = (1.0 - ta) * len[0];
+      for (int j = 1; j <= mo; ++j) {
+        tx.push_back(opsi[j] - psi_anchor_rel);
+        tu.push_back(arc_acc / length);
+        if (j < mo) arc_acc += len[j];
+      }
+    } else {
+      // Unwrapped angle around the nose tip, from the anchor direction, made non-decreasing.
+      const Eigen::Vector2d& o = annulus.rim_centre;
+      const Eigen::Vector2d& dir = annulus.rim_direction;
+      auto angle_of = [&](const Eigen::Vector2d& p) {
+        const Eigen::Vector2d r = p - o;
+        return std::atan2(dir.x() * r.y() - dir.y() * r.x(), dir.dot(r));
+      };
+      const Eigen::Vector2d anchor_xy =
+          (1.0 - ta) * s.xyz[outer[0]].head<2>() + ta * s.xyz[outer[1 % mo]].head<2>();
+      double previous = angle_of(anchor_xy), total = 0;
+      std::vector<double> cumulative;
+      for (int j = 1; j <= mo; ++j) {
+        const double a = angle_of(s.xyz[outer[j % mo]].head<2>());
+        double step = a - previous;
+        step -= 2 * M_PI * std::round(step / (2 * M_PI));
+        total += step;
+        cumulative.push_back(total);
+        previous = a;
+      }
+      // Where the rim is not star-shaped around the nose tip the angle goes back; its running
+      // maximum has flat stretches, so a fifth of arc length keeps u strictly increasing (flat
+      // stretches gave near-zero-area triangles in (s, t)).
+      const double sign = total < 0 ? -1.0 : 1.0;
+      double running = 0, arc_acc = (1.0 - ta) * len[0];
+      for (int j = 1; j <= mo; ++j) {
+        running = std::clamp(std::max(running, sign * cumulative[j - 1] / (2 * M_PI)), 0.0, 1.0);
+        tx.push_back(opsi[j] - psi_anchor_rel);
+        tu.push_back(0.8 * running + 0.2 * arc_acc / length);
+        if (j < mo) arc_acc += len[j];
+      }
+    }
+    tx.push_back(1.0), tu.push_back(1.0);
+    // Absolute psi of the anchor: psi at outer[0] in the triangle of the first edge.
+    auto it = face_of_edge.find({outer[0], outer[1 % mo]});
+    if (it == face_of_edge.end()) it = face_of_edge.find({outer[1 % mo], outer[0]});
+    const double psi0 = psi[corner(it->second, outer[0])] + ta * psi_step(outer[0], outer[1 % mo]);
+    auto phi_rim = [&](double x) {
+      const double y0 = x - psi0;
+      const double shift = std::floor(y0);
+      const double y = y0 - shift;
+      auto hi_it = std::upper_bound(tx.begin(), tx.end(), y);
+      const int hi =
+          std::clamp(static_cast<int>(hi_it - tx.begin()), 1, static_cast<int>(tx.size()) - 1);
+      const int lo = hi - 1;
+      const double w = tx[hi] > tx[lo] ? (y - tx[lo]) / (tx[hi] - tx[lo]) : 0.0;
+      return tu[lo] + std::clamp(w, 0.0, 1.0) * (tu[hi] - tu[lo]) + shift;
+    };
+    // The whole number of periods between the two maps that keeps them closest.
+    double mean_diff = 0;
+    for (int k = 0; k < 64; ++k) {
+      const double x = psi0 + (k + 0.5) / 64;
+      mean_diff += (phi(x) - phi_rim(x)) / 64;
+    }
+    const double periods = std::round(mean_diff);
+    for (int k = 0; k < s.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j) {
+        const double w = out.t[s.triangles[k][j]];
+        const double x = psi[3 * k + j];
+        out.corner_s[3 * k + j] = (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
+      }
+    out.rim = rim;
+  }
   // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to
   // whole periods), which removes solver round-off there.
   std::vector<double> boundary_u(n, std::numeric_limits<double>::quiet_NaN());
@@ -108,16 +311,12 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
       double& cs = out.corner_s[3 * k + j];
       cs = uv + std::round(cs - uv);
     }
-  int positive = 0, negative = 0;
-  for (int k = 0; k < s.n_triangles(); ++k) {
-    const auto& tri = s.triangles[k];
-    const double s0 = out.corner_s[3 * k], t0 = out.t[tri[0]];
-    const double a = (out.corner_s[3 * k + 1] - s0) * (out.t[tri[2]] - t0) -
-                     (out.corner_s[3 * k + 2] - s0) * (out.t[tri[1]] - t0);
-    if (a > 0) ++positive;
-    if (a < 0) ++negative;
-  }
-  out.flipped = s.n_triangles() - std::max(positive, negative);
+  // The inner boundary's s is the boundary correspondence; the outer boundary's s is free.
+  std::vector<char> on_boundary(n, 0);
+  for (int v : annulus.outer_loop) on_boundary[v] = 2;
+  for (int v : annulus.inner_loop) on_boundary[v] = 1;
+  out.untangled_vertices = untangle_flow_coordinates(s, on_boundary, &out.t, &out.corner_s);
+  out.flipped = count_flipped(s, out.t, out.corner_s);
   return out;
 }
 

@@ -15,9 +15,11 @@ SourceWeights interpolate_source_weights(const SourceWeights& a, const SourceWei
   return out;
 }
 
-CuttableMesh::CuttableMesh(const Mesh& input) : mesh(input) {
+CuttableMesh::CuttableMesh(const Mesh& input, const std::vector<int>* source_index) : mesh(input) {
   mesh.add_property(source);
-  for (auto v : mesh.vertices()) mesh.property(source, v) = {{v.idx(), 1.0}};
+  GVKIT_CHECK(!source_index || source_index->size() == mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    mesh.property(source, v) = {{source_index ? (*source_index)[v.idx()] : v.idx(), 1.0}};
 }
 
 int CuttableMesh::add_field(const std::vector<double>& values) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "gvkit/core/ict_face_model.hpp"
+#include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
 #include "gvkit/facemap/map_metrics.hpp"
@@ -58,8 +59,9 @@ TEST(CanonicalDomain, ShippedSpecMeshesIntoAFlipFreeAnnulus) {
   const int inside = cv::countNonZero(domain.mask());
   EXPECT_GT(inside, 64 * 64 * 8 / 10);
   EXPECT_LT(inside, 64 * 64);
-  // Keys: 36, 45, 60, 64 once; 39, 42 and d's end twice (both sides of a cut); c's middle 3x.
-  EXPECT_EQ(domain.key_names().size(), 13u);
+  // Keys: 36, 45, 60, 64 once; 39, 42, the nose tip (30) and d's end twice (both sides of a
+  // cut); c's middle 3x.
+  EXPECT_EQ(domain.key_names().size(), 15u);
   EXPECT_EQ(domain.key_names()[0], "36#0");
 }
 
@@ -71,9 +73,8 @@ TEST(EipMap, IctFacesMapWithoutFlipsAndKeysOnTheirCanonicalPixels) {
     auto mapped = map_face_eip(model.face_mesh(pos), ict_landmarks(model, pos), domain,
                                heat_geodesic_distance());
     ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
-    // Known shortfall: up to 3 near-zero-area triangles (|area| ~ 1e-6 in (s, t)) flip where the
-    // ICT rim runs down the neck and the flow converges onto it (plain cotan weights).
-    EXPECT_LE(mapped->st_flipped, 3);
+    EXPECT_EQ(mapped->st_flipped, 0);
+    EXPECT_EQ(mapped->cut_method, "descent");
     EXPECT_EQ(mapped->interior_extrema, 0);
     EXPECT_TRUE(mapped->image.check().is_ok());
     EXPECT_EQ(cv::countNonZero(mapped->image.domain_mask != domain.mask()), 0);
@@ -111,6 +112,101 @@ TEST(EipMap, MildExpressionKeepsLandmarksAndSurfaceInPlace) {
   const DriftStats truth = true_surface_drift(*a, *b, p1);
   EXPECT_GT(truth.count, 2000);
   EXPECT_LT(truth.rms, 10.0);
+}
+
+// Edge-path cuts (the fallback) give the same arrangement of keys as descent cuts, and the
+// frame still maps without flips with every key on its canonical pixel.
+TEST(EipMap, EdgePathCutsMapLikeDescentCuts) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({{"jawOpen", 0.4}});
+  EipOptions options;
+  options.annulus.descent_paths = false;
+  auto mapped = map_face_eip(model.face_mesh(pos), ict_landmarks(model, pos), domain,
+                             heat_geodesic_distance(), options);
+  ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
+  EXPECT_EQ(mapped->cut_method, "edge_path");
+  EXPECT_EQ(mapped->st_flipped, 0);
+  for (const auto& [name, px] : domain.key_pixels())
+    EXPECT_LT((mapped->keys_px.at(name) - px).norm(), 0.5) << name;
+}
+
+// The main job's failures: a descent path that stops before its target, runs into the other
+// cut or back onto itself. Here the distance the cuts follow has a pit on the nose bridge
+// between the eyes, so the descent of c stops there; the edge-path fallback still cuts the face
+// into the annulus, and without the fallback the frame fails with the reason.
+TEST(EipMap, CutsFallBackToEdgePathsWhenTheDescentFails) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({});
+  const FaceLandmarks landmarks = ict_landmarks(model, pos);
+  const Mesh mesh = model.face_mesh(pos);
+  const cv::Vec3f between = 0.5f * (landmarks.points_mm[39] + landmarks.points_mm[42]);
+  FaceLandmarks probe;
+  probe.points_mm.push_back(between);
+  const auto bridge = mesh.point(Mesh::VertexHandle(nearest_vertices(mesh, probe)[0]));
+  const cv::Vec3d pit(bridge[0], bridge[1], bridge[2]);
+  const DistanceFunction heat = heat_geodesic_distance();
+  const DistanceFunction pitted = [&](const Mesh& mesh,
+                                      const std::vector<Mesh::VertexHandle>& sources)
+      -> Result<std::vector<std::vector<double>>> {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields, heat(mesh, sources));
+    for (auto& d : fields)
+      for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        const cv::Vec3d x = cv::Vec3d(p[0], p[1], p[2]) - pit;
+        d[v.idx()] -= 40.0 * std::exp(-x.dot(x) / 25.0);
+      }
+    return fields;
+  };
+  FaceAnnulusOptions no_fallback;
+  no_fallback.edge_path_fallback = false;
+  auto failed = make_face_annulus(mesh, landmarks, pitted, no_fallback);
+  ASSERT_FALSE(failed.is_ok());
+  EXPECT_NE(failed.status().message().find("descent path"), std::string::npos)
+      << failed.status().message();
+  auto annulus = make_face_annulus(mesh, landmarks, pitted);
+  ASSERT_TRUE(annulus.is_ok()) << annulus.status().message();
+  EXPECT_EQ(annulus->cut_method, "edge_path");
+  EXPECT_EQ(annulus->key_names(), domain.key_names());
+  EXPECT_EQ(tri_surface_boundary_loops(annulus->surface).size(), 2u);
+}
+
+// The main job's "3 boundary loops": a hole touching the rim at one vertex (a pinch, which
+// OpenMesh counts as a separate loop but cutting separates). Here the fan of an interior vertex
+// next to exactly one rim vertex is removed; the map opens the pinch and maps the frame.
+TEST(EipMap, HoleTouchingTheRimAtOneVertexIsOpened) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({});
+  Mesh mesh = model.face_mesh(pos);
+  const FaceLandmarks landmarks = ict_landmarks(model, pos);
+  const auto loops = boundary_loops(mesh);  // longest first: the rim
+  std::vector<char> rim(mesh.n_vertices(), 0);
+  for (auto v : loops[0]) rim[v.idx()] = 1;
+  Mesh::VertexHandle chosen;
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_boundary(v)) continue;
+    int rim_neighbours = 0, boundary_neighbours = 0;
+    for (auto w : mesh.vv_range(v))
+      rim_neighbours += rim[w.idx()], boundary_neighbours += mesh.is_boundary(w);
+    if (rim_neighbours != 1 || boundary_neighbours != 1) continue;
+    bool isolated_touch = true;  // the faces at the rim edge have no other boundary vertex
+    for (auto f : mesh.vf_range(v))
+      for (auto w : mesh.fv_range(f))
+        if (w != v && mesh.is_boundary(w))
+          for (auto x : mesh.fv_range(f)) isolated_touch &= x == w || !mesh.is_boundary(x);
+    if (isolated_touch && mesh.point(v)[1] < pos[model.landmark_vertices()[8]][1]) {
+      chosen = v;
+      break;
+    }
+  }
+  ASSERT_TRUE(chosen.is_valid());
+  std::vector<Mesh::FaceHandle> fan(mesh.vf_range(chosen).begin(), mesh.vf_range(chosen).end());
+  for (auto f : fan) mesh.delete_face(f, false);
+  mesh.garbage_collection();
+  auto mapped = map_face_eip(mesh, landmarks, domain, heat_geodesic_distance());
+  ASSERT_TRUE(mapped.is_ok()) << mapped.status().message();
+  ASSERT_FALSE(mapped->warnings.empty());
+  EXPECT_NE(mapped->warnings[0].find("pinches"), std::string::npos) << mapped->warnings[0];
+  EXPECT_EQ(mapped->st_flipped, 0);
 }
 
 TEST(EipMap, BadInputIsRejectedWithAReason) {

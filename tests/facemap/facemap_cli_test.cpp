@@ -45,6 +45,10 @@ TEST(FacemapCli, BadOptionsAndMissingInputFailWithAMessage) {
   r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string() +
                          " --method xyz");
   EXPECT_NE(r.exit_code, 0);
+  r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string() +
+                         " --rim sideways");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--rim must be arclength, angle or flow"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -79,6 +79,39 @@ TEST(HarmonicField, ConjugateLevelSetsAreTheRadialIntegralCurves) {
   EXPECT_LT(worst, 1e-6);
 }
 
+TEST(HarmonicField, UntanglingRemovesFlipsAcrossTheSeam) {
+  const FaceAnnulus a = ring(9, 64);
+  auto flow = flow_coordinates(a);
+  ASSERT_TRUE(flow.is_ok()) << flow.status().message();
+  ASSERT_EQ(flow->flipped, 0);
+  EXPECT_EQ(flow->untangled_vertices, 0);
+  const TriSurface& s = a.surface;
+  std::vector<char> fixed(s.n_vertices(), 0);
+  for (int v : a.inner_loop) fixed[v] = 1;
+  for (int v : a.outer_loop) fixed[v] = 1;
+  // Two interior vertices pushed three sectors sideways and two rings outward: one on the
+  // conjugate's seam (the ray through inner_loop[0], where corners differ by a period), one
+  // half way round.
+  std::vector<double> t = flow->t, corner_s = flow->corner_s;
+  for (int v : {4 * 64 + a.inner_loop[0] % 64, 3 * 64 + (a.inner_loop[0] + 32) % 64}) {
+    for (int k = 0; k < s.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j)
+        if (s.triangles[k][j] == v) corner_s[3 * k + j] += 3.0 / 64;
+    t[v] = t[v + 2 * 64];
+  }
+  ASSERT_GT(count_flipped(s, t, corner_s), 4);
+  const int moved = untangle_flow_coordinates(s, fixed, &t, &corner_s);
+  EXPECT_GT(moved, 1);
+  EXPECT_EQ(count_flipped(s, t, corner_s), 0);
+  for (int v = 0; v < s.n_vertices(); ++v)
+    if (fixed[v]) {
+      EXPECT_EQ(t[v], flow->t[v]);
+    }
+  // Within each triangle the corners' s stay within a fraction of a period of each other.
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 1; j < 3; ++j) EXPECT_LT(std::abs(corner_s[3 * k + j] - corner_s[3 * k]), 0.2);
+}
+
 TEST(HarmonicField, SolveDirichletRejectsNothingFreeAndKeepsFixedValues) {
   const FaceAnnulus a = ring(3, 8);
   const auto l = cotan_laplacian(a.surface);

@@ -44,7 +44,9 @@ class CanonicalDomain {
   // Rasterizes the holes at size (each hole at least 3 px thick), meshes the domain pixels
   // (one vertex per pixel centre), cuts and solves it. Fails when the size is too small for
   // the holes to stay apart and manifold.
-  static Result<CanonicalDomain> create(const CanonicalDomainSpec& spec, cv::Size size);
+  // rim: see flow_coordinates(); frames are mapped with the same setting.
+  static Result<CanonicalDomain> create(const CanonicalDomainSpec& spec, cv::Size size,
+                                        RimCorrespondence rim = RimCorrespondence::kAngle);
 
   cv::Size size() const { return size_; }
   const cv::Mat& mask() const { return mask_; }  // CV_8U, 255 inside D
@@ -71,9 +73,9 @@ class CanonicalDomain {
   std::map<std::string, Eigen::Vector2d> key_pixels_;
 };
 
-// Euclidean distance in the mesh's embedding to the nearest source: the geodesic distance on a
-// flat domain (where the straight segment stays inside it).
-Result<std::vector<double>> euclidean_distance(const Mesh& mesh,
-                                               const std::vector<Mesh::VertexHandle>& sources);
+// Euclidean distance in the mesh's embedding from each source (one field per source): the
+// geodesic distance on a flat domain (where the straight segment stays inside it).
+Result<std::vector<std::vector<double>>> euclidean_distance(
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources);
 
 }  // namespace gvkit::facemap

@@ -17,6 +17,13 @@
 
 namespace gvkit::facemap {
 
+// How s is set on the rim (see flow_coordinates()).
+enum class RimCorrespondence {
+  kFlow,       // where the integral curves of grad f arrive (the seed's)
+  kArcLength,  // the rim's arc length from its anchor
+  kAngle,      // the angle around the nose tip from the anchor direction, in the frontal plane
+};
+
 struct FlowCoordinates {
   std::vector<double> t;  // per surface vertex, in [0, 1]
   // Per triangle corner [3k + j]: s, continuous within each triangle (it may leave [0, 1) by
@@ -25,12 +32,41 @@ struct FlowCoordinates {
   std::map<std::string, double> key_u;  // boundary parameter of each key
   HarmonicFieldReport field_report;
   int boundary_nonmonotone = 0;  // inner-boundary steps where psi did not increase
+  RimCorrespondence rim = RimCorrespondence::kFlow;  // what was used
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
+  // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
+  int untangled_vertices = 0;
 };
+
+// Triangles whose (s, t) image has the minority orientation or zero area.
+int count_flipped(const TriSurface& surface, const std::vector<double>& t,
+                  const std::vector<double>& corner_s);
+
+// Removes flips of the discrete flow coordinates: the vertices of flipped triangles move to the
+// mean of their neighbours in (s, t) (a local Tutte embedding with the region's surroundings
+// fixed), the region growing by one ring per round while flips remain. fixed per vertex: 0 free,
+// 1 fixed, 2 on a boundary of constant t whose s may slide (it moves to the mean s of its
+// boundary neighbours; an edge joining two such vertices must be a boundary edge).
+// The discrete conjugate is not exactly orthogonal to f where triangles are obtuse or slivers,
+// and the conjugate is not monotone along the rim where the flow converges onto it; both flip a
+// few triangles, which this moves by a fraction of a triangle. Returns the number of vertices
+// moved.
+int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>& fixed,
+                              std::vector<double>* t, std::vector<double>* corner_s,
+                              int max_rounds = 30);
 
 // key_u: canonical boundary parameter of every key of annulus (from the canonical domain); the
 // names must match annulus.key_names() exactly. Empty: plain arc length from keys[0].
+// rim (kArcLength or kAngle, used when the annulus has a rim anchor): s is blended between the
+// inner boundary's correspondence (weight t) and the rim's parameter (weight 1 - t): arc length
+// from the anchor, or the angle around the nose tip from the anchor direction (monotone made),
+// both as monotone maps of psi, so every level set of f still maps one to one onto a line of
+// constant t: eyes, mouth and cuts land exactly where h puts them, the rim lands by arc length
+// like the harmonic map's. Off: s on the rim is wherever the integral curves arrive, which
+// slides by up to 17 mm along the chin when the jaw opens (the capacity of the mouth hole
+// changes the flux distribution of grad f).
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
-                                         const std::map<std::string, double>& key_u = {});
+                                         const std::map<std::string, double>& key_u = {},
+                                         RimCorrespondence rim = RimCorrespondence::kAngle);
 
 }  // namespace gvkit::facemap

@@ -38,7 +38,9 @@ struct MappedFace {
   int unmapped_pixels = 0;       // domain pixels no triangle covered (filled from neighbours)
   int interior_extrema = 0;      // of the harmonic field(s)
   int boundary_nonmonotone = 0;  // inner-boundary steps where the conjugate did not increase
-  int st_flipped = 0;  // triangles flipped in the flow coordinates (s, t) before resampling
+  int st_flipped = 0;      // triangles flipped in the flow coordinates (s, t) before resampling
+  int st_untangled = 0;    // vertices moved to remove flips in (s, t) (EIP)
+  std::string cut_method;  // EIP: "descent" or "edge_path" (FaceAnnulus::cut_method)
   std::vector<std::string> warnings;
 };
 

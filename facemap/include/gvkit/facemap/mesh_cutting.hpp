@@ -17,8 +17,9 @@ struct CuttableMesh {
   OpenMesh::VPropHandleT<SourceWeights> source;
   std::vector<OpenMesh::VPropHandleT<double>> fields;
 
-  // Copies mesh; every vertex's source is itself with weight 1.
-  explicit CuttableMesh(const Mesh& input);
+  // Copies mesh; every vertex's source is itself with weight 1, or vertex source_index[v] of
+  // another mesh (mesh is a trimmed copy of it) when source_index is given.
+  explicit CuttableMesh(const Mesh& input, const std::vector<int>* source_index = nullptr);
   CuttableMesh(const CuttableMesh&) = delete;
   CuttableMesh& operator=(const CuttableMesh&) = delete;
   // Adds a scalar field (one value per current vertex); returns its index in fields.

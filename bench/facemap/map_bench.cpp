@@ -1,0 +1,148 @@
+// facemap map stage: time of each step of the expression-invariant map (cuts, harmonic field and
+// conjugate, resampling) and of the harmonic-map baseline, on ICT-FaceKit faces (9,409 vertices)
+// and on the face frames of a `gvkit facemap clean` output (GVKIT_BENCH_FACES=FOLDER, its first
+// frame).
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "gvkit/core/face_landmarks_io.hpp"
+#include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/ict_face_model.hpp"
+#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/facemap/canonical_domain.hpp"
+#include "gvkit/facemap/eip_map.hpp"
+#include "gvkit/facemap/face_annulus.hpp"
+#include "gvkit/facemap/flow_coordinates.hpp"
+#include "gvkit/facemap/harmonic_map_baseline.hpp"
+
+namespace gvkit::facemap {
+namespace {
+
+struct Face {
+  Mesh mesh;
+  FaceLandmarks landmarks;
+};
+
+// range(0): 0 = ICT neutral, 1 = ICT jaw half open + smile, 2 = first frame of
+// $GVKIT_BENCH_FACES.
+const Face* face(int which) {
+  static std::map<int, std::optional<Face>> cache;
+  auto it = cache.find(which);
+  if (it != cache.end()) return it->second ? &*it->second : nullptr;
+  std::optional<Face> out;
+  if (which < 2) {
+    auto model = IctFaceModel::load(std::filesystem::path(GVKIT_SHARED_DATA_DIR) / "ict-facekit",
+                                    {"jawOpen", "mouthSmile_L"});
+    if (model.is_ok()) {
+      const auto pos = which == 0 ? model->neutral_mm()
+                                  : model->evaluate({{"jawOpen", 0.5}, {"mouthSmile_L", 0.5}});
+      Face f{model->face_mesh(pos), {}};
+      for (int v : model->landmark_vertices())
+        f.landmarks.points_mm.emplace_back(pos[v][0], pos[v][1], pos[v][2]);
+      out = std::move(f);
+    }
+  } else if (const char* dir = std::getenv("GVKIT_BENCH_FACES")) {
+    auto files = list_frame_files(dir, ".ply");
+    if (files.is_ok() && !files->empty()) {
+      auto mesh = read_mesh(files->front().path);
+      auto lm = read_face_landmarks(frame_path(dir, files->front().index, ".landmarks.json"));
+      if (mesh.is_ok() && lm.is_ok()) out = Face{std::move(mesh).value(), std::move(lm).value()};
+    }
+  }
+  cache[which] = std::move(out);
+  return cache[which] ? &*cache[which] : nullptr;
+}
+
+const CanonicalDomain* domain(int size) {
+  static std::map<int, std::optional<CanonicalDomain>> cache;
+  auto it = cache.find(size);
+  if (it == cache.end()) {
+    std::optional<CanonicalDomain> d;
+    auto spec = CanonicalDomainSpec::load_default();
+    if (spec.is_ok()) {
+      auto made = CanonicalDomain::create(*spec, {size, size});
+      if (made.is_ok()) d = std::move(made).value();
+    }
+    it = cache.emplace(size, std::move(d)).first;
+  }
+  return it->second ? &*it->second : nullptr;
+}
+
+#define REQUIRE_FACE(state)                               \
+  const Face* f = face(static_cast<int>(state.range(0))); \
+  if (!f) return state.SkipWithError("face absent (../shared/data or GVKIT_BENCH_FACES)")
+
+// Once per size: the canonical domain (grid mesh, cuts, harmonic field, conjugate).
+void BM_CanonicalDomain(benchmark::State& state) {
+  auto spec = CanonicalDomainSpec::load_default();
+  if (!spec.is_ok()) return state.SkipWithError("no canonical domain spec");
+  const int n = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(CanonicalDomain::create(*spec, {n, n}));
+}
+BENCHMARK(BM_CanonicalDomain)->Arg(128)->Arg(320)->Unit(benchmark::kMillisecond);
+
+// Cuts c and d and the annulus; range(1) = 1 traces descent paths, 0 edge paths only.
+void BM_FaceAnnulus(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  FaceAnnulusOptions o;
+  o.descent_paths = state.range(1) != 0;
+  const auto distance = heat_geodesic_distance();
+  for (auto _ : state) {
+    auto a = make_face_annulus(f->mesh, f->landmarks, distance, o);
+    if (!a.is_ok()) return state.SkipWithError(a.status().message().c_str());
+    benchmark::DoNotOptimize(a);
+  }
+}
+BENCHMARK(BM_FaceAnnulus)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgNames({"face", "descent"})
+    ->Unit(benchmark::kMillisecond);
+
+// f, its conjugate, the boundary correspondence and the untangling of flips.
+void BM_FlowCoordinates(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  const CanonicalDomain* d = domain(64);
+  if (!d) return state.SkipWithError("no canonical domain");
+  auto a = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
+  if (!a.is_ok()) return state.SkipWithError(a.status().message().c_str());
+  if (a->key_names() != d->key_names()) a->reverse_orientation();
+  for (auto _ : state) benchmark::DoNotOptimize(flow_coordinates(*a, d->key_u()));
+}
+BENCHMARK(BM_FlowCoordinates)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
+void BM_MapFaceEip(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  const CanonicalDomain* d = domain(static_cast<int>(state.range(1)));
+  if (!d) return state.SkipWithError("no canonical domain");
+  const auto distance = heat_geodesic_distance();
+  for (auto _ : state) {
+    auto m = map_face_eip(f->mesh, f->landmarks, *d, distance);
+    if (!m.is_ok()) return state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+}
+BENCHMARK(BM_MapFaceEip)
+    ->ArgsProduct({{0, 1, 2}, {320}})
+    ->ArgNames({"face", "size"})
+    ->Unit(benchmark::kMillisecond);
+
+void BM_MapFaceHm(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  for (auto _ : state) {
+    auto m = map_face_hm(f->mesh, f->landmarks, {320, 320});
+    if (!m.is_ok()) return state.SkipWithError(m.status().message().c_str());
+    benchmark::DoNotOptimize(m);
+  }
+}
+BENCHMARK(BM_MapFaceHm)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace gvkit::facemap
+
+BENCHMARK_MAIN();
