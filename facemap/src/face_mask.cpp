@@ -7,6 +7,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
 
 namespace gvkit::facemap {
@@ -140,6 +141,61 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
   return region;
 }
 
+// Boundary loops of the mask that are neither the rim (the longest) nor the loop nearest to an
+// eye or mouth contour are gaps of the scan inside the kept skin (often pinches of the scan's
+// rim that the mask moved inside); they are filled like any interior hole. Returns how many.
+Result<int> fill_stray_loops(Mesh* mesh, const std::vector<Point> (&contours)[3]) {
+  struct Loop {
+    double length = 0.0;
+    Mesh::HalfedgeHandle first;
+    std::vector<Point> points;
+  };
+  std::vector<Loop> loops;
+  std::vector<char> visited(mesh->n_halfedges(), 0);
+  for (auto h : mesh->halfedges()) {
+    if (!mesh->is_boundary(h) || visited[h.idx()]) continue;
+    Loop loop;
+    loop.first = h;
+    auto l = h;
+    do {
+      visited[l.idx()] = 1;
+      loop.length += mesh->calc_edge_length(l);
+      loop.points.push_back(mesh->point(mesh->from_vertex_handle(l)));
+      l = mesh->next_halfedge_handle(l);
+    } while (l != h && !visited[l.idx()]);
+    loops.push_back(std::move(loop));
+  }
+  if (loops.size() <= 4) return 0;
+  std::vector<char> keep(loops.size(), 0);
+  keep[std::max_element(loops.begin(), loops.end(),
+                        [](const Loop& a, const Loop& b) { return a.length < b.length; }) -
+       loops.begin()] = 1;
+  for (const auto& contour : contours) {
+    size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < loops.size(); ++i) {
+      if (keep[i]) continue;
+      double sum = 0.0;
+      for (const auto& p : contour) {
+        double d2 = std::numeric_limits<double>::infinity();
+        for (const auto& q : loops[i].points) d2 = std::min(d2, (p - q).sqrnorm());
+        sum += std::sqrt(d2);
+      }
+      if (sum < best_d) best_d = sum, best = i;
+    }
+    keep[best] = 1;
+  }
+  HoleFillingOptions options;
+  HoleFillingReport report;
+  int filled = 0;
+  for (size_t i = 0; i < loops.size(); ++i) {
+    if (keep[i]) continue;
+    GVKIT_RETURN_IF_ERROR(fill_hole(mesh, loops[i].first, options, &report));
+    ++filled;
+  }
+  return filled;
+}
+
 std::string describe(const MeshTopology& t) {
   std::string loops;
   for (int n : t.boundary_loop_lengths) loops += (loops.empty() ? "" : ", ") + std::to_string(n);
@@ -236,11 +292,24 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   Mesh masked = clip_mesh_below(cropped, f, clip);
 
   result.topology = mesh_topology(masked);
+  if (options.fill_stray_holes && result.topology.components == 1 &&
+      result.topology.boundary_loops > 4) {
+    auto filled = fill_stray_loops(&masked, contours);
+    if (!filled.is_ok()) return filled.status().with_context("face mask: stray hole");
+    result.stray_holes_filled = *filled;
+    result.topology = mesh_topology(masked);
+  }
   const MeshTopology& t = result.topology;
   if (t.components != 1 || t.genus != 0 || t.boundary_loops != 4)
     return failed_precondition("face mask (radius " + std::to_string(static_cast<int>(radius)) +
                                " mm): found " + describe(t) +
                                "; expected 1 component, genus 0, 4 boundary loops");
+  // What facemap map refuses: triangles without area (a fill or a cut gone flat).
+  int degenerate = 0;
+  for (auto face : masked.faces()) degenerate += !(masked.calc_face_area(face) > 1e-10);
+  if (degenerate > 0)
+    return failed_precondition("face mask: " + std::to_string(degenerate) +
+                               " degenerate triangle(s) (area <= 1e-10 mm^2)");
   result.mesh = std::move(masked);
   return result;
 }

@@ -29,6 +29,9 @@ struct FaceMaskOptions {
   // mouth (a degenerate polygon) still becomes a thin hole.
   double eye_margin_mm = 1.0;
   double mouth_margin_mm = 2.0;
+  // Boundary loops of the mask besides the rim, the eyes and the mouth (gaps of the scan inside
+  // the kept skin, e.g. pinches of the scan's rim that the mask moved inside) are filled.
+  bool fill_stray_holes = true;
   HeatGeodesicsOptions geodesics;
   Status check() const;
 };
@@ -37,6 +40,7 @@ struct FaceMask {
   Mesh mesh;                 // genus 0, 4 boundary loops, colours kept
   double radius_mm = 0.0;    // the radius used
   int cropped_vertices = 0;  // vertices in the Euclidean crop that the geodesics solved on
+  int stray_holes_filled = 0;
   MeshTopology topology;
 };
 
