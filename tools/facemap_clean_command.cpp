@@ -86,7 +86,19 @@ nlohmann::json frame_json(const Frame& f) {
   j["output_vertices"] = s.output_vertices;
   j["output_faces"] = s.output_faces;
   j["radius_mm"] = s.radius_mm;
-  j["ms"] = {{"mesh", s.mesh_ms}, {"fill", s.fill_ms}, {"mask", s.mask_ms}, {"total", s.total_ms}};
+  j["cropped_vertices"] = s.cropped_vertices;
+  const auto& m = s.mask_timing;
+  j["ms"] = {{"mesh", s.mesh_ms},
+             {"fill", s.fill_ms},
+             {"mask", s.mask_ms},
+             {"mask_steps",
+              {{"crop", m.crop_ms},
+               {"factor", m.factor_ms},
+               {"regions", m.regions_ms},
+               {"distances", m.distances_ms},
+               {"clip", m.clip_ms},
+               {"check", m.check_ms}}},
+             {"total", s.total_ms}};
   return j;
 }
 

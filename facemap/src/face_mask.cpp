@@ -1,6 +1,7 @@
 #include "gvkit/facemap/face_mask.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -233,6 +234,12 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
     return invalid_argument("face mask: expected 68 landmarks in mm, got " +
                             std::to_string(landmarks.points_mm.size()));
   FaceMask result;
+  auto step_start = std::chrono::steady_clock::now();
+  auto lap = [&step_start](double* ms) {
+    const auto now = std::chrono::steady_clock::now();
+    *ms = std::chrono::duration<double, std::milli>(now - step_start).count();
+    step_start = now;
+  };
   result.radius_mm = options.radius_mm > 0
                          ? options.radius_mm
                          : default_mask_radius_mm(landmarks, options.radius_factor);
@@ -267,10 +274,12 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   const Mesh cropped = clip_mesh_below(mesh, outside, crop_options);
   result.cropped_vertices = static_cast<int>(cropped.n_vertices());
   if (cropped.n_faces() == 0) return failed_precondition("face mask: nothing within the radius");
+  lap(&result.timing.crop_ms);
 
   // The eye and mouth regions on the crop, their geodesic distances, and the distance from all
   // three; one factorisation serves the four queries.
   const HeatGeodesics geodesics(cropped, options.geodesics);
+  lap(&result.timing.factor_ms);
   const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
                                          contour_points(landmarks, kLeftEyeContour),
                                          mouth_points(landmarks, options.mouth_contour)};
@@ -279,17 +288,23 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   // grown eye and mouth regions; one level-set cut gives all four boundaries.
   std::vector<Mesh::VertexHandle> all_features;
   std::vector<double> f(cropped.n_vertices(), -std::numeric_limits<double>::infinity());
+  std::vector<Mesh::VertexHandle> regions[3];
   for (int k = 0; k < 3; ++k) {
-    const auto region = contour_region(cropped, contours[k]);
-    all_features.insert(all_features.end(), region.begin(), region.end());
-    const std::vector<double> d = geodesics.distance(region);
+    regions[k] = contour_region(cropped, contours[k]);
+    all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
+  }
+  lap(&result.timing.regions_ms);
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<double> d = geodesics.distance(regions[k]);
     for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
   }
   const std::vector<double> d_features = geodesics.distance(all_features);
   for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
+  lap(&result.timing.distances_ms);
   LevelSetClipOptions clip;
   clip.level = 0.0;
   Mesh masked = clip_mesh_below(cropped, f, clip);
+  lap(&result.timing.clip_ms);
 
   result.topology = mesh_topology(masked);
   if (options.fill_stray_holes && result.topology.components == 1 &&
@@ -311,6 +326,7 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
     return failed_precondition("face mask: " + std::to_string(degenerate) +
                                " degenerate triangle(s) (area <= 1e-10 mm^2)");
   result.mesh = std::move(masked);
+  lap(&result.timing.check_ms);
   return result;
 }
 

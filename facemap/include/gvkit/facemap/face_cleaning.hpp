@@ -52,7 +52,9 @@ struct CleanStats {
   int stray_holes_filled = 0;  // gaps inside the mask filled after masking
   int output_vertices = 0, output_faces = 0;
   double radius_mm = 0.0;
+  int cropped_vertices = 0;  // the part of the mesh the geodesics were solved on
   double mesh_ms = 0.0, fill_ms = 0.0, mask_ms = 0.0, total_ms = 0.0;
+  FaceMask::Timing mask_timing;  // the mask's steps
 };
 
 struct CleanedFace {
