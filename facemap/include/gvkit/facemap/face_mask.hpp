@@ -15,9 +15,15 @@
 #include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/core/status.hpp"
 #include "gvkit/facemap/face_features.hpp"
+#include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
 
 namespace gvkit::facemap {
+
+enum class GeodesicMethod {
+  kFastMarching,  // no factorisation; the margins' queries stop at their bound
+  kHeat,          // the heat method (HeatGeodesics): the reference
+};
 
 struct FaceMaskOptions {
   // Geodesic radius (mm) from the eye and mouth contours. 0: radius_factor x the distance between
@@ -32,14 +38,17 @@ struct FaceMaskOptions {
   // Boundary loops of the mask besides the rim, the eyes and the mouth (gaps of the scan inside
   // the kept skin, e.g. pinches of the scan's rim that the mask moved inside) are filled.
   bool fill_stray_holes = true;
-  HeatGeodesicsOptions geodesics;
+  GeodesicMethod method = GeodesicMethod::kFastMarching;
+  HeatGeodesicsOptions geodesics;  // kHeat only
   Status check() const;
 };
 
 struct FaceMask {
-  Mesh mesh;                 // genus 0, 4 boundary loops, colours kept
-  double radius_mm = 0.0;    // the radius used
-  int cropped_vertices = 0;  // vertices in the Euclidean crop that the geodesics solved on
+  Mesh mesh;               // genus 0, 4 boundary loops, colours kept
+  double radius_mm = 0.0;  // the radius used
+  // Vertices the geodesics were solved on: the Euclidean crop (heat), the vertices within the
+  // radius plus a few edges (fast marching).
+  int cropped_vertices = 0;
   int stray_holes_filled = 0;
   // Wall time of the steps (ms): landmark check and Euclidean crop, building and factorising
   // the geodesic operators, the eye and mouth regions, the distance queries, the level-set cut,
