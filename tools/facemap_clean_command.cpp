@@ -60,6 +60,8 @@ nlohmann::json options_json(const CleanArgs& a) {
           {"max_edge_factor", o.scan.max_edge_factor},
           {"max_hole_edges", o.holes.max_hole_edges},
           {"landmark_max_gap_px", o.landmark_max_gap_px},
+          {"landmark_max_snap_mm", o.landmark_max_snap_mm},
+          {"cut_feature_interiors", o.cut_feature_interiors},
           {"first_landmarks", a.first_landmarks.string()},
           {"threads", a.threads}};
 }
@@ -75,12 +77,30 @@ nlohmann::json frame_json(const Frame& f) {
   j["input_vertices"] = s.input_vertices;
   j["input_faces"] = s.input_faces;
   j["repair"] = s.repair;
+  j["feature_pixels_removed"] = s.feature_pixels_removed;
+  j["landmarks_snapped"] = {{"to_mesh_pixels", s.landmarks_snapped_px},
+                            {"max_px", s.landmark_max_snap_px},
+                            {"to_surface", s.landmarks_snapped_mm},
+                            {"max_mm", s.landmark_max_snap_mm}};
   j["holes_filled"] = s.holes_filled;
+  j["stray_holes_filled"] = s.stray_holes_filled;
   j["vertices_added"] = s.vertices_added;
   j["output_vertices"] = s.output_vertices;
   j["output_faces"] = s.output_faces;
   j["radius_mm"] = s.radius_mm;
-  j["ms"] = {{"mesh", s.mesh_ms}, {"fill", s.fill_ms}, {"mask", s.mask_ms}, {"total", s.total_ms}};
+  j["cropped_vertices"] = s.cropped_vertices;
+  const auto& m = s.mask_timing;
+  j["ms"] = {{"mesh", s.mesh_ms},
+             {"fill", s.fill_ms},
+             {"mask", s.mask_ms},
+             {"mask_steps",
+              {{"crop", m.crop_ms},
+               {"factor", m.factor_ms},
+               {"regions", m.regions_ms},
+               {"distances", m.distances_ms},
+               {"clip", m.clip_ms},
+               {"check", m.check_ms}}},
+             {"total", s.total_ms}};
   return j;
 }
 
@@ -282,6 +302,14 @@ void add_facemap_clean_command(CLI::App& facemap) {
   cmd->add_option("--mouth-margin", args->options.mask.mouth_margin_mm,
                   "Grow the mouth region by this, mm")
       ->capture_default_str();
+  cmd->add_option("--max-landmark-gap", args->options.landmark_max_gap_px,
+                  "Scans: a landmark on no mesh pixel moves to the nearest one up to this far, px")
+      ->capture_default_str();
+  cmd->add_option("--max-landmark-snap", args->options.landmark_max_snap_mm,
+                  "A landmark off the surface moves to the nearest vertex up to this far, mm")
+      ->capture_default_str();
+  cmd->add_flag("!--keep-feature-interiors", args->options.cut_feature_interiors,
+                "Scans: keep what is seen inside the mouth and eye contours in the mesh");
   cmd->add_option("--max-edge-factor", args->options.scan.max_edge_factor,
                   "Depth-discontinuity threshold in pixel footprints")
       ->capture_default_str();

@@ -1,13 +1,14 @@
 // Geodesic distance on the ICT face (about 9.5K vertices) from the nose tip: our heat method
-// against CGAL's Heat_method_3 (intrinsic Delaunay) and, as the truth, CGAL's exact
-// Surface_mesh_shortest_path (Chen and Han). Counters: mean and max relative error against the
-// exact distances (vertices farther than 5 mm).
+// and fast marching against CGAL's Heat_method_3 (intrinsic Delaunay) and, as the truth, CGAL's
+// exact Surface_mesh_shortest_path (Chen and Han). Counters: mean and max relative error against
+// the exact distances (vertices farther than 5 mm).
 #include <benchmark/benchmark.h>
 
 #include <CGAL/Heat_method_3/Surface_mesh_geodesic_distances_3.h>
 #include <CGAL/Surface_mesh_shortest_path.h>
 
 #include "bench_meshes.hpp"
+#include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
 
 namespace gvkit::facemap::bench {
@@ -117,6 +118,19 @@ void BM_OurHeatMethodQuery(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(heat.distance({f.mesh.vertex_handle(f.source)}));
 }
 BENCHMARK(BM_OurHeatMethodQuery)->Unit(benchmark::kMillisecond);
+
+// Fast marching (the face mask's default): precomputation + one query.
+void BM_OurFastMarching(benchmark::State& state) {
+  if (!fixture()) return state.SkipWithError("../shared/data absent");
+  const Fixture& f = *fixture();
+  std::vector<double> d;
+  for (auto _ : state) {
+    FastMarching marching(f.mesh);
+    d = marching.distance({f.mesh.vertex_handle(f.source)});
+  }
+  report(state, d);
+}
+BENCHMARK(BM_OurFastMarching)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace gvkit::facemap::bench

@@ -1,7 +1,11 @@
 #include "gvkit/facemap/face_cleaning.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <utility>
+#include <vector>
 
 namespace gvkit::facemap {
 
@@ -11,6 +15,9 @@ Status CleanOptions::check() const {
   if (!(landmark_max_gap_px >= 0 && landmark_max_gap_px <= 100))
     return invalid_argument("clean: landmark_max_gap_px must be in [0, 100], got " +
                             std::to_string(landmark_max_gap_px));
+  if (!(landmark_max_snap_mm >= 0 && landmark_max_snap_mm <= 100))
+    return invalid_argument("clean: landmark_max_snap_mm must be in [0, 100], got " +
+                            std::to_string(landmark_max_snap_mm));
   return mask.check();
 }
 
@@ -19,6 +26,43 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// Moves required landmarks that lie off the surface to the nearest vertex (bounded).
+Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const CleanOptions& options) {
+  double mean_edge = 0.0;
+  for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
+  mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
+  const std::vector<int> required = required_landmarks();
+  std::vector<double> best_d2(required.size(), std::numeric_limits<double>::infinity());
+  std::vector<Mesh::Point> best(required.size());
+  std::vector<Mesh::Point> targets;
+  for (int i : required) {
+    const cv::Vec3f& p = face->landmarks.points_mm[i];
+    targets.emplace_back(p[0], p[1], p[2]);
+  }
+  for (auto v : mesh.vertices()) {
+    const Mesh::Point& q = mesh.point(v);
+    for (size_t k = 0; k < targets.size(); ++k) {
+      const double d2 = (q - targets[k]).sqrnorm();
+      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = q;
+    }
+  }
+  for (size_t k = 0; k < required.size(); ++k) {
+    const double d = std::sqrt(best_d2[k]);
+    if (d <= 0.5 * mean_edge) continue;
+    if (!(d <= options.landmark_max_snap_mm))
+      return failed_precondition(
+          "landmark " + std::to_string(required[k]) + " lies " +
+          std::to_string(static_cast<int>(std::lround(d))) + " mm off the mesh (limit " +
+          std::to_string(static_cast<int>(options.landmark_max_snap_mm)) + " mm)");
+    face->landmarks.points_mm[required[k]] =
+        cv::Vec3f(static_cast<float>(best[k][0]), static_cast<float>(best[k][1]),
+                  static_cast<float>(best[k][2]));
+    ++face->stats.landmarks_snapped_mm;
+    face->stats.landmark_max_snap_mm = std::max(face->stats.landmark_max_snap_mm, d);
+  }
+  return Status::ok();
 }
 
 // Fill and mask, shared by scans and meshes.
@@ -33,11 +77,15 @@ Status fill_and_mask(Mesh mesh, CleanedFace* face, const CleanOptions& options) 
   face->stats.holes_filled = filled->holes_filled;
   face->stats.vertices_added = filled->vertices_added;
   face->stats.fill_ms = ms_since(t);
+  GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(mesh, face, options));
   t = std::chrono::steady_clock::now();
   auto mask = geodesic_face_mask(mesh, face->landmarks, options.mask);
   if (!mask.is_ok()) return mask.status();
   face->stats.mask_ms = ms_since(t);
   face->stats.radius_mm = mask->radius_mm;
+  face->stats.stray_holes_filled = mask->stray_holes_filled;
+  face->stats.cropped_vertices = mask->cropped_vertices;
+  face->stats.mask_timing = mask->timing;
   face->mesh = std::move(mask->mesh);
   face->stats.output_vertices = static_cast<int>(face->mesh.n_vertices());
   face->stats.output_faces = static_cast<int>(face->mesh.n_faces());
@@ -52,12 +100,26 @@ Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
   const auto start = std::chrono::steady_clock::now();
   const std::string frame = "frame " + std::to_string(scan.index);
   CleanedFace face;
-  GVKIT_RETURN_IF_ERROR(
-      lift_landmarks(scan, &landmarks, options.landmark_max_gap_px).with_context(frame));
-  face.landmarks = std::move(landmarks);
+  if (static_cast<int>(landmarks.points_px.size()) != FaceLandmarks::kCount)
+    return invalid_argument(frame + ": landmarks: expected 68 image points, got " +
+                            std::to_string(landmarks.points_px.size()));
   auto t = std::chrono::steady_clock::now();
-  GVKIT_ASSIGN_OR_RETURN(ScanMesh scan_mesh, mesh_from_scan(scan, options.scan));
+  RangeScan skin = scan;  // shares the pixel data; only `valid` is replaced
+  if (options.cut_feature_interiors)
+    skin.valid =
+        valid_without_feature_interiors(scan, landmarks, 0.5, &face.stats.feature_pixels_removed);
+  GVKIT_ASSIGN_OR_RETURN(ScanMesh scan_mesh, mesh_from_scan(skin, options.scan));
   face.stats.mesh_ms = ms_since(t);
+  // Landmarks are lifted onto the kept mesh: an inner lip over the open mouth, or an eye contour
+  // over a removed eyeball, takes the nearest pixel of the lips or lids.
+  const cv::Mat on_mesh = scan_mesh.vertex_of_pixel >= 0;
+  LandmarkLiftReport lift;
+  GVKIT_RETURN_IF_ERROR(
+      lift_landmarks(scan, &landmarks, options.landmark_max_gap_px, on_mesh, &lift)
+          .with_context(frame));
+  face.stats.landmarks_snapped_px = lift.snapped;
+  face.stats.landmark_max_snap_px = lift.max_snap_px;
+  face.landmarks = std::move(landmarks);
   face.stats.input_vertices = static_cast<int>(scan_mesh.mesh.n_vertices());
   face.stats.input_faces = static_cast<int>(scan_mesh.mesh.n_faces());
   face.stats.repair = scan_mesh.repair.summary();

@@ -1,5 +1,6 @@
 #include "gvkit/facemap/face_features.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -14,19 +15,26 @@ std::vector<int> required_landmarks() {
   return out;
 }
 
-Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double max_distance_px) {
+Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double max_distance_px,
+                      const cv::Mat& usable, LandmarkLiftReport* report) {
   if (static_cast<int>(landmarks->points_px.size()) != FaceLandmarks::kCount)
     return invalid_argument("landmarks: expected 68 image points, got " +
                             std::to_string(landmarks->points_px.size()));
-  const int rows = scan.valid.rows, cols = scan.valid.cols;
-  // Nearest valid pixel of every pixel: distance transform of the invalid set with labels.
-  cv::Mat invalid = scan.valid == 0, distance, labels;
+  const cv::Mat& valid = usable.empty() ? scan.valid : usable;
+  GVKIT_CHECK(valid.size() == scan.valid.size() && valid.type() == CV_8U,
+              "lift_landmarks: usable mask must be CV_8U of the scan's size");
+  LandmarkLiftReport local;
+  if (!report) report = &local;
+  *report = {};
+  const int rows = valid.rows, cols = valid.cols;
+  // Nearest usable pixel of every pixel: distance transform of the unusable set with labels.
+  cv::Mat invalid = valid == 0, distance, labels;
   cv::distanceTransform(invalid, distance, labels, cv::DIST_L2, cv::DIST_MASK_PRECISE,
                         cv::DIST_LABEL_PIXEL);
   std::vector<cv::Point> label_pixel(static_cast<size_t>(rows) * cols + 1);
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x)
-      if (scan.valid.at<uint8_t>(y, x)) label_pixel[labels.at<int>(y, x)] = {x, y};
+      if (valid.at<uint8_t>(y, x)) label_pixel[labels.at<int>(y, x)] = {x, y};
 
   std::vector<char> required(FaceLandmarks::kCount, 0);
   for (int i : required_landmarks()) required[i] = 1;
@@ -42,8 +50,8 @@ Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double ma
     const int x0 = std::clamp(static_cast<int>(std::floor(p.x)), 0, cols - 1);
     const int y0 = std::clamp(static_cast<int>(std::floor(p.y)), 0, rows - 1);
     const int x1 = std::min(x0 + 1, cols - 1), y1 = std::min(y0 + 1, rows - 1);
-    const bool all_valid = scan.valid.at<uint8_t>(y0, x0) && scan.valid.at<uint8_t>(y0, x1) &&
-                           scan.valid.at<uint8_t>(y1, x0) && scan.valid.at<uint8_t>(y1, x1);
+    const bool all_valid = valid.at<uint8_t>(y0, x0) && valid.at<uint8_t>(y0, x1) &&
+                           valid.at<uint8_t>(y1, x0) && valid.at<uint8_t>(y1, x1);
     if (inside && all_valid) {
       const float fx = p.x - x0, fy = p.y - y0;
       const cv::Vec3f v = (1 - fx) * (1 - fy) * scan.xyz_mm.at<cv::Vec3f>(y0, x0) +
@@ -57,13 +65,47 @@ Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double ma
     const int xr = std::clamp(static_cast<int>(std::lround(p.x)), 0, cols - 1);
     const cv::Point nearest = label_pixel[labels.at<int>(yr, xr)];
     const double d = std::hypot(nearest.x - p.x, nearest.y - p.y);
-    if (!scan.valid.at<uint8_t>(nearest) || (required[i] && d > max_distance_px))
+    if (!valid.at<uint8_t>(nearest) || (required[i] && d > max_distance_px))
       return failed_precondition(std::string(where) + " is outside the valid scan (nearest " +
-                                 "valid pixel " + std::to_string(static_cast<int>(d)) +
-                                 " px away)");
+                                 "usable pixel " + std::to_string(static_cast<int>(d)) +
+                                 " px away, limit " +
+                                 std::to_string(static_cast<int>(max_distance_px)) + " px)");
     landmarks->points_mm[i] = scan.xyz_mm.at<cv::Vec3f>(nearest);
+    if (required[i] && !valid.at<uint8_t>(yr, xr)) {
+      ++report->snapped;
+      report->max_snap_px = std::max(report->max_snap_px, d);
+    }
   }
   return Status::ok();
+}
+
+cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmarks& landmarks,
+                                        double min_inside_px, int* removed) {
+  cv::Mat valid = scan.valid.clone();
+  int count = 0;
+  if (static_cast<int>(landmarks.points_px.size()) == FaceLandmarks::kCount) {
+    auto cut = [&](const int* begin, const int* end) {
+      std::vector<cv::Point2f> contour;
+      for (const int* i = begin; i != end; ++i) contour.push_back(landmarks.points_px[*i]);
+      const cv::Rect box = cv::boundingRect(contour) & cv::Rect(0, 0, valid.cols, valid.rows);
+      for (int y = box.y; y < box.y + box.height; ++y)
+        for (int x = box.x; x < box.x + box.width; ++x) {
+          uint8_t& v = valid.at<uint8_t>(y, x);
+          if (!v) continue;
+          const double inside = cv::pointPolygonTest(
+              contour, cv::Point2f(static_cast<float>(x), static_cast<float>(y)), true);
+          if (inside > min_inside_px) {
+            v = 0;
+            ++count;
+          }
+        }
+    };
+    cut(kInnerMouthContour.data(), kInnerMouthContour.data() + kInnerMouthContour.size());
+    cut(kRightEyeContour.data(), kRightEyeContour.data() + kRightEyeContour.size());
+    cut(kLeftEyeContour.data(), kLeftEyeContour.data() + kLeftEyeContour.size());
+  }
+  if (removed) *removed = count;
+  return valid;
 }
 
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end) {

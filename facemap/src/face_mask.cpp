@@ -1,12 +1,15 @@
 #include "gvkit/facemap/face_mask.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <string>
 #include <unordered_map>
 
+#include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
 
 namespace gvkit::facemap {
@@ -41,17 +44,22 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
                                        : contour_points(landmarks, kOuterMouthContour);
 }
 
-Mesh::VertexHandle nearest_vertex(const Mesh& mesh, const Point& p, double* distance) {
-  Mesh::VertexHandle best;
-  double best_d2 = std::numeric_limits<double>::infinity();
+// The nearest vertex to each of the points, in one pass over the vertices.
+std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh, const std::vector<Point>& points,
+                                                 std::vector<double>* distances = nullptr) {
+  std::vector<Mesh::VertexHandle> best(points.size());
+  std::vector<double> best_d2(points.size(), std::numeric_limits<double>::infinity());
   for (auto v : mesh.vertices()) {
-    const double d2 = (mesh.point(v) - p).sqrnorm();
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best = v;
+    const Point& q = mesh.point(v);
+    for (size_t k = 0; k < points.size(); ++k) {
+      const double d2 = (q - points[k]).sqrnorm();
+      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = v;
     }
   }
-  if (distance) *distance = std::sqrt(best_d2);
+  if (distances) {
+    distances->resize(points.size());
+    for (size_t k = 0; k < points.size(); ++k) (*distances)[k] = std::sqrt(best_d2[k]);
+  }
   return best;
 }
 
@@ -93,8 +101,15 @@ std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHand
 // projection.
 std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
                                                const std::vector<Point>& contour) {
-  std::vector<Mesh::VertexHandle> corners;
-  for (const auto& p : contour) corners.push_back(nearest_vertex(mesh, p, nullptr));
+  const std::vector<Mesh::VertexHandle> corners = nearest_vertices(mesh, contour);
+  // Faces outside a ball around the contour cannot be enclosed by it: they count as reaching
+  // the boundary, so the flood fill of the outside stops there instead of crossing the mesh.
+  Point centre(0, 0, 0);
+  for (auto v : corners) centre += mesh.point(v);
+  centre /= static_cast<double>(corners.size());
+  double ball = 0.0;
+  for (auto v : corners) ball = std::max(ball, (mesh.point(v) - centre).norm());
+  ball = 2.0 * ball + 10.0;
   std::vector<char> on_path_edge(mesh.n_edges(), 0), in_region(mesh.n_vertices(), 0);
   for (size_t k = 0; k < corners.size(); ++k) {
     const auto path = shortest_path(mesh, corners[k], corners[(k + 1) % corners.size()]);
@@ -110,7 +125,12 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
   // are outside.
   std::vector<int> component(mesh.n_faces(), -1);
   std::vector<char> reaches_boundary;
-  for (auto f : mesh.faces()) {
+  // Seeds: the faces along the path (every enclosed component touches it).
+  std::vector<Mesh::FaceHandle> seeds;
+  for (auto v : mesh.vertices())
+    if (in_region[v.idx()])
+      for (auto f : mesh.vf_range(v)) seeds.push_back(f);
+  for (auto f : seeds) {
     if (component[f.idx()] >= 0) continue;
     const int c = static_cast<int>(reaches_boundary.size());
     reaches_boundary.push_back(0);
@@ -119,6 +139,10 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
     while (!stack.empty()) {
       const auto g = stack.back();
       stack.pop_back();
+      if ((mesh.point(mesh.to_vertex_handle(mesh.halfedge_handle(g))) - centre).norm() > ball) {
+        reaches_boundary[c] = 1;
+        continue;
+      }
       for (auto h : mesh.fh_range(g)) {
         const auto e = mesh.edge_handle(h);
         if (mesh.is_boundary(e)) reaches_boundary[c] = 1;
@@ -132,12 +156,67 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
     }
   }
   for (auto f : mesh.faces())
-    if (!reaches_boundary[component[f.idx()]])
+    if (component[f.idx()] >= 0 && !reaches_boundary[component[f.idx()]])
       for (auto v : mesh.fv_range(f)) in_region[v.idx()] = 1;
   std::vector<Mesh::VertexHandle> region;
   for (auto v : mesh.vertices())
     if (in_region[v.idx()]) region.push_back(v);
   return region;
+}
+
+// Boundary loops of the mask that are neither the rim (the longest) nor the loop nearest to an
+// eye or mouth contour are gaps of the scan inside the kept skin (often pinches of the scan's
+// rim that the mask moved inside); they are filled like any interior hole. Returns how many.
+Result<int> fill_stray_loops(Mesh* mesh, const std::vector<Point> (&contours)[3]) {
+  struct Loop {
+    double length = 0.0;
+    Mesh::HalfedgeHandle first;
+    std::vector<Point> points;
+  };
+  std::vector<Loop> loops;
+  std::vector<char> visited(mesh->n_halfedges(), 0);
+  for (auto h : mesh->halfedges()) {
+    if (!mesh->is_boundary(h) || visited[h.idx()]) continue;
+    Loop loop;
+    loop.first = h;
+    auto l = h;
+    do {
+      visited[l.idx()] = 1;
+      loop.length += mesh->calc_edge_length(l);
+      loop.points.push_back(mesh->point(mesh->from_vertex_handle(l)));
+      l = mesh->next_halfedge_handle(l);
+    } while (l != h && !visited[l.idx()]);
+    loops.push_back(std::move(loop));
+  }
+  if (loops.size() <= 4) return 0;
+  std::vector<char> keep(loops.size(), 0);
+  keep[std::max_element(loops.begin(), loops.end(),
+                        [](const Loop& a, const Loop& b) { return a.length < b.length; }) -
+       loops.begin()] = 1;
+  for (const auto& contour : contours) {
+    size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < loops.size(); ++i) {
+      if (keep[i]) continue;
+      double sum = 0.0;
+      for (const auto& p : contour) {
+        double d2 = std::numeric_limits<double>::infinity();
+        for (const auto& q : loops[i].points) d2 = std::min(d2, (p - q).sqrnorm());
+        sum += std::sqrt(d2);
+      }
+      if (sum < best_d) best_d = sum, best = i;
+    }
+    keep[best] = 1;
+  }
+  HoleFillingOptions options;
+  HoleFillingReport report;
+  int filled = 0;
+  for (size_t i = 0; i < loops.size(); ++i) {
+    if (keep[i]) continue;
+    GVKIT_RETURN_IF_ERROR(fill_hole(mesh, loops[i].first, options, &report));
+    ++filled;
+  }
+  return filled;
 }
 
 std::string describe(const MeshTopology& t) {
@@ -163,8 +242,7 @@ std::vector<Mesh::VertexHandle> feature_source_vertices(const Mesh& mesh,
   std::vector<Point> points = contour_points(landmarks, kRightEyeContour);
   for (const auto& p : contour_points(landmarks, kLeftEyeContour)) points.push_back(p);
   for (const auto& p : mouth_points(landmarks, mouth)) points.push_back(p);
-  std::vector<Mesh::VertexHandle> out;
-  for (const auto& p : points) out.push_back(nearest_vertex(mesh, p, nullptr));
+  std::vector<Mesh::VertexHandle> out = nearest_vertices(mesh, points);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -177,6 +255,12 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
     return invalid_argument("face mask: expected 68 landmarks in mm, got " +
                             std::to_string(landmarks.points_mm.size()));
   FaceMask result;
+  auto step_start = std::chrono::steady_clock::now();
+  auto lap = [&step_start](double* ms) {
+    const auto now = std::chrono::steady_clock::now();
+    *ms = std::chrono::duration<double, std::milli>(now - step_start).count();
+    step_start = now;
+  };
   result.radius_mm = options.radius_mm > 0
                          ? options.radius_mm
                          : default_mask_radius_mm(landmarks, options.radius_factor);
@@ -186,35 +270,59 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
   mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
   // Every feature landmark must lie on the surface.
-  for (int i : required_landmarks()) {
-    double d = 0.0;
-    nearest_vertex(mesh, to_point(landmarks.points_mm[i]), &d);
-    if (d > std::max(5.0, 4.0 * mean_edge))
-      return failed_precondition("landmark " + std::to_string(i) + " lies " +
-                                 std::to_string(static_cast<int>(d)) + " mm off the mesh");
+  {
+    const std::vector<int> required = required_landmarks();
+    std::vector<Point> points;
+    for (int i : required) points.push_back(to_point(landmarks.points_mm[i]));
+    std::vector<double> d;
+    nearest_vertices(mesh, points, &d);
+    for (size_t k = 0; k < required.size(); ++k)
+      if (d[k] > std::max(5.0, 4.0 * mean_edge))
+        return failed_precondition("landmark " + std::to_string(required[k]) + " lies " +
+                                   std::to_string(static_cast<int>(d[k])) + " mm off the mesh");
   }
 
-  // Crop: the vertices within the Euclidean ball of radius R (+ a margin) around a source.
-  std::vector<Point> source_points = contour_points(landmarks, kRightEyeContour);
-  for (const auto& p : contour_points(landmarks, kLeftEyeContour)) source_points.push_back(p);
-  for (const auto& p : mouth_points(landmarks, options.mouth_contour)) source_points.push_back(p);
-  const double crop = radius + 3.0 * mean_edge;
-  std::vector<double> outside(mesh.n_vertices());
-  for (auto v : mesh.vertices()) {
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& s : source_points) d = std::min(d, (mesh.point(v) - s).norm());
-    outside[v.idx()] = d;
+  // Heat method: crop to the Euclidean ball of radius R (+ a margin) around the sources first,
+  // as a geodesic ball lies inside the Euclidean one. Fast marching needs no crop: its queries
+  // stop at the radius. A mesh wholly inside the ball is used as it is (no copy).
+  Mesh clipped;
+  bool crop_mesh = false;
+  if (options.method == GeodesicMethod::kHeat) {
+    std::vector<Point> source_points = contour_points(landmarks, kRightEyeContour);
+    for (const auto& p : contour_points(landmarks, kLeftEyeContour)) source_points.push_back(p);
+    for (const auto& p : mouth_points(landmarks, options.mouth_contour)) source_points.push_back(p);
+    const double crop = radius + 3.0 * mean_edge;
+    std::vector<double> outside(mesh.n_vertices());
+    double farthest = 0.0;
+    for (auto v : mesh.vertices()) {
+      double d2 = std::numeric_limits<double>::infinity();
+      for (const auto& s : source_points) d2 = std::min(d2, (mesh.point(v) - s).sqrnorm());
+      outside[v.idx()] = std::sqrt(d2);
+      farthest = std::max(farthest, outside[v.idx()]);
+    }
+    if (farthest > crop) {
+      LevelSetClipOptions crop_options;
+      crop_options.level = crop;
+      crop_options.snap = 0.0;
+      clipped = clip_mesh_below(mesh, outside, crop_options);
+      crop_mesh = true;
+    }
   }
-  LevelSetClipOptions crop_options;
-  crop_options.level = crop;
-  crop_options.snap = 0.0;
-  const Mesh cropped = clip_mesh_below(mesh, outside, crop_options);
+  const Mesh& cropped = crop_mesh ? clipped : mesh;
   result.cropped_vertices = static_cast<int>(cropped.n_vertices());
   if (cropped.n_faces() == 0) return failed_precondition("face mask: nothing within the radius");
+  lap(&result.timing.crop_ms);
 
   // The eye and mouth regions on the crop, their geodesic distances, and the distance from all
-  // three; one factorisation serves the four queries.
-  const HeatGeodesics geodesics(cropped, options.geodesics);
+  // three. Heat: one factorisation serves the four queries. Fast marching: the regions' queries
+  // stop a few edges past their margins; the distance from all three is their minimum.
+  std::unique_ptr<HeatGeodesics> heat;
+  std::unique_ptr<FastMarching> marching;
+  if (options.method == GeodesicMethod::kHeat)
+    heat = std::make_unique<HeatGeodesics>(cropped, options.geodesics);
+  else
+    marching = std::make_unique<FastMarching>(cropped);
+  lap(&result.timing.factor_ms);
   const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
                                          contour_points(landmarks, kLeftEyeContour),
                                          mouth_points(landmarks, options.mouth_contour)};
@@ -223,25 +331,57 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   // grown eye and mouth regions; one level-set cut gives all four boundaries.
   std::vector<Mesh::VertexHandle> all_features;
   std::vector<double> f(cropped.n_vertices(), -std::numeric_limits<double>::infinity());
+  std::vector<Mesh::VertexHandle> regions[3];
   for (int k = 0; k < 3; ++k) {
-    const auto region = contour_region(cropped, contours[k]);
-    all_features.insert(all_features.end(), region.begin(), region.end());
-    const std::vector<double> d = geodesics.distance(region);
-    for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
+    regions[k] = contour_region(cropped, contours[k]);
+    all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
   }
-  const std::vector<double> d_features = geodesics.distance(all_features);
-  for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
+  lap(&result.timing.regions_ms);
+  if (heat) {
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<double> d = heat->distance(regions[k]);
+      for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
+    }
+    const std::vector<double> d_features = heat->distance(all_features);
+    for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
+  } else {
+    const std::vector<double> d_features =
+        marching->distance(all_features, radius + 3.0 * mean_edge);
+    result.cropped_vertices = static_cast<int>(
+        std::count_if(d_features.begin(), d_features.end(), [](double d) { return d < 1e300; }));
+    for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<double> d = marching->distance(regions[k], margins[k] + 3.0 * mean_edge);
+      for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
+    }
+  }
+  lap(&result.timing.distances_ms);
   LevelSetClipOptions clip;
   clip.level = 0.0;
   Mesh masked = clip_mesh_below(cropped, f, clip);
+  lap(&result.timing.clip_ms);
 
   result.topology = mesh_topology(masked);
+  if (options.fill_stray_holes && result.topology.components == 1 &&
+      result.topology.boundary_loops > 4) {
+    auto filled = fill_stray_loops(&masked, contours);
+    if (!filled.is_ok()) return filled.status().with_context("face mask: stray hole");
+    result.stray_holes_filled = *filled;
+    result.topology = mesh_topology(masked);
+  }
   const MeshTopology& t = result.topology;
   if (t.components != 1 || t.genus != 0 || t.boundary_loops != 4)
     return failed_precondition("face mask (radius " + std::to_string(static_cast<int>(radius)) +
                                " mm): found " + describe(t) +
                                "; expected 1 component, genus 0, 4 boundary loops");
+  // What facemap map refuses: triangles without area (a fill or a cut gone flat).
+  int degenerate = 0;
+  for (auto face : masked.faces()) degenerate += !(masked.calc_face_area(face) > 1e-10);
+  if (degenerate > 0)
+    return failed_precondition("face mask: " + std::to_string(degenerate) +
+                               " degenerate triangle(s) (area <= 1e-10 mm^2)");
   result.mesh = std::move(masked);
+  lap(&result.timing.check_ms);
   return result;
 }
 

@@ -217,6 +217,19 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
     const int n_s = static_cast<int>(s_set.size()), n_t = static_cast<int>(vertex_of.size());
     // s_set and vertex_of share the first n_s entries (S is added before the outer ring).
 
+    // The hull of the fixed vertices, grown by its diagonal: a solution outside it is garbage
+    // from a near-singular cotan system (rims that are walls along the line of sight, slivers).
+    Point lo = mesh->point(vertex_of[n_new]), hi = lo;
+    for (int k = n_new; k < n_t; ++k) {
+      lo.minimize(mesh->point(vertex_of[k]));
+      hi.maximize(mesh->point(vertex_of[k]));
+    }
+    const Point grow = hi - lo;
+    lo -= grow;
+    hi += grow;
+    // Cotan weights first; uniform weights (the graph bi-Laplacian, always well posed with two
+    // fixed rings) when the cotan solve leaves the hull or is not finite.
+    bool uniform = false;
     for (int solve = 0; solve < options.solve_iterations; ++solve) {
       std::vector<Eigen::Triplet<double>> l_triplets;
       Eigen::VectorXd mass = Eigen::VectorXd::Zero(n_s);
@@ -232,11 +245,12 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
             weight += 0.5 * cotan(mesh->point(v) - p, mesh->point(w) - p);
           }
           weight = std::max(weight, 1e-6);  // keep the operator definite on poor triangles
+          if (uniform) weight = 1.0;
           l_triplets.emplace_back(k, local[w.idx()], -weight);
           l_triplets.emplace_back(k, k, weight);
         }
         for (auto f : mesh->vf_range(v)) mass[k] += mesh->calc_face_area(f) / 3.0;
-        mass[k] = std::max(mass[k], 1e-12);
+        mass[k] = uniform ? 1.0 : std::max(mass[k], 1e-12);
       }
       Eigen::SparseMatrix<double> l(n_s, n_t);
       l.setFromTriplets(l_triplets.begin(), l_triplets.end());
@@ -263,6 +277,17 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
           return failed_precondition("hole of " + std::to_string(loop.size()) +
                                      " rim edges: bi-Laplacian system is singular");
         x = lu.solve(rhs);
+      }
+      bool inside = x.allFinite();
+      for (int k = 0; k < n_new && inside; ++k)
+        for (int c = 0; c < 3; ++c) inside = inside && x(k, c) >= lo[c] && x(k, c) <= hi[c];
+      if (!inside) {
+        if (uniform)
+          return failed_precondition("hole of " + std::to_string(loop.size()) +
+                                     " rim edges: the fill leaves the rim's hull");
+        uniform = true;
+        --solve;  // the same solve again with uniform weights
+        continue;
       }
       for (int k = 0; k < n_new; ++k) {
         const auto v = vertex_of[k];

@@ -53,24 +53,33 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
   const int n = static_cast<int>(points.size());
 
   // Degenerate and duplicate faces.
-  std::vector<std::array<int, 3>> faces;
-  faces.reserve(triangles.size());
-  std::set<std::array<int, 3>> seen;
-  for (const auto& t : triangles) {
+  // Duplicates by sorting (corner set, position): the first of equal corner sets is kept.
+  std::vector<std::pair<std::array<int, 3>, int>> keys;
+  keys.reserve(triangles.size());
+  std::vector<char> drop(triangles.size(), 0);
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const auto& t = triangles[i];
     for (int k = 0; k < 3; ++k) GVKIT_CHECK(t[k] >= 0 && t[k] < n, "triangle index out of range");
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] ||
         ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).sqrnorm() == 0.0) {
       ++r.degenerate_faces;
+      drop[i] = 1;
       continue;
     }
     std::array<int, 3> key = t;
     std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) {
-      ++r.duplicate_faces;
-      continue;
-    }
-    faces.push_back(t);
+    keys.emplace_back(key, static_cast<int>(i));
   }
+  std::sort(keys.begin(), keys.end());
+  for (size_t k = 1; k < keys.size(); ++k)
+    if (keys[k].first == keys[k - 1].first) {
+      drop[keys[k].second] = 1;
+      ++r.duplicate_faces;
+    }
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(triangles.size());
+  for (size_t i = 0; i < triangles.size(); ++i)
+    if (!drop[i]) faces.push_back(triangles[i]);
 
   // Components (union-find over face corners), keep the largest by face count.
   std::vector<int> parent(n);
@@ -93,6 +102,7 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
   static std::once_flag silence;
   std::call_once(silence, [] { omerr().disable(); });
   Mesh mesh;
+  mesh.reserve(n, 3 * faces.size() / 2 + n, faces.size());
   const bool with_colors = !colors.empty();
   GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");
   if (with_colors) mesh.request_vertex_colors();

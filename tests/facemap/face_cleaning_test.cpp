@@ -6,7 +6,10 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
+#include "gvkit/facemap/face_boundaries.hpp"
+#include "gvkit/facemap/face_features.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
 #include "gvkit/facemap/landmark_tracker.hpp"
 #include "gvkit/facemap/synthetic_face_scan.hpp"
@@ -62,6 +65,88 @@ TEST_F(FaceCleaningTest, SyntheticScanWithTrueLandmarksGivesFourBoundaries) {
   std::printf("synthetic scan: %d -> %d vertices, %d holes filled, radius %.1f mm, %.0f ms\n",
               face->stats.input_vertices, face->stats.output_vertices, face->stats.holes_filled,
               face->stats.radius_mm, face->stats.total_ms);
+}
+
+// An open mouth as a real scanner sees it: the teeth and the mouth interior behind the lips are
+// valid pixels inside the inner lip contour, `depth_mm` behind the lips' landmarks. The inner lip
+// landmarks then lift onto that interior, not onto the lips.
+SyntheticFaceScan open_mouth_scan(const IctFaceModel& model, double depth_mm) {
+  SyntheticFaceScan s =
+      render_synthetic_face_scan(model, model.evaluate({{"jawOpen", 0.6}}), small_scan());
+  std::vector<cv::Point2f> lips;
+  float lip_depth = 0.0f;
+  for (int i : kInnerMouthContour) {
+    lips.push_back(s.landmarks.points_px[i]);
+    lip_depth += s.landmarks.points_mm[i][2] / kInnerMouthContour.size();
+  }
+  // The interior reaches a pixel past the lip contour (under the lips, as teeth do).
+  for (int y = 0; y < s.scan.valid.rows; ++y)
+    for (int x = 0; x < s.scan.valid.cols; ++x) {
+      if (s.scan.valid.at<uint8_t>(y, x)) continue;
+      if (cv::pointPolygonTest(lips, cv::Point2f(x, y), true) < -1.0) continue;
+      const float x_mm = (x - (s.scan.valid.cols - 1) / 2.0f) * 1.2f;
+      const float y_mm = (y - (s.scan.valid.rows - 1) / 2.0f) * 1.2f;
+      s.scan.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(x_mm, y_mm, lip_depth + depth_mm);
+      s.scan.valid.at<uint8_t>(y, x) = 255;
+      s.scan.quality.at<float>(y, x) = 1.0f;
+    }
+  return s;
+}
+
+TEST_F(FaceCleaningTest, OpenMouthWithTheInteriorInTheScanGivesFourBoundaries) {
+  if (!model_) GTEST_SKIP() << "../shared/data is absent; this test needs it";
+  // 25 mm: the interior is a separate surface; 3 mm: it joins the lips (no depth jump).
+  for (const double depth_mm : {25.0, 3.0}) {
+    for (const bool cut : {true, false}) {
+      if (depth_mm < 10 && !cut) continue;  // a joined interior needs the cut
+      SCOPED_TRACE("interior " + std::to_string(depth_mm) + " mm behind, cut " +
+                   std::to_string(cut));
+      const SyntheticFaceScan s = open_mouth_scan(*model_, depth_mm);
+      FaceLandmarks landmarks;
+      landmarks.points_px = s.landmarks.points_px;
+      CleanOptions options;
+      options.cut_feature_interiors = cut;
+      auto face = clean_scan(s.scan, landmarks, options);
+      ASSERT_TRUE(face.is_ok()) << face.status().message();
+      if (cut) {
+        EXPECT_GT(face->stats.feature_pixels_removed, 50);
+      }
+      EXPECT_LE(face->stats.landmark_max_snap_px, options.landmark_max_gap_px);
+      // The inner lip landmarks land on the lips, near the true ones, not on the interior.
+      double worst = 0.0;
+      for (int i : kInnerMouthContour)
+        worst = std::max(worst, cv::norm(face->landmarks.points_mm[i] - s.landmarks.points_mm[i]));
+      EXPECT_LT(worst, 3.0);
+      // What facemap map needs: four boundary loops named by the landmarks.
+      auto boundaries = find_face_boundaries(face->mesh, face->landmarks);
+      EXPECT_TRUE(boundaries.is_ok()) << boundaries.status().message();
+    }
+  }
+}
+
+TEST_F(FaceCleaningTest, MeshLandmarksOffTheSurfaceAreSnappedWithinTheBound) {
+  if (!model_) GTEST_SKIP() << "../shared/data is absent; this test needs it";
+  const auto positions = model_->evaluate({{"jawOpen", 0.3}});
+  FaceLandmarks landmarks;
+  for (int v : model_->landmark_vertices()) landmarks.points_mm.emplace_back(positions[v]);
+  // The nose tip 4 mm in front of the surface: moved onto it, and reported.
+  FaceLandmarks near = landmarks;
+  near.points_mm[FaceLandmarks::kNoseTip][2] += 4.0f;
+  auto face = clean_mesh(model_->face_mesh(positions), near, "ict.obj");
+  ASSERT_TRUE(face.is_ok()) << face.status().message();
+  EXPECT_EQ(face->stats.landmarks_snapped_mm, 1);
+  EXPECT_NEAR(face->stats.landmark_max_snap_mm, 4.0, 1.0);
+  EXPECT_LT(cv::norm(face->landmarks.points_mm[FaceLandmarks::kNoseTip] -
+                     landmarks.points_mm[FaceLandmarks::kNoseTip]),
+            1.5);
+  // 20 mm off: beyond the bound, an error naming the landmark and the bound.
+  FaceLandmarks far = landmarks;
+  far.points_mm[FaceLandmarks::kNoseTip][2] += 20.0f;
+  face = clean_mesh(model_->face_mesh(positions), far, "ict.obj");
+  ASSERT_FALSE(face.is_ok());
+  EXPECT_NE(face.status().message().find("ict.obj: landmark 30 lies 20 mm off the mesh (limit 8"),
+            std::string::npos)
+      << face.status().message();
 }
 
 TEST_F(FaceCleaningTest, DlibFindsTheSyntheticFaceLandmarks) {

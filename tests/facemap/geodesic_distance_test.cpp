@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/intrinsic_triangulation.hpp"
 
 namespace gvkit::facemap {
@@ -126,6 +127,60 @@ TEST(GeodesicDistance, SphereMatchesGreatCircleDistance) {
       10.0);
   EXPECT_LT(e.mean_relative, 0.02);
   EXPECT_LT(e.max_relative, 0.10);
+}
+
+// Fast marching against the same exact distances, and against the heat method (its reference).
+TEST(FastMarching, PlaneMatchesEuclideanDistance) {
+  const int n = 41;
+  const Mesh mesh = plane_grid(n, 0.2, 0.0);
+  const auto source = mesh.vertex_handle((n / 2) * n + n / 2);
+  const auto d = FastMarching(mesh).distance({source});
+  EXPECT_EQ(d[source.idx()], 0.0);
+  auto exact = [&](auto v) { return (mesh.point(v) - mesh.point(source)).norm(); };
+  const Errors e = relative_errors(mesh, d, exact, 3.0);
+  EXPECT_LT(e.mean_relative, 0.025);
+  EXPECT_LT(e.max_relative, 0.08);
+  const Errors heat = relative_errors(mesh, HeatGeodesics(mesh).distance({source}), exact, 3.0);
+  EXPECT_LT(e.mean_relative, 2.0 * heat.mean_relative);
+}
+
+TEST(FastMarching, SphereMatchesGreatCircleDistance) {
+  const double radius = 50.0;
+  const Mesh mesh = icosphere(radius, 4);
+  const auto source = mesh.vertex_handle(0);
+  const Eigen::Vector3d s(mesh.point(source).data());
+  const auto d = FastMarching(mesh).distance({source});
+  const Errors e = relative_errors(
+      mesh, d,
+      [&](auto v) {
+        const Eigen::Vector3d q(mesh.point(v).data());
+        return radius * std::acos(std::clamp(s.dot(q) / (radius * radius), -1.0, 1.0));
+      },
+      10.0);
+  EXPECT_LT(e.mean_relative, 0.02);
+  EXPECT_LT(e.max_relative, 0.10);
+}
+
+TEST(FastMarching, StopsAtTheBoundWithTheSameDistancesInside) {
+  const int n = 41;
+  const Mesh mesh = plane_grid(n, 0.2, 0.0);
+  const auto a = mesh.vertex_handle(10 * n + 10), b = mesh.vertex_handle(30 * n + 30);
+  const FastMarching marching(mesh);
+  const auto full = marching.distance({a, b});
+  const auto bounded = marching.distance({a, b}, 5.0);
+  int inside = 0;
+  for (size_t i = 0; i < full.size(); ++i) {
+    if (full[i] <= 5.0) {
+      EXPECT_EQ(bounded[i], full[i]);
+      ++inside;
+    } else {
+      EXPECT_TRUE(std::isinf(bounded[i]));
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_EQ(full[a.idx()], 0.0);
+  EXPECT_EQ(full[b.idx()], 0.0);
+  EXPECT_TRUE(FastMarching(mesh).distance({}).front() > 1e300);
 }
 
 TEST(GeodesicDistance, MultipleSourcesGiveTheNearest) {

@@ -77,6 +77,13 @@ TEST(CliFacemapClean, SyntheticScanWithDetectedLandmarks) {
   auto landmarks = read_face_landmarks(frame_path(out.path(), 0, ".landmarks.json"));
   ASSERT_TRUE(landmarks.is_ok());
   EXPECT_EQ(landmarks->points_px.size(), 68u);
+  // Per frame: how landmarks were moved onto the mesh (bounded) and the mask's step timers.
+  auto stats = read_json(out / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  const auto& frame = (*stats)["frames"][0];
+  EXPECT_LE(frame["landmarks_snapped"]["max_px"].get<double>(), 10.0);
+  EXPECT_TRUE(frame["ms"].contains("mask_steps"));
+  EXPECT_EQ((*stats)["options"]["landmark_max_snap_mm"], 8.0);
 }
 
 TEST(CliFacemapClean, BadInputAndOptionsAreRejected) {
@@ -88,6 +95,10 @@ TEST(CliFacemapClean, BadInputAndOptionsAreRejected) {
                 " --radius -5");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("radius"), std::string::npos) << r.output;
+  r = run_gvkit("facemap clean " + empty.path().string() + " -o " + out.path().string() +
+                " --max-landmark-snap -1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("landmark_max_snap_mm"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -25,19 +25,36 @@ struct CleanOptions {
   bool keep_largest_mesh_component = false;
   HoleFillingOptions holes;
   FaceMaskOptions mask;
-  // Scans: a landmark in a gap of the scan (eye contours border the eye holes) takes the
-  // nearest valid pixel up to this far; a required landmark farther away fails the frame.
+  // Scans: pixels seen through the open mouth or the eye openings (inside the inner lip or an eye
+  // contour: teeth, tongue, mouth interior, eyeballs) are left out of the mesh, so the mouth and
+  // eyes are holes bounded by the lips and lids whatever the expression.
+  bool cut_feature_interiors = true;
+  // Scans: a landmark on no pixel of the kept mesh (eye contours border the eye holes; an open
+  // mouth's inner lip lies over the mouth opening) takes the nearest pixel of the kept mesh up to
+  // this far; a required landmark farther away fails the frame.
   double landmark_max_gap_px = 10.0;
+  // Every required landmark (nose tip, eyes, mouth) farther from the surface than half a mean
+  // edge is moved to the nearest vertex (after hole filling) when that is at most this far (mm);
+  // farther fails the frame. Given meshes' landmarks over an open mouth land on the lips' rim.
+  double landmark_max_snap_mm = 8.0;
   Status check() const;
 };
 
 struct CleanStats {
   int input_vertices = 0, input_faces = 0;  // the scan's mesh or the given mesh after repair
   std::string repair;                       // what the repair changed
+  int feature_pixels_removed = 0;           // scans: pixels inside the mouth and eye contours
+  int landmarks_snapped_px = 0;  // scans: landmarks moved to the nearest pixel of the mesh
+  double landmark_max_snap_px = 0.0;
+  int landmarks_snapped_mm = 0;  // landmarks moved onto the surface
+  double landmark_max_snap_mm = 0.0;
   int holes_filled = 0, vertices_added = 0;
+  int stray_holes_filled = 0;  // gaps inside the mask filled after masking
   int output_vertices = 0, output_faces = 0;
   double radius_mm = 0.0;
+  int cropped_vertices = 0;  // the part of the mesh the geodesics were solved on
   double mesh_ms = 0.0, fill_ms = 0.0, mask_ms = 0.0, total_ms = 0.0;
+  FaceMask::Timing mask_timing;  // the mask's steps
 };
 
 struct CleanedFace {
@@ -46,7 +63,8 @@ struct CleanedFace {
   CleanStats stats;
 };
 
-// From a range scan and its landmarks' points_px (lifted to 3D here). Errors name the frame.
+// From a range scan and its landmarks' points_px (lifted to 3D here, onto the kept mesh). Errors
+// name the frame.
 Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
                                const CleanOptions& options = {});
 

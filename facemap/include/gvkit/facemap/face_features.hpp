@@ -25,12 +25,29 @@ enum class MouthContour { kInner, kOuter };
 // Landmark indices facemap needs in 3D: the nose tip, both eyes and the whole mouth.
 std::vector<int> required_landmarks();
 
+// What lift_landmarks did: how many required landmarks fell on no usable pixel (an open mouth's
+// inner lip over the mouth interior, an eye contour over a removed eyeball) and took the nearest
+// usable one, and the largest such move.
+struct LandmarkLiftReport {
+  int snapped = 0;
+  double max_snap_px = 0.0;
+};
+
 // Fills landmarks->points_mm from points_px: bilinear in the scan's xyz where the four pixels are
-// valid, else the nearest valid pixel. Fails (failed precondition) naming the landmark and its
-// pixel when a required landmark lies more than max_distance_px from any valid pixel or outside
-// the image.
-Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks,
-                      double max_distance_px = 3.0);
+// usable, else the nearest usable pixel. Usable pixels are `usable` (CV_8U, scan size, non-zero =
+// usable; e.g. the pixels of the kept mesh) or scan.valid when empty. Fails (failed precondition)
+// naming the landmark and its pixel when a required landmark lies more than max_distance_px from
+// any usable pixel or outside the image.
+Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double max_distance_px = 3.0,
+                      const cv::Mat& usable = cv::Mat(), LandmarkLiftReport* report = nullptr);
+
+// Pixels of the scan that are seen through the open mouth or the eye openings: farther than
+// min_inside_px inside the inner lip contour (60-67) or an eye contour (36-41, 42-47) of
+// landmarks.points_px. They are not skin (teeth, tongue, mouth interior, eyeballs), so the clean
+// stage leaves them out of the mesh; a closed mouth or eye (a degenerate contour) removes nothing.
+// Returns valid with those pixels cleared (a new matrix) and their count in *removed.
+cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmarks& landmarks,
+                                        double min_inside_px = 0.5, int* removed = nullptr);
 
 // Centroid (mm) of the given landmarks' points_mm.
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end);

@@ -5,8 +5,9 @@
 // (outer rim, two eyes, mouth) -- the input of the expression-invariant parameterization.
 //
 // Geodesics are expression-invariant (expressions are nearly isometric), so the mask rim covers
-// the same skin in every frame. Only the part of the mesh within the Euclidean ball of radius R
-// around the sources is solved (a geodesic ball lies inside the Euclidean ball of equal radius).
+// the same skin in every frame. Fast marching (the default) stops its queries at the radius; the
+// heat method (the reference) solves only the part of the mesh within the Euclidean ball of
+// radius R around the sources (a geodesic ball lies inside the Euclidean ball of equal radius).
 
 #include <vector>
 
@@ -15,9 +16,15 @@
 #include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/core/status.hpp"
 #include "gvkit/facemap/face_features.hpp"
+#include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
 
 namespace gvkit::facemap {
+
+enum class GeodesicMethod {
+  kFastMarching,  // no factorisation; the margins' queries stop at their bound
+  kHeat,          // the heat method (HeatGeodesics): the reference
+};
 
 struct FaceMaskOptions {
   // Geodesic radius (mm) from the eye and mouth contours. 0: radius_factor x the distance between
@@ -29,23 +36,38 @@ struct FaceMaskOptions {
   // mouth (a degenerate polygon) still becomes a thin hole.
   double eye_margin_mm = 1.0;
   double mouth_margin_mm = 2.0;
-  HeatGeodesicsOptions geodesics;
+  // Boundary loops of the mask besides the rim, the eyes and the mouth (gaps of the scan inside
+  // the kept skin, e.g. pinches of the scan's rim that the mask moved inside) are filled.
+  bool fill_stray_holes = true;
+  GeodesicMethod method = GeodesicMethod::kFastMarching;
+  HeatGeodesicsOptions geodesics;  // kHeat only
   Status check() const;
 };
 
 struct FaceMask {
-  Mesh mesh;                 // genus 0, 4 boundary loops, colours kept
-  double radius_mm = 0.0;    // the radius used
-  int cropped_vertices = 0;  // vertices in the Euclidean crop that the geodesics solved on
+  Mesh mesh;               // genus 0, 4 boundary loops, colours kept
+  double radius_mm = 0.0;  // the radius used
+  // Vertices the geodesics were solved on: the Euclidean crop (heat), the vertices within the
+  // radius plus a few edges (fast marching).
+  int cropped_vertices = 0;
+  int stray_holes_filled = 0;  // other boundary loops inside the mask, filled
+  // Wall time of the steps (ms): landmark check and Euclidean crop, building and factorising
+  // the geodesic operators, the eye and mouth regions, the distance queries, the level-set cut,
+  // the topology checks (with stray holes filled).
+  struct Timing {
+    double crop_ms = 0, factor_ms = 0, regions_ms = 0, distances_ms = 0, clip_ms = 0, check_ms = 0;
+  } timing;
   MeshTopology topology;
 };
 
 // The eye and mouth regions are the surface enclosed by the closed shortest edge path through
 // their contour landmarks, grown geodesically by the margins; their boundaries and the outer rim
 // are cut along iso-lines of the geodesic distances (smooth curves, not triangle staircases).
-// landmarks.points_mm must hold 68 points on (or within a few mm of) the mesh. Fails (failed
-// precondition) with what was found when the result is not one component of genus 0 with 4
-// boundary loops, or when a feature contour lies off the mesh.
+// Other boundary loops left inside the mask (gaps of the scan) are filled when
+// options.fill_stray_holes. landmarks.points_mm must hold 68 points on (or within a few mm of)
+// the mesh. Fails (failed precondition) with what was found when the result is not one component
+// of genus 0 with 4 boundary loops, has triangles without area, or when a feature contour lies
+// off the mesh.
 Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                                     const FaceMaskOptions& options = {});
 

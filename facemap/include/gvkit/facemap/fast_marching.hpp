@@ -1,0 +1,42 @@
+#pragma once
+// Multi-source geodesic distance on a triangle mesh by fast marching (Kimmel and Sethian 1998):
+// vertices are accepted in order of distance from a heap, and each accepted vertex updates the
+// far corners of its triangles from the planar wavefront through two accepted corners. The
+// update unfolds the triangle into the plane and places a virtual source at distances (dA, dB)
+// from the accepted edge; where the straight line from it to the corner misses that edge
+// (obtuse triangles, strongly curved fronts), the update falls back to the edges (a Dijkstra
+// step). Exact for a point source on a flat mesh of non-obtuse triangles; first order otherwise.
+//
+// No factorisation: O(n log n) per query, and a query may stop at a distance bound, so the
+// grown eye and mouth regions of the face mask cost only the vertices within their margins.
+// HeatGeodesics (geodesic_distance.hpp) is the reference it is compared against.
+
+#include <limits>
+#include <vector>
+
+#include "gvkit/core/mesh.hpp"
+
+namespace gvkit::facemap {
+
+class FastMarching {
+ public:
+  // Precomputes the per-vertex triangle fans of the mesh (kept by reference: the mesh must
+  // outlive this object and not change).
+  explicit FastMarching(const Mesh& mesh);
+
+  // Distance (mm) from the nearest source to every vertex (by idx()); 0 at the sources.
+  // Vertices farther than max_distance_mm (or on components without a source) get infinity.
+  // Sources must be valid vertices of the mesh (contract).
+  std::vector<double> distance(
+      const std::vector<Mesh::VertexHandle>& sources,
+      double max_distance_mm = std::numeric_limits<double>::infinity()) const;
+
+ private:
+  const Mesh* mesh_;
+  // For each vertex, the (other two corners) of its triangles, CSR layout.
+  std::vector<int> fan_start_;
+  std::vector<int> fan_;  // pairs (b, c)
+  std::vector<Mesh::Point> points_;
+};
+
+}  // namespace gvkit::facemap

@@ -1,0 +1,106 @@
+#include "gvkit/facemap/fast_marching.hpp"
+
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <utility>
+
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::facemap {
+namespace {
+
+using Point = Mesh::Point;
+
+// Distance at c from the front through a (distance da) and b (distance db), unfolded into the
+// plane of the triangle (a, b, c).
+double triangle_update(const Point& a, double da, const Point& b, double db, const Point& c) {
+  const double edge_a = da + (c - a).norm(), edge_b = db + (c - b).norm();
+  const double fallback = std::min(edge_a, edge_b);
+  const Point ab = b - a, ac = c - a;
+  const double len = ab.norm();
+  if (!(len > 0)) return fallback;
+  // c in the plane: a at the origin, b at (len, 0), c at (cx, cy) with cy >= 0.
+  const double cx = (ac | ab) / len;
+  const double cy = (ab % ac).norm() / len;
+  // The virtual source s at distance da from a and db from b, on the far side of ab from c.
+  const double sx = (da * da - db * db + len * len) / (2.0 * len);
+  const double sy2 = da * da - sx * sx;
+  if (sy2 < 0) return fallback;
+  const double sy = -std::sqrt(sy2);
+  // The line from s to c must cross ab between a and b.
+  const double t = (0.0 - sy) / (cy - sy);
+  const double x = sx + (cx - sx) * t;
+  if (x < 0 || x > len) return fallback;
+  return std::min(fallback, std::hypot(cx - sx, cy - sy));
+}
+
+}  // namespace
+
+FastMarching::FastMarching(const Mesh& mesh) : mesh_(&mesh) {
+  const int n = static_cast<int>(mesh.n_vertices());
+  points_.resize(n);
+  for (auto v : mesh.vertices()) points_[v.idx()] = mesh.point(v);
+  fan_start_.assign(n + 1, 0);
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) ++fan_start_[v.idx() + 1];
+  for (int i = 0; i < n; ++i) fan_start_[i + 1] += fan_start_[i];
+  fan_.resize(2 * static_cast<size_t>(fan_start_[n]));
+  std::vector<int> fill(fan_start_.begin(), fan_start_.end() - 1);
+  for (auto f : mesh.faces()) {
+    int c[3], k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = v.idx();
+    for (int j = 0; j < 3; ++j) {
+      const int slot = fill[c[j]]++;
+      fan_[2 * slot] = c[(j + 1) % 3];
+      fan_[2 * slot + 1] = c[(j + 2) % 3];
+    }
+  }
+}
+
+std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>& sources,
+                                           double max_distance_mm) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int n = static_cast<int>(points_.size());
+  std::vector<double> d(n, kInf);
+  std::vector<char> accepted(n, 0);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  for (auto v : sources) {
+    GVKIT_CHECK(v.is_valid() && v.idx() < n, "fast marching: source vertex out of range");
+    if (d[v.idx()] > 0) {
+      d[v.idx()] = 0.0;
+      heap.emplace(0.0, v.idx());
+    }
+  }
+  auto relax = [&](int target, double value) {
+    if (value < d[target]) {
+      d[target] = value;
+      heap.emplace(value, target);
+    }
+  };
+  while (!heap.empty()) {
+    const auto [dv, v] = heap.top();
+    heap.pop();
+    if (accepted[v] || dv > d[v]) continue;
+    if (dv > max_distance_mm) break;
+    accepted[v] = 1;
+    const Point& pv = points_[v];
+    for (int k = fan_start_[v]; k < fan_start_[v + 1]; ++k) {
+      const int b = fan_[2 * k], c = fan_[2 * k + 1];
+      if (!accepted[c]) {
+        relax(c, accepted[b] ? triangle_update(pv, dv, points_[b], d[b], points_[c])
+                             : dv + (points_[c] - pv).norm());
+      }
+      if (!accepted[b]) {
+        relax(b, accepted[c] ? triangle_update(pv, dv, points_[c], d[c], points_[b])
+                             : dv + (points_[b] - pv).norm());
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    if (!accepted[i]) d[i] = kInf;
+  return d;
+}
+
+}  // namespace gvkit::facemap
