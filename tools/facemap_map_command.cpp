@@ -279,6 +279,7 @@ void run(const MapCommandOptions& o) {
       const auto td = facemap::true_surface_drift(*first->mapped, *r.mapped, r.positions);
       f["true_drift_mm"] = drift_json(td);
       if (domain) {
+        const MappedFace& m = *r.mapped;
         // RMS drift per band of t (0 at the rim, 1 at the eyes, mouth and cuts).
         std::array<double, 4> sum2{};
         std::array<int, 4> count{};
