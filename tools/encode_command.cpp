@@ -100,6 +100,7 @@ void run_encode(const EncodeArgs& args) {
         {"preset", codec::preset_name(options.preset)},
         {"max_error_mm", options.max_error_mm},
         {"td_prediction", options.td_prediction},
+        {"subpel", options.subpel},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -160,6 +161,9 @@ void add_encode_command(CLI::App& app) {
                   "Frames from one intra frame to the next (P frames between); default 30");
   cmd->add_option("--search-range", args->options.search_range,
                   "Motion search range of P frames in samples, 0..32");
+  cmd->add_option("--subpel", args->options.subpel,
+                  "Motion vector precision of P frames: 0 (whole samples), 2 (half) or 4 "
+                  "(quarter, default; H.264 interpolation)");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -121,6 +121,30 @@ std::vector<RdPoint> qp_curve(const Material& m, const EncoderOptions& base,
   return points;
 }
 
+// Motion vector precision (format 1.3): whole, half and quarter samples, everything else as
+// `base`; RD curves, lossless rates and BD-rates against whole samples.
+void report_subpel(const Material& m, const EncoderOptions& base, const std::vector<int>& qps) {
+  print_header();
+  std::vector<std::vector<RdPoint>> curves;
+  const int precisions[3] = {0, 2, 4};
+  const char* names[3] = {"whole-sample motion (--subpel 0)", "half-sample motion (--subpel 2)",
+                          "quarter-sample motion (--subpel 4)"};
+  for (int i = 0; i < 3; ++i) {
+    EncoderOptions o = base;
+    o.subpel = precisions[i];
+    curves.push_back(qp_curve(m, o, names[i], qps));
+  }
+  for (int i = 0; i < 3; ++i) {
+    EncoderOptions o = base;
+    o.subpel = precisions[i];
+    o.lossless = true;
+    print_row(std::string("lossless, ") + names[i], "-", run_ours(m, o));
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  print_bd("half-sample vs whole-sample motion", curves[0], curves[1]);
+  print_bd("quarter-sample vs whole-sample motion", curves[0], curves[2]);
+}
+
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
   SequenceInfo info = m.info;
   info.bit_depth = config.bit_depth;
@@ -201,7 +225,7 @@ int main(int argc, char** argv) {
   using namespace gvkit;
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
-  bool peers = true, rate_only = false;
+  bool peers = true, rate_only = false, subpel_only = false;
   int gop = 30;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -219,6 +243,8 @@ int main(int argc, char** argv) {
       gop = std::atoi(argv[++i]);
     else if (a == "--rate-only")
       rate_only = true;
+    else if (a == "--subpel-only")
+      subpel_only = true;
     else if (a == "--no-peers")
       peers = false;
     else if (a == "--peer-preset" && i + 1 < argc)
@@ -226,7 +252,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
-                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only]\n");
+                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]\n");
       return 2;
     }
   }
@@ -267,6 +293,10 @@ int main(int argc, char** argv) {
 
   if (rate_only) {
     report_rate_and_threads(m, base);
+    return 0;
+  }
+  if (subpel_only) {
+    report_subpel(m, base, qps);
     return 0;
   }
   // Value-domain prediction.
@@ -346,6 +376,7 @@ int main(int argc, char** argv) {
   print_bd("plane QP offsets 0/0/+3 vs none", vp_curves[0], plane_curves[0]);
   print_bd("plane QP offsets +3/+3/0 vs none", vp_curves[0], plane_curves[1]);
 
+  report_subpel(m, base, qps);
   report_rate_and_threads(m, base);
 
   if (peers) {

@@ -42,6 +42,9 @@ Status EncoderOptions::check() const {
   if (intra_period < 1 || intra_period > 100000)
     return invalid_argument("intra period " + std::to_string(intra_period) +
                             " out of range (1..100000)");
+  if (subpel != 0 && subpel != 2 && subpel != 4)
+    return invalid_argument("subpel " + std::to_string(subpel) +
+                            " is not 0 (whole samples), 2 (half) or 4 (quarter)");
   if (search_range < 0 || search_range > 32)
     return invalid_argument("search range " + std::to_string(search_range) +
                             " out of range (0..32)");

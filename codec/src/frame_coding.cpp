@@ -33,6 +33,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.geometry_modes = (flags & format::kFrameGeometryModes) != 0;
   p.adaptive_levels = (flags & format::kFrameAdaptiveLevels) != 0;
   p.td_prediction = (flags & format::kFrameTdPrediction) != 0;
+  p.subpel = (flags & format::kFrameQuarterPel) != 0 ? 4 : 0;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -111,7 +112,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       static_cast<uint8_t>((bypass ? format::kFrameLossless | format::kFrameAdaptiveLevels : 0) |
                            (options.geometry_modes ? format::kFrameGeometryModes : 0) |
                            (delta > 0 ? format::kFrameNearLossless : 0) |
-                           (reference && options.td_prediction ? format::kFrameTdPrediction : 0));
+                           (reference && options.td_prediction ? format::kFrameTdPrediction : 0) |
+                           (reference && options.subpel ? format::kFrameQuarterPel : 0));
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0),
                                   -6 * (info.bit_depth - 8), 51);
@@ -147,6 +149,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       p.rdo = options.preset == Preset::kSlow;
       p.allow_8x8 = options.preset == Preset::kSlow;
       p.search_range = options.search_range;
+      if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr);
     });
     return coded;
@@ -216,13 +219,14 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   const bool predicted = header.type == format::FrameType::kPredicted;
   if (predicted && (!reference || reference->size() != (info.has_texture ? 4u : 3u)))
     return corrupt_data("P frame without a reference frame");
-  if (header.flags > 127) return corrupt_data("frame flags " + std::to_string(header.flags));
   const bool lossless = (header.flags & format::kFrameLossless) != 0;
   if ((header.flags & format::kFrameNearLossless) && !lossless)
     return corrupt_data("frame flags: near-lossless without transform bypass");
   if ((header.flags & format::kFramePlaneQp) && lossless)
     return corrupt_data("frame flags: plane QP offsets in a lossless frame");
-  if ((header.flags & (format::kFrameValuePrediction | format::kFrameTdPrediction)) && !predicted)
+  if ((header.flags &
+       (format::kFrameValuePrediction | format::kFrameTdPrediction | format::kFrameQuarterPel)) &&
+      !predicted)
     return corrupt_data("frame flags: inter tools in an intra frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");

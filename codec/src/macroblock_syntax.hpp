@@ -10,6 +10,7 @@
 
 #include "gvkit/codec/cabac_context.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
+#include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
 
@@ -18,6 +19,9 @@ namespace gvkit::codec::detail {
 enum MbType : uint8_t { kMbI4x4 = 0, kMbI8x8 = 1, kMbI16x16 = 2, kMbInter = 3 };
 
 constexpr int kMaxMotion = 64;  // |motion vector component| in samples
+// Exp-Golomb escape of a motion vector difference: at most this many leading ones (whole-sample
+// differences reach 128, quarter-sample ones 512).
+inline int max_mvd_escape(bool quarter_pel) { return quarter_pel ? 10 : 8; }
 
 constexpr int kLevelPrefixMax = 14;  // unary part of |level| - 1, then Exp-Golomb (k = 0)
 constexpr int kMaxAbsLevel = 1 << 24;
@@ -64,14 +68,14 @@ inline int zorder_index(int bx, int by) {
 // Everything coded so far in a plane that later macroblocks' contexts depend on.
 struct PlaneState {
   int mbs_x = 0, mbs_y = 0;
-  std::vector<uint8_t> mb_type;    // per macroblock
-  std::vector<int8_t> mode4;       // per 4x4 block: prediction mode for the most probable mode
-  std::vector<uint8_t> cbf4;       // per 4x4 block: coded_block_flag (1 for coded 8x8 blocks)
-  std::vector<uint8_t> cbp8;       // per 8x8 block: coded_block_pattern bit
-  bool predicted = false;          // a P plane: macroblocks may be inter
-  std::vector<uint8_t> skip;       // per macroblock (inter, no motion difference, no residual)
-  std::vector<int8_t> mv_x, mv_y;  // per macroblock, inter only
-  std::vector<uint8_t> td;         // per macroblock: inter with temporal-difference prediction
+  std::vector<uint8_t> mb_type;     // per macroblock
+  std::vector<int8_t> mode4;        // per 4x4 block: prediction mode for the most probable mode
+  std::vector<uint8_t> cbf4;        // per 4x4 block: coded_block_flag (1 for coded 8x8 blocks)
+  std::vector<uint8_t> cbp8;        // per 8x8 block: coded_block_pattern bit
+  bool predicted = false;           // a P plane: macroblocks may be inter
+  std::vector<uint8_t> skip;        // per macroblock (inter, no motion difference, no residual)
+  std::vector<int16_t> mv_x, mv_y;  // per macroblock, inter only (units of the plane)
+  std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -118,7 +122,7 @@ struct MacroblockData {
   int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8)
   bool skip = false;            // inter: motion = predictor, no residual
   bool td = false;              // inter: temporal-difference prediction with modes[0..15]
-  int mv_x = 0, mv_y = 0;       // inter: integer motion vector (samples)
+  int mv_x = 0, mv_y = 0;       // inter: motion vector (samples, or quarter samples)
 };
 
 inline int mode_count4(const PlaneCodingParams& p) {
@@ -282,8 +286,8 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
         write_mvd(coder, ctx, 0, mb.mv_x - px);
         write_mvd(coder, ctx, 1, mb.mv_y - py);
       }
-      st.mv_x[mb_index] = static_cast<int8_t>(mb.skip ? px : mb.mv_x);
-      st.mv_y[mb_index] = static_cast<int8_t>(mb.skip ? py : mb.mv_y);
+      st.mv_x[mb_index] = static_cast<int16_t>(mb.skip ? px : mb.mv_x);
+      st.mv_y[mb_index] = static_cast<int16_t>(mb.skip ? py : mb.mv_y);
       const int gx0 = mb_x * 4, gy0 = mb_y * 4;
       const bool td = !mb.skip && params.td_prediction && mb.td;
       if (!mb.skip && params.td_prediction)
@@ -381,14 +385,10 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
 }
 
 // Inter prediction of the 16x16 macroblock at (x0, y0): the reference block displaced by the
-// integer motion vector, with coordinates clamped to the reference (edge extension).
+// motion vector (quarter samples when quarter_pel), the reference extended at its edges.
 inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int mv_y,
-                          int32_t* pred) {
-  for (int y = 0; y < 16; ++y) {
-    const int sy = std::clamp(y0 + y + mv_y, 0, ref.height - 1);
-    for (int x = 0; x < 16; ++x)
-      pred[y * 16 + x] = ref.at(std::clamp(x0 + x + mv_x, 0, ref.width - 1), sy);
-  }
+                          bool quarter_pel, int bit_depth, int32_t* pred) {
+  predict_motion_block(ref, x0, y0, 16, 16, mv_x, mv_y, quarter_pel, bit_depth, pred);
 }
 
 // Temporal-difference prediction: the neighbours of the 4x4 block at (x0, y0) (z-order index
@@ -396,14 +396,13 @@ inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int 
 // D'(x, y) = clip(recon(x, y) - ref(x + mv_x, y + mv_y) + 2^(B-1), 0, 2^B - 1) (reference
 // coordinates clamped), with the availability and substitution rules of intra prediction.
 inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& ref, int mv_x,
-                                   int mv_y, int x0, int y0, int mb_x, int mb_y, int block,
-                                   int bit_depth) {
+                                   int mv_y, bool quarter_pel, int x0, int y0, int mb_x, int mb_y,
+                                   int block, int bit_depth) {
   constexpr int n = 4, stride = 2 * n + 1;
   const int32_t c = 1 << (bit_depth - 1), max_value = (1 << bit_depth) - 1;
   const auto d = [&](int x, int y) -> uint16_t {
     if (x < 0 || y < 0 || x >= recon.width || y >= recon.height) return 0;
-    const int32_t r =
-        ref.at(std::clamp(x + mv_x, 0, ref.width - 1), std::clamp(y + mv_y, 0, ref.height - 1));
+    const int32_t r = motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth);
     return static_cast<uint16_t>(std::clamp(recon.at(x, y) - r + c, 0, max_value));
   };
   uint16_t local[(n + 1) * stride];
@@ -415,18 +414,17 @@ inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& 
 
 // The temporal-difference prediction of a 4x4 block: motion-compensated reference plus the
 // intra prediction (mode) of the difference plane, 2^(B-1) removed; not clipped.
-inline void predict_td(const SamplePlane& recon, const SamplePlane& ref, int mv_x, int mv_y, int x0,
-                       int y0, int mb_x, int mb_y, int block, int mode, int bit_depth,
-                       int32_t* pred) {
+inline void predict_td(const SamplePlane& recon, const SamplePlane& ref, int mv_x, int mv_y,
+                       bool quarter_pel, int x0, int y0, int mb_x, int mb_y, int block, int mode,
+                       int bit_depth, int32_t* pred) {
   const IntraNeighbors nb =
-      td_neighbors(recon, ref, mv_x, mv_y, x0, y0, mb_x, mb_y, block, bit_depth);
+      td_neighbors(recon, ref, mv_x, mv_y, quarter_pel, x0, y0, mb_x, mb_y, block, bit_depth);
   int32_t pd[16];
   predict_intra(4, mode, nb, (1 << bit_depth) - 1, pd);
   const int32_t c = 1 << (bit_depth - 1);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x)
-      pred[y * 4 + x] = ref.at(std::clamp(x0 + x + mv_x, 0, ref.width - 1),
-                               std::clamp(y0 + y + mv_y, 0, ref.height - 1)) +
+      pred[y * 4 + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth) +
                         pd[y * 4 + x] - c;
 }
 

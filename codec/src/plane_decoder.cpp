@@ -41,11 +41,12 @@ class MacroblockReader {
           GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
           mb.mv_x += dx;
           mb.mv_y += dy;
-          if (std::abs(mb.mv_x) > kMaxMotion || std::abs(mb.mv_y) > kMaxMotion)
+          const int max_motion = p_.subpel ? 4 * kMaxMotion : kMaxMotion;
+          if (std::abs(mb.mv_x) > max_motion || std::abs(mb.mv_y) > max_motion)
             return corrupt_data("motion vector out of range");
         }
-        st_.mv_x[mb_index] = static_cast<int8_t>(mb.mv_x);
-        st_.mv_y[mb_index] = static_cast<int8_t>(mb.mv_y);
+        st_.mv_x[mb_index] = static_cast<int16_t>(mb.mv_x);
+        st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
         const int gx0 = mb_x * 4, gy0 = mb_y * 4;
         mb.td = !mb.skip && p_.td_prediction &&
                 dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
@@ -122,7 +123,8 @@ class MacroblockReader {
     const bool negative = dec_.decode_bypass();
     int k = 0;
     while (dec_.decode_bypass())
-      if (++k > 8) return corrupt_data("motion vector difference escape too long");
+      if (++k > max_mvd_escape(p_.subpel != 0))
+        return corrupt_data("motion vector difference escape too long");
     uint32_t v = (1u << k) - 1;
     for (int b = k - 1; b >= 0; --b) v += static_cast<uint32_t>(dec_.decode_bypass()) << b;
     value = static_cast<int>(v) + 1;
@@ -255,13 +257,14 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
   if (mb.type == kMbInter && mb.td) {
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
-      predict_td(plane, *reference, mb.mv_x, mb.mv_y, x0, y0, mb_x, mb_y, b, mb.modes[b],
-                 p.bit_depth, pred);
+      predict_td(plane, *reference, mb.mv_x, mb.mv_y, p.subpel != 0, x0, y0, mb_x, mb_y, b,
+                 mb.modes[b], p.bit_depth, pred);
       reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
     }
   } else if (mb.type == kMbI16x16 || mb.type == kMbInter) {
     if (mb.type == kMbInter) {
-      predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, pred);
+      predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, p.subpel != 0, p.bit_depth,
+                    pred);
     } else {
       const IntraNeighbors nb =
           block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);

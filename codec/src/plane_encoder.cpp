@@ -87,13 +87,17 @@ class MacroblockEncoder {
     return 2 + 2 * k + 1;
   }
 
-  // Inter candidate: full search of integer motion within the search range around zero (and the
-  // predictor), by SAD + lambda * motion bits; then the residual as sixteen 4x4 blocks.
+  // Inter candidate: full search of integer motion within the search range around zero, by SAD +
+  // lambda * motion bits; with sub-sample motion, then the predictor and the eight half-sample
+  // (and then quarter-sample) neighbours of the best vector by SATD (SAD when lossless) + lambda
+  // * motion bits; then the residual as sixteen 4x4 blocks.
   double try_inter(MacroblockData& mb, ContextSet& trial) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
     const int r = p_.search_range;
+    const bool qpel = p_.subpel != 0;
+    const int unit = qpel ? 4 : 1;  // vector units per sample
     double best = std::numeric_limits<double>::infinity();
     int best_x = 0, best_y = 0;
     int32_t pred[256];
@@ -107,16 +111,50 @@ class MacroblockEncoder {
             sad += std::abs(static_cast<int>(src_.at(x0 + x, y0 + y)) -
                             ref_->at(std::clamp(x0 + x + dx, 0, ref_->width - 1), sy));
         }
-        const double cost = sad + lambda_mv * (exp_golomb_bits(dx - px) + exp_golomb_bits(dy - py));
+        const double cost =
+            sad + lambda_mv * (exp_golomb_bits(unit * dx - px) + exp_golomb_bits(unit * dy - py));
         if (cost < best) {
           best = cost;
           best_x = dx;
           best_y = dy;
         }
       }
+    best_x *= unit;
+    best_y *= unit;
+    if (qpel) {
+      const int limit = 4 * kMaxMotion;
+      const auto cost_of = [&](int mx, int my) {
+        predict_inter(*ref_, x0, y0, mx, my, true, p_.bit_depth, pred);
+        return static_cast<double>(distortion_estimate(16, pred, x0, y0)) +
+               lambda_mv * (exp_golomb_bits(mx - px) + exp_golomb_bits(my - py));
+      };
+      best = cost_of(best_x, best_y);
+      if (px != best_x || py != best_y) {
+        const double c = cost_of(px, py);
+        if (c < best) {
+          best = c;
+          best_x = px;
+          best_y = py;
+        }
+      }
+      for (int step = 2; step >= (p_.subpel >= 4 ? 1 : 2); step /= 2) {
+        const int cx = best_x, cy = best_y;
+        for (int dy = -step; dy <= step; dy += step)
+          for (int dx = -step; dx <= step; dx += step) {
+            const int mx = cx + dx, my = cy + dy;
+            if ((!dx && !dy) || std::abs(mx) > limit || std::abs(my) > limit) continue;
+            const double c = cost_of(mx, my);
+            if (c < best) {
+              best = c;
+              best_x = mx;
+              best_y = my;
+            }
+          }
+      }
+    }
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
-    predict_inter(*ref_, x0, y0, best_x, best_y, pred);
+    predict_inter(*ref_, x0, y0, best_x, best_y, qpel, p_.bit_depth, pred);
     const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
     double cost;
     if (p_.rdo) {
@@ -208,15 +246,16 @@ class MacroblockEncoder {
     const int gx = x0 / 4, gy = y0 / 4;
     // Intra: neighbours from the reconstruction; temporal difference: from the difference plane.
     const IntraNeighbors nb =
-        td ? td_neighbors(recon_, *ref_, mv_x_, mv_y_, x0, y0, mb_x_, mb_y_, block, p_.bit_depth)
+        td ? td_neighbors(recon_, *ref_, mv_x_, mv_y_, p_.subpel != 0, x0, y0, mb_x_, mb_y_, block,
+                          p_.bit_depth)
            : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
     int32_t ref_block[16];
     if (td)
       for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x)
-          ref_block[y * 4 + x] = ref_->at(std::clamp(x0 + x + mv_x_, 0, ref_->width - 1),
-                                          std::clamp(y0 + y + mv_y_, 0, ref_->height - 1)) -
-                                 (1 << (p_.bit_depth - 1));
+          ref_block[y * 4 + x] =
+              motion_sample(*ref_, x0 + x, y0 + y, mv_x_, mv_y_, p_.subpel != 0, p_.bit_depth) -
+              (1 << (p_.bit_depth - 1));
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;

@@ -1,11 +1,13 @@
 // Golden streams in tests/golden/ must keep decoding to exactly the same samples: each stream's
 // decoded frames are compared by CRC-32 of their xyz floats with tests/golden/golden.json.
-// GVKIT_UPDATE_GOLDEN=1 regenerates the streams and the CRCs (only after a deliberate format
-// change, with a version bump).
+// GVKIT_UPDATE_GOLDEN=1 writes the streams that are missing and adds their CRCs (a new case after
+// a deliberate format change, with a version bump); existing streams are kept, since they pin the
+// decoding of the older versions.
 #include <cstdlib>
 #include <filesystem>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -25,11 +27,17 @@ struct GoldenCase {
   int size;
   int frames;
   EncoderOptions options;
+  double shift_px = 0;  // the picture moves by (shift_px, shift_px / 2) per frame
 };
 
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
-      plane_qp;
+      plane_qp, qpel_td, hpel_lossless;
+  qpel_td.qp = 0;  // version 1.3: quarter-sample motion (with TD prediction), slow preset
+  qpel_td.intra_period = 3;
+  hpel_lossless.lossless = true;  // version 1.3: half-sample motion refinement, lossless
+  hpel_lossless.preset = Preset::kFast;
+  hpel_lossless.subpel = 2;
   near_affine.max_error_mm = 0.05;  // version 1.2: near-lossless, affine value prediction
   near_affine.preset = Preset::kFast;
   near_affine.value_prediction = ValuePrediction::kAffine;
@@ -59,7 +67,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_ippi_qp0_fast_64.gvid", 64, 4, inter},
           {"analytic_lossless_ipp_v1_1_48.gvid", 48, 3, lossless_inter},
           {"analytic_near_affine_ipp_v1_2_48.gvid", 48, 3, near_affine},
-          {"analytic_planeqp_weighted_ipp_v1_2_48.gvid", 48, 3, plane_qp}};
+          {"analytic_planeqp_weighted_ipp_v1_2_48.gvid", 48, 3, plane_qp},
+          {"analytic_qpel_td_ippi_v1_3_48.gvid", 48, 4, qpel_td, 0.75},
+          {"analytic_hpel_lossless_ipp_v1_3_48.gvid", 48, 3, hpel_lossless, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {
@@ -72,12 +82,22 @@ uint32_t frame_crc(const GeometryImage& image) {
 TEST(GoldenStreams, DecodeToTheRecordedSamples) {
   const char* update = std::getenv("GVKIT_UPDATE_GOLDEN");
   if (update && std::string(update) == "1") {
-    nlohmann::json record;
+    auto existing = read_json(kGoldenDir / "golden.json");
+    ASSERT_TRUE(existing.is_ok()) << existing.status().message();
+    nlohmann::json record = *existing;
     for (const GoldenCase& c : cases()) {
+      if (fs::exists(kGoldenDir / c.file)) continue;
       testing::GeometryVideoOptions o;
       o.size = c.size;
       o.frames = c.frames;
-      const auto frames = testing::make_analytic_video(o);
+      auto frames = testing::make_analytic_video(o);
+      for (size_t f = 0; f < frames.size() && c.shift_px != 0; ++f) {
+        const double m[6] = {1, 0, -c.shift_px * f, 0, 1, -0.5 * c.shift_px * f};
+        cv::Mat moved;
+        cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                       frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+        frames[f].xyz_mm = moved;
+      }
       auto info = make_sequence_info(frames, c.options.bit_depth, 30.0);
       ASSERT_TRUE(info.is_ok());
       auto bytes = encode_gvid(frames, *info, c.options);

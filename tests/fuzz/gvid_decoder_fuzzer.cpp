@@ -30,6 +30,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     params.near_lossless = params.lossless ? (data[2] >> 4) & 3 : 0;
     // Bit 6 of byte 2: temporal-difference prediction in a P plane (format 1.2).
     params.td_prediction = (data[2] & 0x40) != 0;
+    // Bit 3 of byte 1: quarter-sample motion vectors in a P plane (format 1.3).
+    params.subpel = (data[1] & 8) ? 4 : 0;
     params.qp_prime = (data[3] >> 2) % (52 + 6 * (params.bit_depth - 8));
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.

@@ -42,6 +42,9 @@ struct EncoderOptions {
   ValuePrediction value_prediction = ValuePrediction::kNone;
   // P frames: inter macroblocks may predict the temporal difference from their neighbours.
   bool td_prediction = true;
+  // P frames: motion vector precision. 0 = whole samples (format 1.2 syntax); 2 = half and 4 =
+  // quarter samples (vectors coded in quarter samples, H.264 interpolation; format 1.3).
+  int subpel = 4;
   int plane_qp_offset[3] = {0, 0, 0};
   int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
                         // added to qp for X, Y, Z (lossy frames), -12..12

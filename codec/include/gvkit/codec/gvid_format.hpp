@@ -18,7 +18,7 @@ inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
-inline constexpr uint8_t kMinorVersion = 2;
+inline constexpr uint8_t kMinorVersion = 3;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -35,6 +35,7 @@ enum FrameFlag : uint8_t {
   kFrameValuePrediction = 16,  // since 1.2: P frames, affine map of the reference's xyz
   kFramePlaneQp = 32,          // since 1.2: lossy frames, per-plane QP offsets
   kFrameTdPrediction = 64,     // since 1.2: P frames, temporal-difference prediction
+  kFrameQuarterPel = 128,      // since 1.3: P frames, motion vectors in quarter samples
 };
 
 struct PacketHeader {

@@ -28,6 +28,10 @@ struct PlaneCodingParams {
   // reference plus an intra prediction of the temporal difference (recon - reference) from the
   // block's neighbours (docs/bitstream.md 4.4).
   bool td_prediction = false;
+  // P planes: 0 = whole-sample motion vectors; 2 or 4 = vectors in quarter samples (H.264
+  // interpolation, docs/bitstream.md 4.4), which the encoder refines to half (2) or quarter (4)
+  // sample precision around the best whole-sample vector. The decoder only tests != 0.
+  int subpel = 0;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   bool rdo = true;        // encoder only: SSD + lambda * bits (else SATD-based decisions)
   int search_range = 4;   // encoder only: full-search motion range (samples) of P planes

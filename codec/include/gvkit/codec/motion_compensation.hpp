@@ -1,0 +1,34 @@
+#pragma once
+// Motion-compensated prediction from a reference plane with integer or quarter-sample motion
+// vectors (docs/bitstream.md 4.4): H.264's luma interpolation (8.4.2.2.1) on B-bit samples, the
+// 6-tap filter (1, -5, 20, 20, -5, 1) for half-sample positions and the rounded average of the
+// two nearest integer / half samples for quarter positions. The reference is extended beyond its
+// edges by repeating the edge samples (every tap's coordinates are clamped).
+
+#include <cstdint>
+
+#include "gvkit/codec/plane_coding.hpp"
+
+namespace gvkit::codec {
+
+// The sample at quarter-sample position (xq / 4, yq / 4) of the edge-extended reference, in
+// [0, 2^bit_depth - 1]. Any xq, yq (coordinates far outside clamp to the edge).
+int32_t interpolate_quarter_sample(const SamplePlane& ref, int xq, int yq, int bit_depth);
+
+// The motion-compensated sample for picture position (x, y): with quarter_pel the vector
+// (mv_x, mv_y) is in quarter samples, else in whole samples.
+inline int32_t motion_sample(const SamplePlane& ref, int x, int y, int mv_x, int mv_y,
+                             bool quarter_pel, int bit_depth) {
+  if (!quarter_pel) {
+    const int sx = x + mv_x, sy = y + mv_y;
+    return ref.at(sx < 0 ? 0 : (sx >= ref.width ? ref.width - 1 : sx),
+                  sy < 0 ? 0 : (sy >= ref.height ? ref.height - 1 : sy));
+  }
+  return interpolate_quarter_sample(ref, 4 * x + mv_x, 4 * y + mv_y, bit_depth);
+}
+
+// Prediction of the w x h block at (x0, y0) (row-major into pred, w * h values).
+void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x, int mv_y,
+                          bool quarter_pel, int bit_depth, int32_t* pred);
+
+}  // namespace gvkit::codec

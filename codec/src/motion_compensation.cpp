@@ -1,0 +1,96 @@
+// H.264 luma sample interpolation (ITU-T H.264 8.4.2.2.1, equations 8-241 .. 8-261) on B-bit
+// samples. Intermediate 6-tap sums stay below 52 * 52 * 2^16 < 2^28, so 32 bits suffice.
+#include "gvkit/codec/motion_compensation.hpp"
+
+#include <algorithm>
+
+namespace gvkit::codec {
+namespace {
+
+struct Sampler {
+  const SamplePlane& ref;
+  int max_value;
+
+  int32_t at(int x, int y) const {
+    return ref.at(std::clamp(x, 0, ref.width - 1), std::clamp(y, 0, ref.height - 1));
+  }
+  int32_t clip(int32_t v) const { return std::clamp(v, 0, max_value); }
+  static int32_t tap6(int32_t e, int32_t f, int32_t g, int32_t h, int32_t i, int32_t j) {
+    return e - 5 * f + 20 * g + 20 * h - 5 * i + j;
+  }
+  // Unrounded horizontal 6-tap sum between (x, y) and (x + 1, y): b1 of the standard.
+  int32_t b1(int x, int y) const {
+    return tap6(at(x - 2, y), at(x - 1, y), at(x, y), at(x + 1, y), at(x + 2, y), at(x + 3, y));
+  }
+  // Unrounded vertical 6-tap sum between (x, y) and (x, y + 1): h1.
+  int32_t h1(int x, int y) const {
+    return tap6(at(x, y - 2), at(x, y - 1), at(x, y), at(x, y + 1), at(x, y + 2), at(x, y + 3));
+  }
+  int32_t b(int x, int y) const { return clip((b1(x, y) + 16) >> 5); }  // half right of (x, y)
+  int32_t h(int x, int y) const { return clip((h1(x, y) + 16) >> 5); }  // half below (x, y)
+  int32_t j(int x, int y) const {                                       // centre half position
+    const int32_t j1 =
+        tap6(b1(x, y - 2), b1(x, y - 1), b1(x, y), b1(x, y + 1), b1(x, y + 2), b1(x, y + 3));
+    return clip((j1 + 512) >> 10);
+  }
+};
+
+inline int32_t avg(int32_t a, int32_t b) { return (a + b + 1) >> 1; }
+
+}  // namespace
+
+int32_t interpolate_quarter_sample(const SamplePlane& ref, int xq, int yq, int bit_depth) {
+  const Sampler s{ref, (1 << bit_depth) - 1};
+  // Floor division (arithmetic shift) keeps fractions in 0..3 for negative positions.
+  const int x = xq >> 2, y = yq >> 2, fx = xq & 3, fy = yq & 3;
+  // Names as in H.264 figure 8-4: G at (x, y), H right, M below; b, h, j, m (h of x + 1),
+  // s (b of y + 1).
+  switch (fy * 4 + fx) {
+    case 0:
+      return s.at(x, y);  // G
+    case 1:
+      return avg(s.at(x, y), s.b(x, y));  // a
+    case 2:
+      return s.b(x, y);  // b
+    case 3:
+      return avg(s.b(x, y), s.at(x + 1, y));  // c
+    case 4:
+      return avg(s.at(x, y), s.h(x, y));  // d
+    case 5:
+      return avg(s.b(x, y), s.h(x, y));  // e
+    case 6:
+      return avg(s.b(x, y), s.j(x, y));  // f
+    case 7:
+      return avg(s.b(x, y), s.h(x + 1, y));  // g
+    case 8:
+      return s.h(x, y);  // h
+    case 9:
+      return avg(s.h(x, y), s.j(x, y));  // i
+    case 10:
+      return s.j(x, y);  // j
+    case 11:
+      return avg(s.j(x, y), s.h(x + 1, y));  // k
+    case 12:
+      return avg(s.at(x, y + 1), s.h(x, y));  // n
+    case 13:
+      return avg(s.h(x, y), s.b(x, y + 1));  // p
+    case 14:
+      return avg(s.j(x, y), s.b(x, y + 1));  // q
+    default:
+      return avg(s.h(x + 1, y), s.b(x, y + 1));  // r
+  }
+}
+
+void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x, int mv_y,
+                          bool quarter_pel, int bit_depth, int32_t* pred) {
+  if (quarter_pel && (mv_x & 3) == 0 && (mv_y & 3) == 0) {
+    quarter_pel = false;  // a whole-sample vector: a plain (clamped) copy
+    mv_x >>= 2;
+    mv_y >>= 2;
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      pred[y * w + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth);
+}
+
+}  // namespace gvkit::codec
