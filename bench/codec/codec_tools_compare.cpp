@@ -123,7 +123,8 @@ std::vector<RdPoint> qp_curve(const Material& m, const EncoderOptions& base,
 
 // Motion vector precision (format 1.3): whole, half and quarter samples, everything else as
 // `base`; RD curves, lossless rates and BD-rates against whole samples.
-void report_subpel(const Material& m, const EncoderOptions& base, const std::vector<int>& qps) {
+std::vector<std::vector<RdPoint>> report_subpel(const Material& m, const EncoderOptions& base,
+                                                const std::vector<int>& qps) {
   print_header();
   std::vector<std::vector<RdPoint>> curves;
   const int precisions[3] = {0, 2, 4};
@@ -143,6 +144,7 @@ void report_subpel(const Material& m, const EncoderOptions& base, const std::vec
   std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
   print_bd("half-sample vs whole-sample motion", curves[0], curves[1]);
   print_bd("quarter-sample vs whole-sample motion", curves[0], curves[2]);
+  return curves;
 }
 
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
@@ -296,7 +298,27 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (subpel_only) {
-    report_subpel(m, base, qps);
+    const auto curves = report_subpel(m, base, qps);
+    if (!peers) return 0;
+    print_header();
+    PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
+    x265.gop = gop;
+    x265.bframes = 1;
+    std::vector<RdPoint> x265_points;
+    for (int qp : {0, 4, 8, 12, 16, 20, 24}) {
+      PeerConfig c = x265;
+      c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
+                                              ":bframes=1:ref=5:qp=" + std::to_string(qp)});
+      auto r = run_peer_config(m, c);
+      if (!r) break;
+      print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
+                "qp " + std::to_string(qp), *r);
+      x265_points.push_back(r->point);
+    }
+    std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
+    print_bd("gvid fast, whole-sample motion vs x265", x265_points, curves[0]);
+    print_bd("gvid fast, half-sample motion vs x265", x265_points, curves[1]);
+    print_bd("gvid fast, quarter-sample motion vs x265", x265_points, curves[2]);
     return 0;
   }
   // Value-domain prediction.

@@ -81,16 +81,109 @@ int32_t interpolate_quarter_sample(const SamplePlane& ref, int xq, int yq, int b
   }
 }
 
+void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x,
+                                    int mv_y, bool quarter_pel, int bit_depth, int32_t* pred) {
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      pred[y * w + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth);
+}
+
 void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x, int mv_y,
                           bool quarter_pel, int bit_depth, int32_t* pred) {
+  GVKIT_CHECK(w > 0 && h > 0 && w <= kMaxMotionBlock && h <= kMaxMotionBlock);
   if (quarter_pel && (mv_x & 3) == 0 && (mv_y & 3) == 0) {
     quarter_pel = false;  // a whole-sample vector: a plain (clamped) copy
     mv_x >>= 2;
     mv_y >>= 2;
   }
+  if (!quarter_pel) {
+    predict_motion_block_reference(ref, x0, y0, w, h, mv_x, mv_y, false, bit_depth, pred);
+    return;
+  }
+  // Every sample of the block has the same fractional phase: gather the clamped integer window
+  // (2 samples left / above, 3 right / below of the (w + 1) x (h + 1) area the positions touch)
+  // once, then the half-sample planes b, h, j over that area, then the phase's combination.
+  constexpr int kWin = kMaxMotionBlock + 6, kArea = kMaxMotionBlock + 1;
+  const int fx = mv_x & 3, fy = mv_y & 3;
+  const int xi = x0 + (mv_x >> 2) - 2, yi = y0 + (mv_y >> 2) - 2;
+  const int max_value = (1 << bit_depth) - 1;
+  const auto clip = [max_value](int32_t v) { return std::clamp(v, 0, max_value); };
+  const auto tap6 = [](const int32_t* v, int stride) {
+    return v[0] - 5 * v[stride] + 20 * v[2 * stride] + 20 * v[3 * stride] - 5 * v[4 * stride] +
+           v[5 * stride];
+  };
+  int32_t win[kWin * kWin];
+  for (int y = 0; y < h + 6; ++y) {
+    const int sy = std::clamp(yi + y, 0, ref.height - 1);
+    for (int x = 0; x < w + 6; ++x)
+      win[y * kWin + x] = ref.at(std::clamp(xi + x, 0, ref.width - 1), sy);
+  }
+  // b1 rows for the area's columns over all window rows (j needs rows -2 .. h + 3).
+  int32_t b1[kWin * kArea], g[kArea * kArea], b[kArea * kArea], hh[kArea * kArea], j[kArea * kArea];
+  for (int y = 0; y < h + 6; ++y)
+    for (int x = 0; x <= w; ++x) b1[y * kArea + x] = tap6(&win[y * kWin + x], 1);
+  for (int y = 0; y <= h; ++y)
+    for (int x = 0; x <= w; ++x) {
+      const int a = y * kArea + x;
+      g[a] = win[(y + 2) * kWin + x + 2];
+      b[a] = clip((b1[(y + 2) * kArea + x] + 16) >> 5);
+      hh[a] = clip((tap6(&win[y * kWin + x + 2], kWin) + 16) >> 5);
+      j[a] = clip((tap6(&b1[y * kArea + x], kArea) + 512) >> 10);
+    }
+  const int right = 1, below = kArea;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      pred[y * w + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth);
+    for (int x = 0; x < w; ++x) {
+      const int a = y * kArea + x;
+      int32_t v;
+      switch (fy * 4 + fx) {
+        case 1:
+          v = avg(g[a], b[a]);
+          break;
+        case 2:
+          v = b[a];
+          break;
+        case 3:
+          v = avg(b[a], g[a + right]);
+          break;
+        case 4:
+          v = avg(g[a], hh[a]);
+          break;
+        case 5:
+          v = avg(b[a], hh[a]);
+          break;
+        case 6:
+          v = avg(b[a], j[a]);
+          break;
+        case 7:
+          v = avg(b[a], hh[a + right]);
+          break;
+        case 8:
+          v = hh[a];
+          break;
+        case 9:
+          v = avg(hh[a], j[a]);
+          break;
+        case 10:
+          v = j[a];
+          break;
+        case 11:
+          v = avg(j[a], hh[a + right]);
+          break;
+        case 12:
+          v = avg(g[a + below], hh[a]);
+          break;
+        case 13:
+          v = avg(hh[a], b[a + below]);
+          break;
+        case 14:
+          v = avg(j[a], b[a + below]);
+          break;
+        default:
+          v = avg(hh[a + right], b[a + below]);
+          break;
+      }
+      pred[y * w + x] = v;
+    }
 }
 
 }  // namespace gvkit::codec

@@ -68,7 +68,16 @@ class MacroblockEncoder {
     // Fast preset: a skip macroblock (no residual, predicted motion) is taken at once.
     const bool early_skip = ref_ && !p_.rdo && best.mb.skip;
     if (!early_skip) {
-      if (ref_ && p_.td_prediction) consider(kMbInter, true);
+      if (ref_ && p_.td_prediction) {
+        consider(kMbInter, true);
+        // The sub-sample vector suits plain inter prediction; the temporal difference from a
+        // whole-sample vector is often smoother, so TD also tries the whole-sample search result.
+        if (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_) {
+          mv_x_ = whole_mv_x_;
+          mv_y_ = whole_mv_y_;
+          consider(kMbInter, true);
+        }
+      }
       consider(kMbI16x16);
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
@@ -121,6 +130,8 @@ class MacroblockEncoder {
       }
     best_x *= unit;
     best_y *= unit;
+    whole_mv_x_ = best_x;
+    whole_mv_y_ = best_y;
     if (qpel) {
       const int limit = 4 * kMaxMotion;
       const auto cost_of = [&](int mx, int my) {
@@ -396,7 +407,8 @@ class MacroblockEncoder {
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
-  int mv_x_ = 0, mv_y_ = 0;  // motion vector of the inter candidate (reused by try_td)
+  int mv_x_ = 0, mv_y_ = 0;              // motion vector of the inter candidate (reused by try_td)
+  int whole_mv_x_ = 0, whole_mv_y_ = 0;  // the whole-sample search result (vector units)
 };
 
 }  // namespace

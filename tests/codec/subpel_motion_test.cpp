@@ -75,6 +75,34 @@ TEST(SubpelMotion, InterpolationStaysInRangeAtSteps) {
   }
 }
 
+TEST(SubpelMotion, BlockPredictionEqualsTheSampleBySampleReference) {
+  for (int bit_depth : {8, 16}) {
+    SamplePlane noise;
+    noise.width = 48;
+    noise.height = 32;
+    noise.samples.resize(48 * 32);
+    uint32_t state = 12345;
+    for (uint16_t& v : noise.samples) {
+      state = state * 1664525u + 1013904223u;
+      v = static_cast<uint16_t>((state >> 8) & ((1u << bit_depth) - 1));
+    }
+    int32_t fast[256], plain[256];
+    // Every phase, inside and across every edge, 16x16 and 4x4 blocks.
+    for (int size : {16, 4})
+      for (int y0 : {0, 16})
+        for (int x0 : {0, 16, 32})
+          for (int mv_y = -23; mv_y <= 23; mv_y += 5)
+            for (int mv_x = -21; mv_x <= 21; mv_x += 3) {
+              predict_motion_block(noise, x0, y0, size, size, mv_x, mv_y, true, bit_depth, fast);
+              predict_motion_block_reference(noise, x0, y0, size, size, mv_x, mv_y, true, bit_depth,
+                                             plain);
+              for (int i = 0; i < size * size; ++i)
+                ASSERT_EQ(fast[i], plain[i]) << "B " << bit_depth << " block (" << x0 << ", " << y0
+                                             << ") mv (" << mv_x << ", " << mv_y << ")";
+            }
+  }
+}
+
 struct Coded {
   size_t bytes = 0;
   SamplePlane decoded;

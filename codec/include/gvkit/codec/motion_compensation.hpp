@@ -27,8 +27,15 @@ inline int32_t motion_sample(const SamplePlane& ref, int x, int y, int mv_x, int
   return interpolate_quarter_sample(ref, 4 * x + mv_x, 4 * y + mv_y, bit_depth);
 }
 
-// Prediction of the w x h block at (x0, y0) (row-major into pred, w * h values).
+inline constexpr int kMaxMotionBlock = 16;
+
+// Prediction of the w x h block at (x0, y0) (row-major into pred, w * h values), 1 <= w, h <=
+// kMaxMotionBlock: all samples share one fractional phase, so the half-sample planes are
+// computed once per block.
 void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x, int mv_y,
                           bool quarter_pel, int bit_depth, int32_t* pred);
+// The same, sample by sample through motion_sample (the plain reference implementation).
+void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x,
+                                    int mv_y, bool quarter_pel, int bit_depth, int32_t* pred);
 
 }  // namespace gvkit::codec
