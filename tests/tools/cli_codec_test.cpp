@@ -112,12 +112,13 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
 
   auto rate = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--preset fast");
+                        "--subpel 2 --preset fast");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
   EXPECT_EQ((*stats)["options"]["bitrate_kbps"], 200.0);
   EXPECT_EQ((*stats)["options"]["td_prediction"], false);
+  EXPECT_EQ((*stats)["options"]["subpel"], 2);
   EXPECT_LE((*stats)["summary"]["max_buffer_fullness_bits"].get<double>(),
             (*stats)["summary"]["buffer_bits"].get<double>());
 
@@ -128,6 +129,9 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   auto mode = run_gvkit("encode " + in + " -o " + gvid + " --value-prediction rigid");
   EXPECT_NE(mode.exit_code, 0);
   EXPECT_TRUE(contains(mode.output, "value prediction 'rigid' unknown")) << mode.output;
+  auto subpel = run_gvkit("encode " + in + " -o " + gvid + " --subpel 8");
+  EXPECT_NE(subpel.exit_code, 0);
+  EXPECT_TRUE(contains(subpel.output, "subpel 8 is not 0")) << subpel.output;
   auto threads = run_gvkit("encode " + in + " -o " + gvid + " --threads 0");
   EXPECT_NE(threads.exit_code, 0);
   EXPECT_TRUE(contains(threads.output, "threads 0 out of range")) << threads.output;
