@@ -118,17 +118,24 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
     for (int x = 0; x < w + 6; ++x)
       win[y * kWin + x] = ref.at(std::clamp(xi + x, 0, ref.width - 1), sy);
   }
-  // b1 rows for the area's columns over all window rows (j needs rows -2 .. h + 3).
+  // Only the half-sample planes the phase combines (bit c of a mask: phase c = 4 fy + fx uses it).
+  const int phase = fy * 4 + fx;
+  const bool need_b = (0xE0EE >> phase) & 1, need_h = (0xBBB0 >> phase) & 1,
+             need_j = (0x4E40 >> phase) & 1;
+  // b1 rows for the area's columns (j needs window rows 0 .. h + 5, b rows 2 .. h + 2).
   int32_t b1[kWin * kArea], g[kArea * kArea], b[kArea * kArea], hh[kArea * kArea], j[kArea * kArea];
-  for (int y = 0; y < h + 6; ++y)
-    for (int x = 0; x <= w; ++x) b1[y * kArea + x] = tap6(&win[y * kWin + x], 1);
+  if (need_b || need_j) {
+    const int first = need_j ? 0 : 2, last = need_j ? h + 6 : h + 3;
+    for (int y = first; y < last; ++y)
+      for (int x = 0; x <= w; ++x) b1[y * kArea + x] = tap6(&win[y * kWin + x], 1);
+  }
   for (int y = 0; y <= h; ++y)
     for (int x = 0; x <= w; ++x) {
       const int a = y * kArea + x;
       g[a] = win[(y + 2) * kWin + x + 2];
-      b[a] = clip((b1[(y + 2) * kArea + x] + 16) >> 5);
-      hh[a] = clip((tap6(&win[y * kWin + x + 2], kWin) + 16) >> 5);
-      j[a] = clip((tap6(&b1[y * kArea + x], kArea) + 512) >> 10);
+      if (need_b) b[a] = clip((b1[(y + 2) * kArea + x] + 16) >> 5);
+      if (need_h) hh[a] = clip((tap6(&win[y * kWin + x + 2], kWin) + 16) >> 5);
+      if (need_j) j[a] = clip((tap6(&b1[y * kArea + x], kArea) + 512) >> 10);
     }
   const int right = 1, below = kArea;
   for (int y = 0; y < h; ++y)
