@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "geometry_video_material.hpp"
+#include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_format.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
@@ -195,6 +196,33 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   const Status bad = o.check();
   ASSERT_FALSE(bad.is_ok());
   EXPECT_NE(bad.message().find("subpel 3"), std::string::npos) << bad.message();
+}
+
+TEST(SubpelMotion, QuarterSampleFlagInAnIntraFrameIsCorrupt) {
+  testing::GeometryVideoOptions vo;
+  vo.size = 32;
+  vo.frames = 1;
+  const auto frames = testing::make_analytic_video(vo);
+  auto info = make_sequence_info(frames, 16, 30.0);
+  ASSERT_TRUE(info.is_ok());
+  EncoderOptions o;
+  o.qp = 6;
+  o.preset = Preset::kFast;
+  auto bytes = encode_gvid(frames, *info, o);
+  ASSERT_TRUE(bytes.is_ok());
+  size_t header_size = 0;
+  ASSERT_TRUE(format::read_file_header(*bytes, &header_size).is_ok());
+  std::string damaged = *bytes;
+  // Set flag bit 7 in the I frame's packet header and make its header CRC right again.
+  damaged[header_size + 5] = static_cast<char>(damaged[header_size + 5] | 0x80);
+  const uint32_t crc = crc32(damaged.data() + header_size, 20);
+  for (int i = 0; i < 4; ++i) damaged[header_size + 20 + i] = static_cast<char>(crc >> (8 * i));
+  auto reader = GvidReader::open_memory(damaged, "flag.gvid");
+  ASSERT_TRUE(reader.is_ok()) << reader.status().message();
+  auto frame = (*reader)->decode_frame(0);
+  ASSERT_FALSE(frame.is_ok());
+  EXPECT_NE(frame.status().message().find("inter tools in an intra frame"), std::string::npos)
+      << frame.status().message();
 }
 
 }  // namespace
