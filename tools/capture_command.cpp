@@ -248,7 +248,7 @@ Result<std::optional<std::any>> reconstruct_stage(CaptureRun& run, std::any&& va
   std::optional<capture::GroundTruth> truth;
   if (run.synthetic) {
     truth = run.synthetic->truth(set.index);
-  } else if (run.replayed) {
+  } else if (run.replayed && !run.args.no_ground_truth) {
     if (auto path = run.replayed->ground_truth_path(set.index)) {
       GVKIT_ASSIGN_OR_RETURN(capture::GroundTruth gt, capture::read_ground_truth_exr(*path));
       truth = std::move(gt);
@@ -750,7 +750,8 @@ void add_capture_command(CLI::App& app) {
                 "synthetic: render a white cue frame before every cycle and find the cycles from "
                 "the images (--sync cue)");
   cmd->add_flag("--no-ground-truth", a->no_ground_truth,
-                "synthetic: do not write gt/ (ground truth EXR and landmarks)");
+                "Do not write gt/ (ground truth EXR and landmarks; synthetic, or copied from a "
+                "replayed session) and, on replay, do not read it for the live error");
   cmd->add_flag("--no-status", a->quiet_status, "No status line every second");
   cmd->callback([a] { run_capture(*a); });
 }
