@@ -272,7 +272,7 @@ void start_record_writers(CaptureRun& run) {
                 .count();
         std::lock_guard<std::mutex> lock(w.mutex);
         if (!s.is_ok()) {
-          if (w.failure.is_ok()) w.failure = s.with_context("record");
+          if (w.failure.is_ok()) w.failure = s;
           if (run.pipeline) run.pipeline->stop();
           continue;  // drain: later sets are not written once one failed
         }
@@ -290,7 +290,8 @@ Status finish_record_writers(CaptureRun& run) {
   run.writers->queue.close();
   for (std::thread& t : run.writers->threads)
     if (t.joinable()) t.join();
-  return run.writers->first_failure();
+  const Status failure = run.writers->first_failure();
+  return failure.is_ok() ? failure : failure.with_context("record");
 }
 
 Result<std::optional<std::any>> record_stage(CaptureRun& run, std::any&& value) {
