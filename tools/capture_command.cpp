@@ -2,7 +2,9 @@
 // camera, replayed session) are paired with the projected patterns, recorded crash-safely into a
 // session folder (SessionWriter), and optionally reconstructed and previewed as they come:
 //   capture thread -> sync (frames -> fringe sets) -> record -> [reconstruct (+ preview)]
-// on bounded queues, with a status line every second and stats.json at the end.
+// on bounded queues, with a status line every second and stats.json at the end. The record
+// stage hands each set to two bounded writer threads (RecordWriters) and passes it on at once;
+// its latency is arrival -> queued for writing, stats.json record_writes has arrival -> written.
 // `gvkit record` keeps the raw-frame recorder (no patterns); both share the camera flags.
 #include <algorithm>
 #include <atomic>
