@@ -2,7 +2,9 @@
 // camera, replayed session) are paired with the projected patterns, recorded crash-safely into a
 // session folder (SessionWriter), and optionally reconstructed and previewed as they come:
 //   capture thread -> sync (frames -> fringe sets) -> record -> [reconstruct (+ preview)]
-// on bounded queues, with a status line every second and stats.json at the end.
+// on bounded queues, with a status line every second and stats.json at the end. The record
+// stage hands each set to two bounded writer threads (RecordWriters) and passes it on at once;
+// its latency is arrival -> queued for writing, stats.json record_writes has arrival -> written.
 // `gvkit record` keeps the raw-frame recorder (no patterns); both share the camera flags.
 #include <algorithm>
 #include <atomic>
@@ -102,6 +104,40 @@ struct FrameAccuracy {
   std::optional<capture::ScanAccuracy> accuracy;
 };
 
+// What the record stage hands to the writers: the set and what goes beside it into gt/.
+struct RecordJob {
+  FringeSet set;
+  std::optional<capture::GroundTruth> truth;  // synthetic: written as gt/frame_N.exr
+  FaceLandmarks landmarks;                    // synthetic: gt/frame_N.landmarks.json
+  bool copy_replayed_truth = false;           // replay: gt/ files copied from the session
+};
+
+// The writes of the record stage on their own threads: the stage queues a set here and passes
+// it on at once, so reconstruction does not wait for the PNG encoding and the fsyncs, and two
+// sets are written at a time (their fsync waits overlap). Bounded: when `capacity` sets wait,
+// the record stage blocks and the queue in front of it applies the --policy. SessionWriter
+// lists a set only after its images are on disk, in index order whatever order they finish in.
+struct RecordWriters {
+  static constexpr int kThreads = 2;
+  explicit RecordWriters(size_t capacity) : queue(capacity, QueueFullPolicy::kBlock) {}
+  ~RecordWriters() {  // also on an exception before finish_record_writers
+    queue.close();
+    for (std::thread& t : threads)
+      if (t.joinable()) t.join();
+  }
+  BoundedQueue<RecordJob> queue;
+  std::vector<std::thread> threads;
+  std::mutex mutex;  // guards the figures below and failure
+  Status failure;
+  int64_t written = 0;
+  double write_ms_sum = 0, write_ms_max = 0;  // queued -> written (images, gt, session.json)
+
+  Status first_failure() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return failure;
+  }
+};
+
 // Everything the stages share.
 struct CaptureRun {
   CaptureArgs args;
@@ -122,6 +158,7 @@ struct CaptureRun {
 
   // record stage
   std::unique_ptr<capture::SessionWriter> writer;
+  std::unique_ptr<RecordWriters> writers;
   bool write_ground_truth = false;
   std::atomic<int64_t> recorded{0};
   // Cycles the sync had dropped when --frames was reached (later drops concern frames that were
@@ -210,27 +247,77 @@ Status open_session(CaptureRun& run, const FringeSet& first) {
   return Status::ok();
 }
 
+Status write_record_job(const CaptureRun& run, const RecordJob& job) {
+  GVKIT_RETURN_IF_ERROR(run.writer->append(job.set));
+  const fs::path gt = run.writer->dir() / "gt";
+  if (job.truth) {
+    GVKIT_RETURN_IF_ERROR(
+        capture::write_ground_truth_exr(frame_path(gt, job.set.index, ".exr"), *job.truth));
+    GVKIT_RETURN_IF_ERROR(
+        write_face_landmarks(frame_path(gt, job.set.index, ".landmarks.json"), job.landmarks));
+  }
+  if (job.copy_replayed_truth)
+    GVKIT_RETURN_IF_ERROR(copy_replayed_ground_truth(run, job.set.index));
+  return Status::ok();
+}
+
+void start_record_writers(CaptureRun& run) {
+  run.writers = std::make_unique<RecordWriters>(static_cast<size_t>(run.args.queue));
+  for (int t = 0; t < RecordWriters::kThreads; ++t)
+    run.writers->threads.emplace_back([&run] {
+      RecordWriters& w = *run.writers;
+      while (std::optional<RecordJob> job = w.queue.pop()) {
+        const auto start = std::chrono::steady_clock::now();
+        Status s = write_record_job(run, *job);
+        const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
+        std::lock_guard<std::mutex> lock(w.mutex);
+        if (!s.is_ok()) {
+          if (w.failure.is_ok()) w.failure = s;
+          if (run.pipeline) run.pipeline->stop();
+          continue;  // drain: later sets are not written once one failed
+        }
+        if (!w.failure.is_ok()) continue;
+        ++w.written;
+        w.write_ms_sum += ms;
+        w.write_ms_max = std::max(w.write_ms_max, ms);
+      }
+    });
+}
+
+// Waits until every queued set is written; the first write failure.
+Status finish_record_writers(CaptureRun& run) {
+  if (!run.writers) return Status::ok();
+  run.writers->queue.close();
+  for (std::thread& t : run.writers->threads)
+    if (t.joinable()) t.join();
+  const Status failure = run.writers->first_failure();
+  return failure.is_ok() ? failure : failure.with_context("record");
+}
+
 Result<std::optional<std::any>> record_stage(CaptureRun& run, std::any&& value) {
   FringeSet& set = std::any_cast<FringeSet&>(value);
   if (run.args.frames > 0 && run.recorded >= run.args.frames)
     return std::optional<std::any>();  // sets that were on their way when the count was reached
   if (!run.writer) GVKIT_RETURN_IF_ERROR(open_session(run, set));
-  GVKIT_RETURN_IF_ERROR(run.writer->append(set));
+  GVKIT_RETURN_IF_ERROR(run.writers->first_failure());
+  RecordJob job;
+  job.set = set;  // shares the pixels with the set passed on (both only read them)
   if (run.write_ground_truth) {
-    const fs::path gt = run.writer->dir() / "gt";
     if (run.synthetic) {
+      // Looked up now: the stream keeps the truth of recent instants only.
       if (std::optional<capture::GroundTruth> truth = run.synthetic->truth(set.index)) {
-        GVKIT_RETURN_IF_ERROR(
-            capture::write_ground_truth_exr(frame_path(gt, set.index, ".exr"), *truth));
-        GVKIT_RETURN_IF_ERROR(write_face_landmarks(frame_path(gt, set.index, ".landmarks.json"),
-                                                   run.synthetic->landmarks(set.index)));
+        job.truth = std::move(truth);
+        job.landmarks = run.synthetic->landmarks(set.index);
       } else {
         ++run.ground_truth_missing;
       }
     } else if (run.replayed) {
-      GVKIT_RETURN_IF_ERROR(copy_replayed_ground_truth(run, set.index));
+      job.copy_replayed_truth = true;
     }
   }
+  if (!run.writers->queue.push(std::move(job))) return io_error("record: the writers stopped");
   if (++run.recorded == run.args.frames && run.pipeline) {
     run.cycles_dropped_at_limit = run.sync_counters().cycles_dropped;
     run.pipeline->stop();
@@ -248,7 +335,7 @@ Result<std::optional<std::any>> reconstruct_stage(CaptureRun& run, std::any&& va
   std::optional<capture::GroundTruth> truth;
   if (run.synthetic) {
     truth = run.synthetic->truth(set.index);
-  } else if (run.replayed) {
+  } else if (run.replayed && !run.args.no_ground_truth) {
     if (auto path = run.replayed->ground_truth_path(set.index)) {
       GVKIT_ASSIGN_OR_RETURN(capture::GroundTruth gt, capture::read_ground_truth_exr(*path));
       truth = std::move(gt);
@@ -506,6 +593,7 @@ void run_capture(const CaptureArgs& a) {
   std::fprintf(stderr, "capturing %s, %s (%s sync, %d frames per set) -> %s\n",
                run->description.c_str(), run->patterns->name().c_str(), run->sync_mode.c_str(),
                run->frames_per_cycle, args.output.c_str());
+  start_record_writers(*run);
   LivePipeline pipeline(std::move(source), stages, po);
   run->pipeline = &pipeline;
   throw_if_error(pipeline.start());
@@ -561,6 +649,7 @@ void run_capture(const CaptureArgs& a) {
   }
 #endif
   const Status result = pipeline.wait();
+  const Status written = finish_record_writers(*run);
   std::signal(SIGINT, previous_handler);
   g_running_pipeline = nullptr;
   // A cycle still incomplete when capture stopped was cut by the stop, not lost: it is counted
@@ -621,6 +710,18 @@ void run_capture(const CaptureArgs& a) {
   nlohmann::json stage_stats = nlohmann::json::object();
   for (const LiveStageStatus& s : status.stages) stage_stats[s.name] = stage_json(s, elapsed);
   summary["stages"] = stage_stats;
+  {
+    RecordWriters& w = *run->writers;
+    const double mean = w.written > 0 ? w.write_ms_sum / static_cast<double>(w.written) : 0.0;
+    // Arrival -> set on disk: the record stage's latency (arrival -> queued for writing) plus
+    // the write (queued -> written), as means.
+    summary["record_writes"] = {
+        {"sets_written", w.written},
+        {"write_ms_mean", mean},
+        {"write_ms_max", w.write_ms_max},
+        {"latency_written_mean_ms", status.stages[1].latency_mean_ms + mean},
+        {"threads", RecordWriters::kThreads}};
+  }
   if (run->synthetic) summary["synthetic_render_ms_mean"] = run->synthetic->mean_render_ms();
   if (!run->accuracy.empty()) {
     summary["reconstructed"] = run->accuracy.size();
@@ -671,6 +772,7 @@ void run_capture(const CaptureArgs& a) {
   throw_if_error(projector_status);
 #endif
   throw_if_error(result);
+  throw_if_error(written);
   throw_if_error(preview_status);
   throw_if_error(closed);
   throw_if_error(stats_written);
@@ -750,7 +852,8 @@ void add_capture_command(CLI::App& app) {
                 "synthetic: render a white cue frame before every cycle and find the cycles from "
                 "the images (--sync cue)");
   cmd->add_flag("--no-ground-truth", a->no_ground_truth,
-                "synthetic: do not write gt/ (ground truth EXR and landmarks)");
+                "Do not write gt/ (ground truth EXR and landmarks; synthetic, or copied from a "
+                "replayed session) and, on replay, do not read it for the live error");
   cmd->add_flag("--no-status", a->quiet_status, "No status line every second");
   cmd->callback([a] { run_capture(*a); });
 }

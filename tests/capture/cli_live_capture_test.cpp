@@ -110,6 +110,34 @@ TEST(CliLiveCapture, SyntheticCaptureRecordsReconstructsAndReplays) {
   ASSERT_TRUE(replay_stats.is_ok());
   EXPECT_NEAR((*replay_stats)["summary"]["face_interior_rms_mm"].get<double>(),
               live["face_interior_rms_mm"].get<double>(), 1e-6);
+
+  // --no-ground-truth on replay: the same sets recorded and reconstructed, but gt/ is neither
+  // copied nor read for the live error (the live configuration without an evaluation).
+  auto bare =
+      run_gvkit("capture --source file:" + session +
+                " --reconstruct --no-ground-truth --no-status -o " + (dir / "bare").string());
+  ASSERT_EQ(bare.exit_code, 0) << bare.output;
+  auto bare_back = capture::SessionReader::open(dir / "bare");
+  ASSERT_TRUE(bare_back.is_ok()) << bare_back.status().message();
+  EXPECT_EQ(max_difference(*s, *bare_back), 0.0);
+  EXPECT_FALSE(bare_back->ground_truth_path(1).has_value());
+  auto bare_stats = read_json(dir / "bare" / "stats.json");
+  ASSERT_TRUE(bare_stats.is_ok());
+  EXPECT_EQ((*bare_stats)["summary"]["reconstructed"], (*replay_stats)["summary"]["reconstructed"]);
+  EXPECT_FALSE((*bare_stats)["summary"].contains("face_interior_rms_mm"));
+  EXPECT_EQ((*bare_stats)["summary"]["record_writes"]["sets_written"], 3);
+
+  // A write that fails on the record writers' threads fails the capture with the file's name;
+  // what was written still opens.
+  fs::create_directories(dir / "broken" / "frames" / "frame_000001_k0.png" / "x");
+  auto broken = run_gvkit("capture --source file:" + session +
+                          " --no-ground-truth --no-status -o " + (dir / "broken").string());
+  EXPECT_NE(broken.exit_code, 0) << broken.output;
+  EXPECT_TRUE(contains(broken.output, "frame_000001_k0.png")) << broken.output;
+  auto partial = capture::SessionReader::open(dir / "broken");
+  ASSERT_TRUE(partial.is_ok()) << partial.status().message();
+  EXPECT_GE(partial->frame_count(), 1u);
+  EXPECT_LE(partial->frame_count(), 2u);
 }
 
 TEST(CliLiveCapture, CueFramesFindTheCyclesFromTheImages) {

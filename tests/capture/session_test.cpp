@@ -1,6 +1,7 @@
 // Session folder: write (append-only, out of order, atomically listed) and read back.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "gvkit/capture/session_reader.hpp"
@@ -80,6 +81,25 @@ TEST(Session, WriterRejectsBadFramesAndExistingSessions) {
   EXPECT_NE(s.message().find("frame 5"), std::string::npos) << s.message();
   EXPECT_FALSE((*writer)->append(random_frame(6, CV_16U, 1)));  // 16-bit into an 8-bit session
   EXPECT_FALSE(SessionWriter::create(dir.path(), small_info(8), synthetic_calibration()));
+}
+
+TEST(Session, AFailedImageWriteFailsTheFrameAndLeavesItUnlisted) {
+  // The images of a set are written concurrently; a failure of any one (here the second: its
+  // name is taken by a folder) fails append with that file's name and the set is not listed.
+  TempDir dir;
+  auto writer = SessionWriter::create(dir.path(), small_info(8), synthetic_calibration());
+  ASSERT_TRUE(writer) << writer.status().message();
+  ASSERT_TRUE((*writer)->append(random_frame(0, CV_8U, 1)));
+  std::filesystem::create_directories(dir.path() / "frames" / "frame_000001_k1.png" / "x");
+  Status s = (*writer)->append(random_frame(1, CV_8U, 2));
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("frame_000001_k1.png"), std::string::npos) << s.message();
+  ASSERT_TRUE((*writer)->append(random_frame(2, CV_8U, 3)));
+  auto reader = SessionReader::open(dir.path());
+  ASSERT_TRUE(reader) << reader.status().message();
+  ASSERT_EQ(reader->frame_count(), 2u);
+  EXPECT_EQ(reader->info().frames[0].index, 0);
+  EXPECT_EQ(reader->info().frames[1].index, 2);
 }
 
 TEST(Session, ReaderRejectsBrokenFolders) {
