@@ -1,5 +1,6 @@
 // gvkit facemap clean SCANS -o FACES: range scans (frame_NNNNNN.exr) or meshes
-// (frame_NNNNNN.ply/.obj + frame_NNNNNN.landmarks.json) -> per frame the 4-boundary face mesh
+// (frame_NNNNNN.ply/.obj + frame_NNNNNN.landmarks.json; with --same-vertices the first frame is
+// cleaned and carried to the others) -> per frame the 4-boundary face mesh
 // (frame_NNNNNN.ply) and its landmarks (frame_NNNNNN.landmarks.json), plus stats.json. Frames
 // run in parallel; a frame that fails is reported and skipped.
 #include <atomic>
