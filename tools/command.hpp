@@ -53,6 +53,7 @@ void add_facemap_map_command(CLI::App& app);
 void add_facemap_compare_command(CLI::App& app);
 void add_facemap_make_domain_command(CLI::App& app);
 void add_facemap_ict_sequence_command(CLI::App& app);
+void add_facemap_landmarks_command(CLI::App& app);
 void add_encode_command(CLI::App& app);
 void add_decode_command(CLI::App& app);
 void add_export_command(CLI::App& app);

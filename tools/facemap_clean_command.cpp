@@ -1,5 +1,6 @@
 // gvkit facemap clean SCANS -o FACES: range scans (frame_NNNNNN.exr) or meshes
-// (frame_NNNNNN.ply/.obj + frame_NNNNNN.landmarks.json) -> per frame the 4-boundary face mesh
+// (frame_NNNNNN.ply/.obj + frame_NNNNNN.landmarks.json; with --same-vertices the first frame is
+// cleaned and carried to the others) -> per frame the 4-boundary face mesh
 // (frame_NNNNNN.ply) and its landmarks (frame_NNNNNN.landmarks.json), plus stats.json. Frames
 // run in parallel; a frame that fails is reported and skipped.
 #include <atomic>
@@ -23,6 +24,7 @@
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/progress.hpp"
 #include "gvkit/facemap/face_cleaning.hpp"
+#include "gvkit/facemap/face_transfer.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
 #include "gvkit/facemap/landmark_tracker.hpp"
 #include "tool_support.hpp"
@@ -38,6 +40,7 @@ struct CleanArgs {
   std::string mouth = "inner";
   int threads = 0;
   bool resume = false;
+  bool same_vertices = false;
 };
 
 enum class InputKind { kScans, kMeshes };
@@ -48,6 +51,7 @@ struct Frame {
   std::optional<FaceLandmarks> landmarks;  // tracked (scans with --landmarks)
   Status status;
   facemap::CleanStats stats;
+  std::optional<facemap::TransferStats> transfer;  // --same-vertices, frames after the first
 };
 
 nlohmann::json options_json(const CleanArgs& a) {
@@ -63,6 +67,7 @@ nlohmann::json options_json(const CleanArgs& a) {
           {"landmark_max_snap_mm", o.landmark_max_snap_mm},
           {"cut_feature_interiors", o.cut_feature_interiors},
           {"first_landmarks", a.first_landmarks.string()},
+          {"same_vertices", a.same_vertices},
           {"threads", a.threads}};
 }
 
@@ -89,6 +94,9 @@ nlohmann::json frame_json(const Frame& f) {
   j["output_faces"] = s.output_faces;
   j["radius_mm"] = s.radius_mm;
   j["cropped_vertices"] = s.cropped_vertices;
+  if (f.transfer)
+    j["transferred_from_first_frame"] = {{"off_surface_vertices", f.transfer->off_surface_vertices},
+                                         {"max_offset_mm", f.transfer->max_offset_mm}};
   const auto& m = s.mask_timing;
   j["ms"] = {{"mesh", s.mesh_ms},
              {"fill", s.fill_ms},
@@ -131,6 +139,26 @@ void run_clean(const CleanArgs& args) {
   for (size_t i = 0; i < files.size(); ++i) {
     frames[i].index = files[i].index;
     frames[i].path = files[i].path;
+  }
+
+  if (args.same_vertices && kind != InputKind::kMeshes)
+    throw CommandFailed(invalid_argument("--same-vertices needs meshes, not range scans"));
+  // --same-vertices: the first frame is cleaned, the others carry its cleaned face.
+  struct Reference {
+    Mesh input;
+    facemap::CleanedFace face;
+  };
+  std::optional<Reference> reference;
+  if (args.same_vertices) {
+    const Frame& first = frames.front();
+    const std::string name = first.path.filename().string();
+    Mesh input = value_or_throw(read_mesh(first.path));
+    const FaceLandmarks landmarks =
+        value_or_throw(read_face_landmarks(frame_path(args.input, first.index, ".landmarks.json")));
+    auto face = facemap::clean_mesh(input, landmarks, name, options);
+    if (!face.is_ok())
+      throw CommandFailed(face.status().with_context("--same-vertices reference frame"));
+    reference = Reference{std::move(input), std::move(face).value()};
   }
 
   // Scans need the landmark detector (detection, or re-detection when tracking is lost).
@@ -221,9 +249,18 @@ void run_clean(const CleanArgs& args) {
         face = facemap::clean_scan(scan, std::move(landmarks), options);
       } else {
         GVKIT_ASSIGN_OR_RETURN(Mesh mesh, read_mesh(frame.path));
-        const fs::path landmark_path = frame_path(args.input, frame.index, ".landmarks.json");
-        GVKIT_ASSIGN_OR_RETURN(FaceLandmarks landmarks, read_face_landmarks(landmark_path));
-        face = facemap::clean_mesh(std::move(mesh), landmarks, name, options);
+        if (reference && frame.index == frames.front().index) {
+          face = reference->face;
+        } else if (reference) {
+          facemap::TransferStats transfer;
+          face = facemap::transfer_cleaned_face(reference->face, reference->input, mesh, name,
+                                                &transfer);
+          frame.transfer = transfer;
+        } else {
+          const fs::path landmark_path = frame_path(args.input, frame.index, ".landmarks.json");
+          GVKIT_ASSIGN_OR_RETURN(FaceLandmarks landmarks, read_face_landmarks(landmark_path));
+          face = facemap::clean_mesh(std::move(mesh), landmarks, name, options);
+        }
       }
       if (!face.is_ok()) return face.status();
       frame.stats = face->stats;
@@ -316,6 +353,11 @@ void add_facemap_clean_command(CLI::App& facemap) {
   cmd->add_option("--model", args->model, "dlib 68-point shape predictor")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
       ->capture_default_str();
+  cmd->add_flag("--same-vertices", args->same_vertices,
+                "Meshes of one vertex layout (a registered sequence): clean the first frame and "
+                "carry its face (vertices, cuts, landmarks) to the others through surface "
+                "anchors, so all frames share the output layout (then `facemap map "
+                "--same-vertices`); the other frames' landmark files are not read");
   cmd->add_flag("--resume", args->resume,
                 "Keep the frames an earlier run with the same options finished in the output "
                 "folder (listed in its stats.json, files present); compute only the others");

@@ -302,6 +302,11 @@ void run(const MapCommandOptions& o) {
       }
       sum_true += td.rms * td.rms;
       ++n_true;
+    } else if (o.same_vertices && first != &r) {
+      // Different vertex counts: the frames do not share a layout (e.g. each cleaned on its own;
+      // `facemap clean --same-vertices` keeps one layout), so there is no true drift to measure.
+      logger().warn("frame {}: {} vertices against {} in frame {}; no true surface drift", r.index,
+                    r.positions.size(), first->positions.size(), first->index);
     }
     ++ok;
     total_flipped += f.value("flipped", 0);

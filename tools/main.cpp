@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   gvkit::tools::add_facemap_compare_command(app);
   gvkit::tools::add_facemap_make_domain_command(app);
   gvkit::tools::add_facemap_ict_sequence_command(app);
+  gvkit::tools::add_facemap_landmarks_command(app);
   gvkit::tools::add_encode_command(app);
   gvkit::tools::add_decode_command(app);
   gvkit::tools::add_export_command(app);

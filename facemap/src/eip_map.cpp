@@ -88,10 +88,18 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   MappedFace out;
   if (annulus.key_names() != domain.key_names()) {
     annulus.reverse_orientation();
-    if (annulus.key_names() != domain.key_names())
+    if (annulus.key_names() != domain.key_names()) {
+      auto joined = [](const std::vector<std::string>& names) {
+        std::string text;
+        for (const auto& n : names) text += (text.empty() ? "" : " ") + n;
+        return text;
+      };
+      annulus.reverse_orientation();
       return failed_precondition(
           "boundary correspondence: the key points (eye corners, mouth, cut ends) lie in a "
-          "different order on this face than on the canonical domain");
+          "different order on this face than on the canonical domain (face: " +
+          joined(annulus.key_names()) + "; domain: " + joined(domain.key_names()) + ")");
+    }
     out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
   }
   GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow,

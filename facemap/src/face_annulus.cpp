@@ -8,6 +8,7 @@
 #include <queue>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "gvkit/facemap/mesh_cutting.hpp"
 
@@ -217,6 +218,54 @@ Mesh::VertexHandle boundary_key_vertex(CuttableMesh& cm, std::vector<Mesh::Verte
   return v;
 }
 
+// The closest point to q on the loop's edges first_edge, first_edge + 1, ... (count of them,
+// wrapping), with its distance.
+std::pair<LoopPoint, double> closest_arc_point(const Mesh& mesh,
+                                               const std::vector<Mesh::VertexHandle>& loop,
+                                               int first_edge, int count, const cv::Vec3f& q) {
+  const int n = static_cast<int>(loop.size());
+  const Eigen::Vector3d p(q[0], q[1], q[2]);
+  std::pair<LoopPoint, double> best{{}, std::numeric_limits<double>::infinity()};
+  for (int k = 0; k < count; ++k) {
+    const int e = (first_edge + k) % n;
+    const auto& a0 = mesh.point(loop[e]);
+    const auto& b0 = mesh.point(loop[(e + 1) % n]);
+    const Eigen::Vector3d a(a0[0], a0[1], a0[2]), b(b0[0], b0[1], b0[2]);
+    const double t =
+        std::clamp((p - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-300), 0.0, 1.0);
+    const double d = (a + t * (b - a) - p).norm();
+    if (d < best.second) best = {{e, t}, d};
+  }
+  return best;
+}
+
+// d's end: the middle of the upper lip (62) on the mouth boundary's upper arc between the
+// corners (60, 64). The upper arc is the one that fits 62 on it and 66 (the middle of the lower
+// lip) on the other best; a plain nearest point can fall on the lower lip when the mouth hole is a
+// thin slit (a closed mouth), which puts the cut on the wrong side of the corners.
+Mesh::VertexHandle upper_lip_vertex(CuttableMesh& cm, std::vector<Mesh::VertexHandle>& loop,
+                                    Mesh::VertexHandle corner_a, Mesh::VertexHandle corner_b,
+                                    const FaceLandmarks& landmarks, double snap) {
+  const int n = static_cast<int>(loop.size());
+  const int ia = static_cast<int>(std::find(loop.begin(), loop.end(), corner_a) - loop.begin());
+  const int ib = static_cast<int>(std::find(loop.begin(), loop.end(), corner_b) - loop.begin());
+  GVKIT_CHECK(ia < n && ib < n, "mouth corners lie on the mouth loop");
+  const int count_ab = (ib - ia + n) % n, count_ba = n - count_ab;
+  const auto up_ab = closest_arc_point(cm.mesh, loop, ia, count_ab, landmarks.points_mm[62]);
+  const auto up_ba = closest_arc_point(cm.mesh, loop, ib, count_ba, landmarks.points_mm[62]);
+  const auto low_ab = closest_arc_point(cm.mesh, loop, ia, count_ab, landmarks.points_mm[66]);
+  const auto low_ba = closest_arc_point(cm.mesh, loop, ib, count_ba, landmarks.points_mm[66]);
+  const LoopPoint lp =
+      up_ab.second + low_ba.second <= up_ba.second + low_ab.second ? up_ab.first : up_ba.first;
+  if (lp.t <= snap) return loop[lp.edge];
+  if (lp.t >= 1.0 - snap) return loop[(lp.edge + 1) % n];
+  const auto h = cm.mesh.find_halfedge(loop[lp.edge], loop[(lp.edge + 1) % n]);
+  GVKIT_CHECK(h.is_valid() && cm.mesh.is_boundary(h));
+  const Mesh::VertexHandle v = split_edge_at(cm, h, lp.t);
+  loop.insert(loop.begin() + lp.edge + 1, v);
+  return v;
+}
+
 std::vector<char> flags_of(const Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices) {
   std::vector<char> flags(mesh.n_vertices(), 0);
   for (auto v : vertices) flags[v.idx()] = 1;
@@ -292,10 +341,10 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
                                    std::to_string(lm) + " land on the same boundary point");
     key_vertex[lm] = v;
   }
-  // d's end: the middle of the upper lip (62) projected onto the mouth boundary.
+  // d's end: the middle of the upper lip (62) on the upper arc of the mouth boundary.
   std::vector<Mesh::VertexHandle>& mouth_loop = boundaries.loops[FaceBoundaries::kMouth];
-  const Mesh::VertexHandle lip =
-      boundary_key_vertex(cm, mouth_loop, landmarks.points_mm[62], options.key_snap_fraction);
+  const Mesh::VertexHandle lip = upper_lip_vertex(cm, mouth_loop, key_vertex[60], key_vertex[64],
+                                                  landmarks, options.key_snap_fraction);
   if (lip == key_vertex[60] || lip == key_vertex[64])
     return failed_precondition("landmark 62 lands on a mouth corner of the mouth boundary");
 

@@ -1,0 +1,262 @@
+#include "gvkit/facemap/mesh_landmarks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gvkit::facemap {
+
+namespace {
+
+cv::Vec3d point_of(const Mesh& mesh, Mesh::VertexHandle v) {
+  const auto& p = mesh.point(v);
+  return {p[0], p[1], p[2]};
+}
+
+// Vertex grey values from the colours when they vary over the mesh (a textured scan); empty when
+// the mesh has none or one colour everywhere (e.g. a constant grey written for an untextured mesh).
+std::vector<double> vertex_grey(const Mesh& mesh) {
+  if (!mesh.has_vertex_colors() || mesh.n_vertices() == 0) return {};
+  std::vector<double> grey;
+  grey.reserve(mesh.n_vertices());
+  double lo = 1e9, hi = -1e9;
+  for (auto v : mesh.vertices()) {
+    const auto& c = mesh.color(v);
+    const double g = 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2];
+    grey.push_back(g);
+    lo = std::min(lo, g);
+    hi = std::max(hi, g);
+  }
+  if (hi - lo < 1e-3) return {};
+  return grey;
+}
+
+// Rotates `v` about the unit axis `k` by `deg` degrees (Rodrigues).
+cv::Vec3d rotated(const cv::Vec3d& v, const cv::Vec3d& k, double deg) {
+  const double a = deg * CV_PI / 180.0;
+  return v * std::cos(a) + k.cross(v) * std::sin(a) + k * k.dot(v) * (1 - std::cos(a));
+}
+
+}  // namespace
+
+Status MeshRenderOptions::check() const {
+  if (size_px < 64 || size_px > 4096)
+    return invalid_argument("mesh render: size must be in 64..4096 px, got " +
+                            std::to_string(size_px));
+  if (!(fill > 0.1 && fill <= 1.0))
+    return invalid_argument("mesh render: fill must be in (0.1, 1], got " + std::to_string(fill));
+  if (cv::norm(light) < 1e-9) return invalid_argument("mesh render: light direction is zero");
+  return Status::ok();
+}
+
+Status MeshLandmarkOptions::check() const {
+  GVKIT_RETURN_IF_ERROR(render.check());
+  if (!(max_gap_px >= 0.0 && max_gap_px <= 100.0))
+    return invalid_argument("mesh landmarks: max gap must be in 0..100 px");
+  return Status::ok();
+}
+
+cv::Vec2d MeshRender::pixel_of(const cv::Vec3d& p_mesh_mm) const {
+  const cv::Vec3d c = cam_from_mesh * (p_mesh_mm - centre_mm);
+  const double half = (image.cols - 1) / 2.0;
+  return {c[0] / pixel_mm + half, -c[1] / pixel_mm + half};
+}
+
+Result<cv::Vec3d> frontal_view_direction(const Mesh& mesh) {
+  if (mesh.n_vertices() == 0 || mesh.n_faces() == 0)
+    return invalid_argument("mesh has no triangles to find a frontal view of");
+  cv::Vec3d normal_sum(0, 0, 0), centroid(0, 0, 0);
+  for (auto f : mesh.faces()) {
+    auto fv = mesh.cfv_iter(f);
+    const cv::Vec3d a = point_of(mesh, *fv), b = point_of(mesh, *++fv), c = point_of(mesh, *++fv);
+    normal_sum += 0.5 * (b - a).cross(c - a);
+  }
+  for (auto v : mesh.vertices()) centroid += point_of(mesh, v);
+  centroid /= static_cast<double>(mesh.n_vertices());
+  const double length = cv::norm(normal_sum);
+  if (length < 1e-12) return invalid_argument("mesh normals cancel out: no frontal direction");
+  cv::Vec3d view = normal_sum / length;
+
+  // The longest boundary loop (the face's rim): the surface bulges towards the viewer from it.
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  double best_length = 0.0;
+  cv::Vec3d rim_centroid(0, 0, 0);
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h) || seen[h.idx()]) continue;
+    double loop_length = 0.0;
+    cv::Vec3d sum(0, 0, 0);
+    int count = 0;
+    for (auto g = h; !seen[g.idx()]; g = mesh.next_halfedge_handle(g)) {
+      seen[g.idx()] = 1;
+      const cv::Vec3d p = point_of(mesh, mesh.from_vertex_handle(g));
+      loop_length += cv::norm(point_of(mesh, mesh.to_vertex_handle(g)) - p);
+      sum += p;
+      ++count;
+    }
+    if (loop_length > best_length) {
+      best_length = loop_length;
+      rim_centroid = sum / count;
+    }
+  }
+  if (best_length > 0.0 && (centroid - rim_centroid).dot(view) < 0) view = -view;
+  return view;
+}
+
+MeshRender render_mesh(const Mesh& mesh, const cv::Vec3d& view_direction, const cv::Vec3d& up,
+                       const MeshRenderOptions& options) {
+  GVKIT_CHECK(options.check().is_ok(), "render_mesh: bad options");
+  const cv::Vec3d z = view_direction / cv::norm(view_direction);
+  cv::Vec3d y = up - z * z.dot(up);
+  GVKIT_CHECK(cv::norm(y) > 1e-9, "render_mesh: up is parallel to the view direction");
+  y /= cv::norm(y);
+  const cv::Vec3d x = y.cross(z);
+  MeshRender r;
+  r.cam_from_mesh = cv::Matx33d(x[0], x[1], x[2], y[0], y[1], y[2], z[0], z[1], z[2]);
+  const int n = options.size_px;
+
+  // Fit the projected bounding box into the image.
+  std::vector<cv::Vec3d> cam(mesh.n_vertices());
+  cv::Vec2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (auto v : mesh.vertices()) {
+    const cv::Vec3d c = r.cam_from_mesh * point_of(mesh, v);
+    cam[v.idx()] = c;
+    lo = {std::min(lo[0], c[0]), std::min(lo[1], c[1])};
+    hi = {std::max(hi[0], c[0]), std::max(hi[1], c[1])};
+  }
+  const cv::Vec3d centre_cam((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, 0.0);
+  r.centre_mm = r.cam_from_mesh.t() * centre_cam;
+  r.pixel_mm = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9}) / (options.fill * (n - 1));
+  for (auto& c : cam) c = c - centre_cam;
+
+  const std::vector<double> grey = vertex_grey(mesh);
+  r.coloured = !grey.empty();
+  r.image = cv::Mat(n, n, CV_32F, cv::Scalar(0.0f));
+  r.triangle = cv::Mat(n, n, CV_32S, cv::Scalar(-1));
+  cv::Mat depth(n, n, CV_64F, cv::Scalar(-std::numeric_limits<double>::infinity()));
+  const cv::Vec3d light = options.light / cv::norm(options.light);
+  const double half = (n - 1) / 2.0;
+  for (auto f : mesh.faces()) {
+    int vi[3];
+    auto fv = mesh.cfv_iter(f);
+    for (int j = 0; j < 3; ++j, ++fv) vi[j] = fv->idx();
+    cv::Vec2d px[3];
+    for (int j = 0; j < 3; ++j)
+      px[j] = {cam[vi[j]][0] / r.pixel_mm + half, -cam[vi[j]][1] / r.pixel_mm + half};
+    const double area = (px[1][0] - px[0][0]) * (px[2][1] - px[0][1]) -
+                        (px[2][0] - px[0][0]) * (px[1][1] - px[0][1]);
+    if (std::abs(area) < 1e-12) continue;
+    cv::Vec3d normal = (cam[vi[1]] - cam[vi[0]]).cross(cam[vi[2]] - cam[vi[0]]);
+    normal /= std::max(cv::norm(normal), 1e-12);
+    // Two-sided Lambert: the winding of a given mesh is not known to face the viewer.
+    const double shade = 0.15 + 0.85 * std::abs(normal.dot(light));
+    const int x0 =
+        std::max(0, static_cast<int>(std::floor(std::min({px[0][0], px[1][0], px[2][0]}))));
+    const int x1 =
+        std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][0], px[1][0], px[2][0]}))));
+    const int y0 =
+        std::max(0, static_cast<int>(std::floor(std::min({px[0][1], px[1][1], px[2][1]}))));
+    const int y1 =
+        std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][1], px[1][1], px[2][1]}))));
+    for (int yy = y0; yy <= y1; ++yy)
+      for (int xx = x0; xx <= x1; ++xx) {
+        double w[3];
+        for (int j = 0; j < 3; ++j) {
+          const cv::Vec2d& a = px[(j + 1) % 3];
+          const cv::Vec2d& b = px[(j + 2) % 3];
+          w[j] = ((b[0] - a[0]) * (yy - a[1]) - (b[1] - a[1]) * (xx - a[0])) / area;
+        }
+        if (w[0] < -1e-9 || w[1] < -1e-9 || w[2] < -1e-9) continue;
+        const double d = w[0] * cam[vi[0]][2] + w[1] * cam[vi[1]][2] + w[2] * cam[vi[2]][2];
+        if (d <= depth.at<double>(yy, xx)) continue;  // z points to the viewer: larger is nearer
+        depth.at<double>(yy, xx) = d;
+        r.triangle.at<int>(yy, xx) = f.idx();
+        const double value =
+            r.coloured ? (w[0] * grey[vi[0]] + w[1] * grey[vi[1]] + w[2] * grey[vi[2]]) * shade
+                       : 0.8 * shade;
+        r.image.at<float>(yy, xx) = static_cast<float>(std::clamp(value, 0.0, 1.0));
+      }
+  }
+  return r;
+}
+
+Result<MeshLandmarks> detect_mesh_landmarks(const Mesh& mesh, const LandmarkDetector& detector,
+                                            const std::string& name,
+                                            const MeshLandmarkOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  auto view = frontal_view_direction(mesh);
+  if (!view.is_ok()) return view.status().with_context(name);
+  // Model +y up, unless the view looks along it.
+  cv::Vec3d up0(0, 1, 0);
+  if (std::abs(up0.dot(*view)) > 0.9) up0 = {0, 0, 1};
+  MeshLandmarks out;
+  bool found = false;
+  for (int roll : {0, 180, 90, 270}) {
+    MeshRender render = render_mesh(mesh, *view, rotated(up0, *view, roll), options.render);
+    auto detected = detector.detect(render.image);
+    if (!detected.is_ok()) continue;
+    out.landmarks = std::move(detected).value();
+    out.render = std::move(render);
+    out.roll_deg = roll;
+    found = true;
+    break;
+  }
+  if (!found)
+    return failed_precondition(
+        name + ": dlib found no face in a frontal render of the mesh (" +
+        std::string(mesh.has_vertex_colors() ? "vertex colours or shading" : "shaded, no colours") +
+        ", 4 rolls tried); give its landmarks in a file instead");
+
+  // Lift every point through the triangle under it (or the nearest covered pixel).
+  const MeshRender& r = out.render;
+  const int n = r.image.cols;
+  const double half = (n - 1) / 2.0;
+  out.landmarks.points_mm.clear();
+  for (int i = 0; i < FaceLandmarks::kCount; ++i) {
+    const cv::Point2f p = out.landmarks.points_px[i];
+    const int px = std::clamp(static_cast<int>(std::lround(p.x)), 0, n - 1);
+    const int py = std::clamp(static_cast<int>(std::lround(p.y)), 0, n - 1);
+    int tri = r.triangle.at<int>(py, px);
+    if (tri < 0) {
+      const int reach = static_cast<int>(std::ceil(options.max_gap_px));
+      double best = 1e300;
+      for (int yy = std::max(0, py - reach); yy <= std::min(n - 1, py + reach); ++yy)
+        for (int xx = std::max(0, px - reach); xx <= std::min(n - 1, px + reach); ++xx) {
+          const int t = r.triangle.at<int>(yy, xx);
+          const double d2 = (xx - p.x) * (xx - p.x) + (yy - p.y) * (yy - p.y);
+          if (t >= 0 && d2 < best && d2 <= options.max_gap_px * options.max_gap_px) {
+            best = d2;
+            tri = t;
+          }
+        }
+      if (tri < 0)
+        return failed_precondition(name + ": landmark " + std::to_string(i) +
+                                   " lies on no rendered surface within " +
+                                   std::to_string(options.max_gap_px) + " px");
+      ++out.gap_filled;
+    }
+    // Barycentric position of the sub-pixel point in the triangle's projection, clamped into it.
+    cv::Vec3d corner[3];
+    cv::Vec2d cp[3];
+    auto fv = mesh.cfv_iter(Mesh::FaceHandle(tri));
+    for (int j = 0; j < 3; ++j, ++fv) {
+      corner[j] = point_of(mesh, *fv);
+      const cv::Vec3d c = r.cam_from_mesh * (corner[j] - r.centre_mm);
+      cp[j] = {c[0] / r.pixel_mm + half, -c[1] / r.pixel_mm + half};
+    }
+    const double area = (cp[1][0] - cp[0][0]) * (cp[2][1] - cp[0][1]) -
+                        (cp[2][0] - cp[0][0]) * (cp[1][1] - cp[0][1]);
+    double w[3], sum = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      const cv::Vec2d& a = cp[(j + 1) % 3];
+      const cv::Vec2d& b = cp[(j + 2) % 3];
+      w[j] = std::max(0.0, ((b[0] - a[0]) * (p.y - a[1]) - (b[1] - a[1]) * (p.x - a[0])) / area);
+      sum += w[j];
+    }
+    if (sum < 1e-12) w[0] = w[1] = w[2] = sum = 1.0;
+    const cv::Vec3d q = (w[0] * corner[0] + w[1] * corner[1] + w[2] * corner[2]) / sum;
+    out.landmarks.points_mm.emplace_back(q);
+  }
+  return out;
+}
+
+}  // namespace gvkit::facemap
