@@ -12,6 +12,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "gvkit/core/gl_driver_modules.hpp"
+
 namespace gvkit {
 namespace {
 
@@ -118,6 +120,7 @@ Result<std::unique_ptr<PatternProjector>> PatternProjector::open(
   if (!impl->window)
     return failed_precondition("projector: cannot create an OpenGL window: " + take_glfw_error());
   glfwMakeContextCurrent(impl->window);
+  pin_gl_driver_modules();
   glfwSwapInterval(options.vsync ? 1 : 0);
   if (epoxy_gl_version() < 30 && !epoxy_has_gl_extension("GL_ARB_framebuffer_object"))
     return unsupported(

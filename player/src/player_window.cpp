@@ -11,9 +11,6 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
-#include <link.h>
-
 #include <epoxy/gl.h>
 // GLFW after epoxy, and without its own GL header.
 #define GLFW_INCLUDE_NONE
@@ -24,6 +21,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gl_mesh_painter.hpp"
+#include "gvkit/core/gl_driver_modules.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/log.hpp"
 #include "gvkit/player/colormap.hpp"
@@ -44,22 +42,6 @@ constexpr const char* kNoDisplayHint =
 
 std::string g_glfw_error;  // last GLFW error text (GLFW reports errors through a callback)
 double g_scroll = 0;       // wheel steps since the last frame
-
-// Marks the loaded OpenGL driver modules RTLD_NODELETE, so that they stay mapped until exit.
-// glfwTerminate would otherwise unload Mesa's driver, and LeakSanitizer could not name the
-// driver's own process-lifetime allocations (tests/player/lsan_mesa.supp suppresses them by
-// module name). Harmless without sanitizers: the driver lives as long as the process anyway.
-void pin_gl_driver_modules() {
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, size_t, void*) {
-        const std::string name = info->dlpi_name ? info->dlpi_name : "";
-        if (name.find("_dri.so") != std::string::npos ||
-            name.find("gallium") != std::string::npos || name.find("GLX_mesa") != std::string::npos)
-          (void)dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-        return 0;
-      },
-      nullptr);
-}
 
 void on_glfw_error(int code, const char* text) { g_glfw_error = text ? text : "unknown"; }
 void on_scroll(GLFWwindow*, double, double dy) { g_scroll += dy; }
