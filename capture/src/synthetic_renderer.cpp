@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "gvkit/capture/lens_distortion.hpp"
@@ -39,6 +40,17 @@ std::vector<cv::Vec3d> vertex_normals(const SyntheticScene& scene) {
 }
 
 }  // namespace
+
+nlohmann::json RenderOptions::to_json() const {
+  return {{"ambient", ambient},
+          {"projector_power", projector_power},
+          {"projector_gamma", projector_gamma},
+          {"projector_bit_depth", projector_bit_depth},
+          {"projector_blur_px", projector_blur_px},
+          {"camera_blur_px", camera_blur_px},
+          {"noise_sigma", noise_sigma},
+          {"bit_depth", bit_depth}};
+}
 
 Status RenderOptions::check() const {
   if (!(ambient >= 0 && ambient <= 1)) return invalid_argument("ambient must be in [0, 1]");

@@ -2,7 +2,17 @@
 
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 namespace gvkit::capture {
+
+nlohmann::json SyntheticRigOptions::to_json() const {
+  return {{"camera_hfov_deg", camera_hfov_deg},
+          {"projector_size", {projector_width, projector_height}},
+          {"projector_focal_px", projector_focal_px},
+          {"baseline_mm", baseline_mm},
+          {"axes_cross_mm", axes_cross_mm}};
+}
 
 Status SyntheticRigOptions::check() const {
   if (camera_width < 8 || camera_height < 8 || camera_width > 8192 || camera_height > 8192)

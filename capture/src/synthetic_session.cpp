@@ -36,21 +36,8 @@ nlohmann::json SyntheticSessionOptions::to_json() const {
           {"head_motion", head_motion},
           {"face_distance_mm", face_distance_mm},
           {"gamma_compensation", gamma_compensation},
-          {"rig",
-           {{"camera_hfov_deg", rig.camera_hfov_deg},
-            {"projector_size", {rig.projector_width, rig.projector_height}},
-            {"projector_focal_px", rig.projector_focal_px},
-            {"baseline_mm", rig.baseline_mm},
-            {"axes_cross_mm", rig.axes_cross_mm}}},
-          {"render",
-           {{"ambient", render.ambient},
-            {"projector_power", render.projector_power},
-            {"projector_gamma", render.projector_gamma},
-            {"projector_bit_depth", render.projector_bit_depth},
-            {"projector_blur_px", render.projector_blur_px},
-            {"camera_blur_px", render.camera_blur_px},
-            {"noise_sigma", render.noise_sigma},
-            {"bit_depth", render.bit_depth}}}};
+          {"rig", rig.to_json()},
+          {"render", render.to_json()}};
 }
 
 Status write_synthetic_session(const std::filesystem::path& dir,

@@ -31,18 +31,8 @@ nlohmann::json SyntheticStreamOptions::to_json() const {
           {"pose_fps", pose_fps},
           {"face_distance_mm", face_distance_mm},
           {"cue", cue},
-          {"rig",
-           {{"camera_hfov_deg", rig.camera_hfov_deg},
-            {"projector_size", {rig.projector_width, rig.projector_height}},
-            {"projector_focal_px", rig.projector_focal_px},
-            {"baseline_mm", rig.baseline_mm},
-            {"axes_cross_mm", rig.axes_cross_mm}}},
-          {"render",
-           {{"ambient", render.ambient},
-            {"projector_power", render.projector_power},
-            {"projector_gamma", render.projector_gamma},
-            {"noise_sigma", render.noise_sigma},
-            {"bit_depth", render.bit_depth}}}};
+          {"rig", rig.to_json()},
+          {"render", render.to_json()}};
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
 #include <opencv2/core.hpp>
 
 #include "gvkit/core/calibration.hpp"
@@ -36,6 +37,7 @@ struct RenderOptions {
   double shadow_bias_mm = 1.0;    // depth tolerance of the projector shadow test
 
   Status check() const;
+  nlohmann::json to_json() const;  // the image-forming options, as recorded in session.json
 };
 
 // Ground truth of one camera image: what each pixel sees.

@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "gvkit/core/calibration.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -21,6 +23,7 @@ struct SyntheticRigOptions {
   std::vector<double> projector_dist;
 
   Status check() const;
+  nlohmann::json to_json() const;  // the rig's geometry, as recorded in session.json
 };
 
 // The rig's Calibration (fringe_pitch_px left 0: set it from the pattern set).
