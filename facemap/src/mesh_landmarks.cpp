@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "triangle_raster.hpp"
+
 namespace gvkit::facemap {
 
 namespace {
@@ -142,39 +144,20 @@ MeshRender render_mesh(const Mesh& mesh, const cv::Vec3d& view_direction, const 
     cv::Vec2d px[3];
     for (int j = 0; j < 3; ++j)
       px[j] = {cam[vi[j]][0] / r.pixel_mm + half, -cam[vi[j]][1] / r.pixel_mm + half};
-    const double area = (px[1][0] - px[0][0]) * (px[2][1] - px[0][1]) -
-                        (px[2][0] - px[0][0]) * (px[1][1] - px[0][1]);
-    if (std::abs(area) < 1e-12) continue;
     cv::Vec3d normal = (cam[vi[1]] - cam[vi[0]]).cross(cam[vi[2]] - cam[vi[0]]);
     normal /= std::max(cv::norm(normal), 1e-12);
     // Two-sided Lambert: the winding of a given mesh is not known to face the viewer.
     const double shade = 0.15 + 0.85 * std::abs(normal.dot(light));
-    const int x0 =
-        std::max(0, static_cast<int>(std::floor(std::min({px[0][0], px[1][0], px[2][0]}))));
-    const int x1 =
-        std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][0], px[1][0], px[2][0]}))));
-    const int y0 =
-        std::max(0, static_cast<int>(std::floor(std::min({px[0][1], px[1][1], px[2][1]}))));
-    const int y1 =
-        std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][1], px[1][1], px[2][1]}))));
-    for (int yy = y0; yy <= y1; ++yy)
-      for (int xx = x0; xx <= x1; ++xx) {
-        double w[3];
-        for (int j = 0; j < 3; ++j) {
-          const cv::Vec2d& a = px[(j + 1) % 3];
-          const cv::Vec2d& b = px[(j + 2) % 3];
-          w[j] = ((b[0] - a[0]) * (yy - a[1]) - (b[1] - a[1]) * (xx - a[0])) / area;
-        }
-        if (w[0] < -1e-9 || w[1] < -1e-9 || w[2] < -1e-9) continue;
-        const double d = w[0] * cam[vi[0]][2] + w[1] * cam[vi[1]][2] + w[2] * cam[vi[2]][2];
-        if (d <= depth.at<double>(yy, xx)) continue;  // z points to the viewer: larger is nearer
-        depth.at<double>(yy, xx) = d;
-        r.triangle.at<int>(yy, xx) = f.idx();
-        const double value =
-            r.coloured ? (w[0] * grey[vi[0]] + w[1] * grey[vi[1]] + w[2] * grey[vi[2]]) * shade
-                       : 0.8 * shade;
-        r.image.at<float>(yy, xx) = static_cast<float>(std::clamp(value, 0.0, 1.0));
-      }
+    rasterize_triangle(px, n, n, [&](int xx, int yy, const double(&w)[3]) {
+      const double d = w[0] * cam[vi[0]][2] + w[1] * cam[vi[1]][2] + w[2] * cam[vi[2]][2];
+      if (d <= depth.at<double>(yy, xx)) return;  // z points to the viewer: larger is nearer
+      depth.at<double>(yy, xx) = d;
+      r.triangle.at<int>(yy, xx) = f.idx();
+      const double value =
+          r.coloured ? (w[0] * grey[vi[0]] + w[1] * grey[vi[1]] + w[2] * grey[vi[2]]) * shade
+                     : 0.8 * shade;
+      r.image.at<float>(yy, xx) = static_cast<float>(std::clamp(value, 0.0, 1.0));
+    });
   }
   return r;
 }

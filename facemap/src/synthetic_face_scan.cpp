@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "triangle_raster.hpp"
+
 namespace gvkit::facemap {
 
 namespace {
@@ -106,47 +108,28 @@ SyntheticFaceScan render_synthetic_face_scan(const IctFaceModel& model,
         c[j] = to_camera(positions_mm[vi[j]]);
         px[j] = to_pixel(c[j]);
       }
-      const double area = (px[1][0] - px[0][0]) * (px[2][1] - px[0][1]) -
-                          (px[2][0] - px[0][0]) * (px[1][1] - px[0][1]);
-      if (std::abs(area) < 1e-12) continue;
       // Lambert shading from the (model frame) face normal.
       const cv::Vec3d& p0 = positions_mm[vi[0]];
       cv::Vec3d normal = (positions_mm[vi[1]] - p0).cross(positions_mm[vi[2]] - p0);
       normal /= std::max(cv::norm(normal), 1e-12);
       const double shade = 0.3 + 0.7 * std::max(0.0, std::abs(normal.dot(light)));
       const bool skin = region == IctRegion::kFace || region == IctRegion::kHeadAndNeck;
-      const int x0 =
-          std::max(0, static_cast<int>(std::floor(std::min({px[0][0], px[1][0], px[2][0]}))));
-      const int x1 =
-          std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][0], px[1][0], px[2][0]}))));
-      const int y0 =
-          std::max(0, static_cast<int>(std::floor(std::min({px[0][1], px[1][1], px[2][1]}))));
-      const int y1 =
-          std::min(n - 1, static_cast<int>(std::ceil(std::max({px[0][1], px[1][1], px[2][1]}))));
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          double w[3];
-          for (int j = 0; j < 3; ++j) {
-            const cv::Vec2d& a = px[(j + 1) % 3];
-            const cv::Vec2d& b = px[(j + 2) % 3];
-            w[j] = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
-          }
-          if (w[0] < -1e-9 || w[1] < -1e-9 || w[2] < -1e-9) continue;
-          const cv::Vec3d p = w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
-          if (p[2] >= depth.at<double>(y, x)) continue;
-          depth.at<double>(y, x) = p[2];
-          const double a = w[0] * albedo[vi[0]] + w[1] * albedo[vi[1]] + w[2] * albedo[vi[2]];
-          scan.texture.at<float>(y, x) = static_cast<float>(std::clamp(a * shade, 0.0, 1.0));
-          if (skin) {
-            scan.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(p);
-            scan.valid.at<uint8_t>(y, x) = 255;
-            scan.quality.at<float>(y, x) = 1.0f;
-          } else {
-            scan.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(nan, nan, nan);
-            scan.valid.at<uint8_t>(y, x) = 0;
-            scan.quality.at<float>(y, x) = 0.0f;
-          }
+      rasterize_triangle(px, n, n, [&](int x, int y, const double(&w)[3]) {
+        const cv::Vec3d p = w[0] * c[0] + w[1] * c[1] + w[2] * c[2];
+        if (p[2] >= depth.at<double>(y, x)) return;
+        depth.at<double>(y, x) = p[2];
+        const double a = w[0] * albedo[vi[0]] + w[1] * albedo[vi[1]] + w[2] * albedo[vi[2]];
+        scan.texture.at<float>(y, x) = static_cast<float>(std::clamp(a * shade, 0.0, 1.0));
+        if (skin) {
+          scan.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(p);
+          scan.valid.at<uint8_t>(y, x) = 255;
+          scan.quality.at<float>(y, x) = 1.0f;
+        } else {
+          scan.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(nan, nan, nan);
+          scan.valid.at<uint8_t>(y, x) = 0;
+          scan.quality.at<float>(y, x) = 0.0f;
         }
+      });
     }
   }
   for (int v : lm) {
