@@ -52,14 +52,7 @@ class MacroblockReader {
                 dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
         st_.td[mb_index] = mb.td;
         if (mb.td) {
-          for (int b = 0; b < 16; ++b) {
-            const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
-            int mode;
-            GVKIT_RETURN_IF_ERROR(
-                read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
-            mb.modes[b] = static_cast<int8_t>(mode);
-            st_.mode_at(gx, gy) = mb.modes[b];
-          }
+          GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));
         } else {
           for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
         }
@@ -104,14 +97,7 @@ class MacroblockReader {
         for (int i = 0; i < 4; ++i) st_.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
       }
     } else {
-      for (int b = 0; b < 16; ++b) {
-        const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
-        int mode;
-        GVKIT_RETURN_IF_ERROR(
-            read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
-        mb.modes[b] = static_cast<int8_t>(mode);
-        st_.mode_at(gx, gy) = mb.modes[b];
-      }
+      GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));
     }
     return read_cbp_and_residuals(mb_x, mb_y, mb);
   }
@@ -167,6 +153,20 @@ class MacroblockReader {
       const int coded = dec_.decode(ctx_.cbf[left + 2 * top]);
       st_.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
       if (coded) GVKIT_RETURN_IF_ERROR(read_residual(mb.levels[b], 4));
+    }
+    return Status::ok();
+  }
+
+  // The 16 4x4 prediction modes of a macroblock whose top-left 4x4 block is (gx0, gy0) in
+  // block units (intra 4x4, and the difference prediction of a TD macroblock).
+  Status read_4x4_modes(int gx0, int gy0, MacroblockData& mb) {
+    for (int b = 0; b < 16; ++b) {
+      const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+      int mode;
+      GVKIT_RETURN_IF_ERROR(
+          read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
+      mb.modes[b] = static_cast<int8_t>(mode);
+      st_.mode_at(gx, gy) = mb.modes[b];
     }
     return Status::ok();
   }

@@ -203,11 +203,10 @@ std::vector<char> side_of_cut(const Mesh& mesh, Mesh::VertexHandle v, Mesh::Vert
   return flags;
 }
 
-// A boundary key: the landmark projected onto its loop, as a vertex (splitting the boundary
-// edge there unless a vertex is within snap of it).
-Mesh::VertexHandle boundary_key_vertex(CuttableMesh& cm, std::vector<Mesh::VertexHandle>& loop,
-                                       const cv::Vec3f& q, double snap) {
-  const LoopPoint lp = closest_loop_point(cm.mesh, loop, Eigen::Vector3d(q[0], q[1], q[2]));
+// The vertex of the boundary loop at lp: an end of lp's edge when lp lies within snap (edge
+// parameter) of it, otherwise a new vertex splitting the edge, inserted into loop.
+Mesh::VertexHandle loop_vertex_at(CuttableMesh& cm, std::vector<Mesh::VertexHandle>& loop,
+                                  const LoopPoint& lp, double snap) {
   const int n = static_cast<int>(loop.size());
   if (lp.t <= snap) return loop[lp.edge];
   if (lp.t >= 1.0 - snap) return loop[(lp.edge + 1) % n];
@@ -216,6 +215,14 @@ Mesh::VertexHandle boundary_key_vertex(CuttableMesh& cm, std::vector<Mesh::Verte
   const Mesh::VertexHandle v = split_edge_at(cm, h, lp.t);
   loop.insert(loop.begin() + lp.edge + 1, v);
   return v;
+}
+
+// A boundary key: the landmark projected onto its loop, as a vertex (splitting the boundary
+// edge there unless a vertex is within snap of it).
+Mesh::VertexHandle boundary_key_vertex(CuttableMesh& cm, std::vector<Mesh::VertexHandle>& loop,
+                                       const cv::Vec3f& q, double snap) {
+  const LoopPoint lp = closest_loop_point(cm.mesh, loop, Eigen::Vector3d(q[0], q[1], q[2]));
+  return loop_vertex_at(cm, loop, lp, snap);
 }
 
 // The closest point to q on the loop's edges first_edge, first_edge + 1, ... (count of them,
@@ -257,13 +264,7 @@ Mesh::VertexHandle upper_lip_vertex(CuttableMesh& cm, std::vector<Mesh::VertexHa
   const auto low_ba = closest_arc_point(cm.mesh, loop, ib, count_ba, landmarks.points_mm[66]);
   const LoopPoint lp =
       up_ab.second + low_ba.second <= up_ba.second + low_ab.second ? up_ab.first : up_ba.first;
-  if (lp.t <= snap) return loop[lp.edge];
-  if (lp.t >= 1.0 - snap) return loop[(lp.edge + 1) % n];
-  const auto h = cm.mesh.find_halfedge(loop[lp.edge], loop[(lp.edge + 1) % n]);
-  GVKIT_CHECK(h.is_valid() && cm.mesh.is_boundary(h));
-  const Mesh::VertexHandle v = split_edge_at(cm, h, lp.t);
-  loop.insert(loop.begin() + lp.edge + 1, v);
-  return v;
+  return loop_vertex_at(cm, loop, lp, snap);
 }
 
 std::vector<char> flags_of(const Mesh& mesh, const std::vector<Mesh::VertexHandle>& vertices) {
