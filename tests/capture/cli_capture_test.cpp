@@ -10,9 +10,7 @@ namespace {
 using testing::run_gvkit;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 TEST(CliCapture, SynthThenReconstructWithGroundTruth) {
   GVKIT_REQUIRE_SHARED_DATA(data);

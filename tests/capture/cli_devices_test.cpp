@@ -12,9 +12,7 @@ namespace {
 using testing::run_gvkit;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 TEST(CliDevices, SaysClearlyWhenThereAreNoCameras) {
   TempDir empty_dev;

@@ -25,9 +25,7 @@ namespace fs = std::filesystem;
 using testing::run_gvkit;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 // The image of frame i, pattern k of a session.
 cv::Mat image_of(const capture::SessionReader& s, size_t i, int k) {

@@ -11,9 +11,7 @@ namespace {
 using testing::run_gvkit;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 cv::Mat image(int i) {
   cv::Mat m(20, 30, CV_16U);

@@ -21,9 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 CameraFrame make_frame(int64_t i, int depth = CV_16U) {
   CameraFrame f;

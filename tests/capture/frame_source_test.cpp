@@ -19,9 +19,7 @@ namespace gvkit {
 namespace {
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 cv::Mat ramp(int index, int depth = CV_8U) {
   cv::Mat image(24, 32, depth);

@@ -35,4 +35,9 @@ struct CommandResult {
 // Runs the gvkit binary (GVKIT_BINARY) with the given argument string.
 CommandResult run_gvkit(const std::string& arguments);
 
+// Whether text contains part (for checking error messages and command output).
+inline bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 }  // namespace gvkit::testing

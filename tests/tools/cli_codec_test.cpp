@@ -15,9 +15,7 @@ namespace {
 using testing::run_gvkit;
 using testing::TempDir;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 void write_frames(const std::filesystem::path& dir, int frames) {
   testing::GeometryVideoOptions o;

@@ -16,9 +16,7 @@ using testing::run_gvkit;
 using testing::TempDir;
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 // The indices of the frames a stage's stats.json lists as done.
 std::vector<int64_t> done_frames(const fs::path& dir) {

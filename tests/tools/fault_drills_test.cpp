@@ -20,9 +20,7 @@ using testing::run_gvkit;
 using testing::TempDir;
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 // Encodes `frames` analytic 32x32 frames; returns the stream's bytes and per-frame packet sizes.
 struct Stream {

@@ -14,9 +14,7 @@ namespace {
 using testing::TempDir;
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
 
 void write(const fs::path& path, const nlohmann::json& j) {
   ASSERT_TRUE(ensure_directory(path.parent_path()).is_ok());
