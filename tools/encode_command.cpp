@@ -1,5 +1,6 @@
 // gvkit encode GV_DIR -o FILE.gvid: compresses a folder of geometry-image EXRs
 // (frame_NNNNNN.exr) into a .gvid stream, and writes FILE.gvid.stats.json beside it.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
 
 namespace gvkit::tools {
@@ -29,6 +31,58 @@ struct EncodeArgs {
   double fps = 30.0;
   bool no_gv_modes = false, no_td = false;
 };
+
+const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
+
+nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
+  nlohmann::json j;
+  for (int g = 0; g < codec::kSyntaxGroupCount; ++g) j[codec::syntax_group_name(g)] = s.bits[g];
+  j["total"] = s.total_bits();
+  j["intra_mbs"] = s.intra_mbs;
+  j["inter_mbs"] = s.inter_mbs;
+  j["td_mbs"] = s.td_mbs;
+  j["skip_mbs"] = s.skip_mbs;
+  return j;
+}
+
+// Bits per syntax element group, summed per frame type and plane ("I" / "P" -> "X" / "Y" / ...),
+// in JSON and (with --verbose) as a table on the log.
+nlohmann::json bit_accounting(const std::vector<codec::FrameCodingStats>& frames, double vertices) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const bool intra : {true, false}) {
+    std::vector<codec::PlaneCodingStats> sum;
+    int count = 0;
+    for (const auto& f : frames) {
+      if (f.intra != intra) continue;
+      ++count;
+      sum.resize(std::max(sum.size(), f.planes.size()));
+      for (size_t p = 0; p < f.planes.size(); ++p) sum[p] += f.planes[p];
+    }
+    if (!count) continue;
+    const char* type = intra ? "I" : "P";
+    nlohmann::json j = {{"frames", count}};
+    codec::PlaneCodingStats all;
+    for (size_t p = 0; p < sum.size(); ++p) {
+      j[kPlaneNames[p]] = plane_stats_json(sum[p]);
+      all += sum[p];
+    }
+    j["all"] = plane_stats_json(all);
+    out[type] = j;
+    for (size_t p = 0; p <= sum.size(); ++p) {
+      const codec::PlaneCodingStats& s = p < sum.size() ? sum[p] : all;
+      std::string line =
+          fmt::format("{} frames ({}), plane {:>3}: {:8.4f} bits/vertex/frame =", type, count,
+                      p < sum.size() ? kPlaneNames[p] : "all", s.total_bits() / vertices / count);
+      for (int g = 0; g < codec::kSyntaxGroupCount; ++g)
+        line += fmt::format(" {} {:.1f} %", codec::syntax_group_name(g),
+                            100.0 * s.bits[g] / std::max(1.0, s.total_bits()));
+      line += fmt::format("; macroblocks intra {} inter {} td {} skip {}", s.intra_mbs, s.inter_mbs,
+                          s.td_mbs, s.skip_mbs);
+      logger().debug("{}", line);
+    }
+  }
+  return out;
+}
 
 void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
@@ -75,6 +129,11 @@ void run_encode(const EncodeArgs& args) {
                          {"rms_mm", e.rms_mm},
                          {"max_mm", e.max_mm},
                          {"qp", writer->frame_qp()[i]}});
+    nlohmann::json syntax_bits;
+    const codec::FrameCodingStats& fs = writer->frame_stats()[i];
+    for (size_t p = 0; p < fs.planes.size(); ++p)
+      syntax_bits[kPlaneNames[p]] = plane_stats_json(fs.planes[p]);
+    per_frame.back()["syntax_bits"] = syntax_bits;
     progress.advance();
   }
   const double seconds =
@@ -125,8 +184,8 @@ void run_encode(const EncodeArgs& args) {
         {"encode_fps", n / seconds},
         {"max_buffer_fullness_bits",
          writer->rate_controller() ? writer->rate_controller()->max_fullness_bits() : 0.0},
-        {"buffer_bits",
-         writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0}}},
+        {"buffer_bits", writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0},
+        {"syntax_bits", bit_accounting(writer->frame_stats(), vertices)}}},
       {"frames", per_frame}};
   for (auto& f : stats["frames"])
     if (!std::isfinite(f["psnr_db"].get<double>())) f["psnr_db"] = "inf";

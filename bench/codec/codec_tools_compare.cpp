@@ -10,8 +10,10 @@
 //   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N]
-//                            [--no-peers] [--peer-preset P] [--rate-only]
-// (--rate-only: the rate-control and threads tables only)
+//                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
+//                            [--bits-only]
+// (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
+// rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12)
 #include <time.h>
 
 #include <chrono>
@@ -57,12 +59,13 @@ struct Run {
   std::string bytes;
 };
 
-Run run_ours(const Material& m, const EncoderOptions& options) {
+Run run_ours(const Material& m, const EncoderOptions& options,
+             std::vector<FrameCodingStats>* stats = nullptr) {
   SequenceInfo info = m.info;
   info.bit_depth = options.bit_depth;
   Run run;
   double t0 = cpu_now();
-  auto bytes = encode_gvid(m.frames, info, options);
+  auto bytes = encode_gvid(m.frames, info, options, stats);
   if (!bytes.is_ok()) {
     std::fprintf(stderr, "encode failed: %s\n", bytes.status().message().c_str());
     std::exit(1);
@@ -147,6 +150,48 @@ std::vector<std::vector<RdPoint>> report_subpel(const Material& m, const Encoder
   return curves;
 }
 
+// Where the bits go (format 1.4 accounting): per frame type, plane and syntax element group, in
+// bits/vertex/frame (averaged over all frames of the sequence, so the rows add up to the rate).
+void report_bit_accounting(const Material& m, const EncoderOptions& base,
+                           const std::vector<int>& qps) {
+  std::printf("\n| QP | frame type | plane | bits/vertex/frame |");
+  for (int g = 0; g < kSyntaxGroupCount; ++g) std::printf(" %s |", syntax_group_name(g));
+  std::printf(" MBs intra / inter / TD / skip |\n|---|---|---|---|");
+  for (int g = 0; g < kSyntaxGroupCount; ++g) std::printf("---|");
+  std::printf("---|\n");
+  for (int qp : qps) {
+    EncoderOptions o = base;
+    o.qp = qp;
+    std::vector<FrameCodingStats> stats;
+    const Run r = run_ours(m, o, &stats);
+    const double per = 1.0 / (m.vertices * static_cast<double>(m.frames.size()));
+    for (const bool intra : {true, false}) {
+      PlaneCodingStats all;
+      std::vector<PlaneCodingStats> planes(3);
+      for (const auto& f : stats)
+        if (f.intra == intra)
+          for (size_t p = 0; p < 3 && p < f.planes.size(); ++p) {
+            planes[p] += f.planes[p];
+            all += f.planes[p];
+          }
+      for (int p = 0; p <= 3; ++p) {
+        const PlaneCodingStats& s = p < 3 ? planes[p] : all;
+        std::printf("| %d | %s | %s | %.4f |", qp, intra ? "I" : "P",
+                    p < 3 ? (const char*[]){"X", "Y", "Z"}[p] : "all", s.total_bits() * per);
+        for (int g = 0; g < kSyntaxGroupCount; ++g)
+          std::printf(" %.4f (%.0f %%) |", s.bits[g] * per,
+                      100.0 * s.bits[g] / std::max(1.0, s.total_bits()));
+        std::printf(" %lld / %lld / %lld / %lld |\n", static_cast<long long>(s.intra_mbs),
+                    static_cast<long long>(s.inter_mbs), static_cast<long long>(s.td_mbs),
+                    static_cast<long long>(s.skip_mbs));
+      }
+    }
+    std::printf("| %d | total (stream) | | %.4f | PSNR %.2f dB |\n", qp, r.point.rate,
+                r.point.psnr_db);
+    std::fflush(stdout);
+  }
+}
+
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
   SequenceInfo info = m.info;
   info.bit_depth = config.bit_depth;
@@ -227,7 +272,7 @@ int main(int argc, char** argv) {
   using namespace gvkit;
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
-  bool peers = true, rate_only = false, subpel_only = false;
+  bool peers = true, rate_only = false, subpel_only = false, bits_only = false;
   int gop = 30;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -247,6 +292,8 @@ int main(int argc, char** argv) {
       rate_only = true;
     else if (a == "--subpel-only")
       subpel_only = true;
+    else if (a == "--bits-only")
+      bits_only = true;
     else if (a == "--no-peers")
       peers = false;
     else if (a == "--peer-preset" && i + 1 < argc)
@@ -254,7 +301,8 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
-                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]\n");
+                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
+                   "[--bits-only]\n");
       return 2;
     }
   }
@@ -295,6 +343,10 @@ int main(int argc, char** argv) {
 
   if (rate_only) {
     report_rate_and_threads(m, base);
+    return 0;
+  }
+  if (bits_only) {
+    report_bit_accounting(m, base, {-6, 0, 6, 12});
     return 0;
   }
   if (subpel_only) {

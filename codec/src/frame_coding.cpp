@@ -190,14 +190,15 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (header.flags & format::kFramePlaneQp)
     for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
   std::vector<SamplePlane> recon;
+  EncodedFrame out;
   for (auto& c : coded) {
     payload.u32(static_cast<uint32_t>(c.bytes.size()));
     payload.bytes(c.bytes);
     recon.push_back(std::move(c.reconstruction));
+    out.plane_stats.push_back(c.stats);
   }
   header.payload_size = static_cast<uint32_t>(payload.size());
   header.payload_crc = crc32(payload.str());
-  EncodedFrame out;
   out.packet = format::write_packet_header(header) + payload.str();
   out.reconstruction = dequantize_geometry(recon, info, frame_number);
   out.planes = std::move(recon);

@@ -54,6 +54,7 @@ Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
   GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_sequence_frame(frame, info_, options_, number,
                                                                      reference_, rate_.get(), &qp));
   frame_qp_.push_back(qp);
+  frame_stats_.push_back({intra, encoded.plane_stats});
   reference_ = std::move(encoded.planes);
   out_.write(encoded.packet.data(), static_cast<std::streamsize>(encoded.packet.size()));
   if (!out_) return io_error(path_.string() + ": write failed at frame " + std::to_string(number));
@@ -108,7 +109,8 @@ Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const Seq
 }
 
 Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
-                                const EncoderOptions& options) {
+                                const EncoderOptions& options,
+                                std::vector<FrameCodingStats>* frame_stats) {
   GVKIT_RETURN_IF_ERROR(options.check());
   GVKIT_RETURN_IF_ERROR(info.check());
   std::string out = format::write_file_header(info);
@@ -122,6 +124,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
                            encode_sequence_frame(frames[i], info, options, static_cast<uint32_t>(i),
                                                  reference, rate.get()));
     reference = std::move(encoded.planes);
+    if (frame_stats) frame_stats->push_back({intra, encoded.plane_stats});
     format::IndexEntry entry;
     entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
     entry.offset = out.size();

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "gvkit/codec/cabac_context.hpp"
+#include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -46,6 +48,33 @@ struct ContextSet {
   bool adaptive_levels = false;
   uint32_t level_mean16[2] = {};
 };
+
+// A CabacEncoder that also adds each bin's ideal code length to the current syntax group of a
+// PlaneCodingStats (the writer names the group with set_group before each element).
+class StatsCoder {
+ public:
+  StatsCoder(CabacEncoder& encoder, PlaneCodingStats& stats) : enc_(encoder), stats_(stats) {}
+  void encode(CabacContext& ctx, int bin) {
+    stats_.bits[group_] += kCabacBitCost[ctx.state][bin != ctx.mps ? 1 : 0] * (1.0 / 256.0);
+    enc_.encode(ctx, bin);
+  }
+  void encode_bypass(int bin) {
+    stats_.bits[group_] += 1.0;
+    enc_.encode_bypass(bin);
+  }
+  void set_group(int group) { group_ = group; }
+
+ private:
+  CabacEncoder& enc_;
+  PlaneCodingStats& stats_;
+  int group_ = kSyntaxMbType;
+};
+
+// Names the syntax group of the bins that follow (a no-op for coders without accounting).
+template <class Coder>
+inline void set_group(Coder& coder, int group) {
+  if constexpr (requires { coder.set_group(group); }) coder.set_group(group);
+}
 
 inline int adaptive_order(uint32_t mean16) {
   const uint32_t mean = mean16 >> 4;
@@ -145,6 +174,7 @@ inline bool any_nonzero(const int32_t* v, int n) {
 
 template <class Coder>
 void write_mode(Coder& coder, ContextSet& ctx, int mode, int mpm, int mode_count) {
+  set_group(coder, kSyntaxModes);
   if (mode == mpm) {
     coder.encode(ctx.prev_mode_flag[0], 1);
     return;
@@ -174,6 +204,7 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
   int last = -1;
   for (int i = 0; i < count; ++i)
     if (levels[scan[i]]) last = i;
+  set_group(coder, kSyntaxSigMap);
   for (int i = 0; i < count - 1; ++i) {
     const int c = n == 8 ? i >> 2 : i;
     const int sig = levels[scan[i]] != 0;
@@ -183,6 +214,7 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
       if (i == last) break;
     }
   }
+  set_group(coder, kSyntaxLevels);
   int num_gt1 = 0, num_eq1 = 0;
   for (int i = last; i >= 0; --i) {
     const int32_t v = levels[scan[i]];
@@ -215,6 +247,7 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
                                  const MacroblockData& mb) {
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   const int cx0 = mb_x * 2, cy0 = mb_y * 2;
+  set_group(coder, kSyntaxCbp);
   for (int q = 0; q < 4; ++q) {
     const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);
     const int left = cx > 0 ? st.cbp_at(cx - 1, cy) : 0;
@@ -242,6 +275,7 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
     const int left = gx > 0 ? st.cbf_at(gx - 1, gy) : 0;
     const int top = gy > 0 ? st.cbf_at(gx, gy - 1) : 0;
     const int coded = any_nonzero(mb.levels[b], 16) ? 1 : 0;
+    set_group(coder, kSyntaxCbp);
     coder.encode(ctx.cbf[left + 2 * top], coded);
     st.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
     if (coded) write_residual(coder, ctx, mb.levels[b], 4);
@@ -250,6 +284,7 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
 
 template <class Coder>
 void write_mvd(Coder& coder, ContextSet& ctx, int component, int value) {
+  set_group(coder, kSyntaxMotion);
   coder.encode(ctx.mvd_zero[component], value != 0);
   if (!value) return;
   coder.encode_bypass(value < 0);
@@ -272,6 +307,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
     if (mb_y > 0 && pred(v[mb_index - st.mbs_x])) ++n;
     return n;
   };
+  set_group(coder, kSyntaxMbType);
   if (st.predicted) {
     const int inter = mb.type == kMbInter;
     coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
@@ -290,6 +326,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       st.mv_y[mb_index] = static_cast<int16_t>(mb.skip ? py : mb.mv_y);
       const int gx0 = mb_x * 4, gy0 = mb_y * 4;
       const bool td = !mb.skip && params.td_prediction && mb.td;
+      set_group(coder, kSyntaxMbType);
       if (!mb.skip && params.td_prediction)
         coder.encode(ctx.td_flag[flag_ctx(st.td, [](uint8_t k) { return k != 0; })], td);
       st.td[mb_index] = td;
@@ -323,6 +360,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
   st.mb_type[mb_index] = mb.type;
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   if (mb.type == kMbI16x16) {
+    set_group(coder, kSyntaxModes);
     coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
     coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
     for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;

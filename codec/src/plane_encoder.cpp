@@ -429,11 +429,20 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacEncoder encoder;
+  StatsCoder coder(encoder, result.stats);
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb = mb_encoder.encode(mb_x, mb_y, ctx);
-      write_macroblock(encoder, ctx, st, mb_x, mb_y, mb, params);
+      write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+      if (mb.type != kMbInter)
+        ++result.stats.intra_mbs;
+      else if (mb.skip)
+        ++result.stats.skip_mbs;
+      else if (mb.td)
+        ++result.stats.td_mbs;
+      else
+        ++result.stats.inter_mbs;
     }
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();

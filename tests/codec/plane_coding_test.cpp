@@ -102,6 +102,35 @@ TEST(PlaneCoding, PredictedPlanesRoundTrip) {
     }
 }
 
+TEST(PlaneCoding, BitAccountingAddsUpToTheSegment) {
+  const SamplePlane previous = test_plane(64, 48, 16, 7);
+  SamplePlane current = previous;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      current.at(x, y) = static_cast<uint16_t>(previous.at(std::max(0, x - 1), y) + 25);
+  for (bool rdo : {false, true}) {
+    PlaneCodingParams params;
+    params.qp_prime = 50;
+    params.rdo = rdo;
+    params.td_prediction = true;
+    params.subpel = 4;
+    const PlaneEncodeResult intra = encode_plane(previous, params);
+    const PlaneEncodeResult inter = encode_plane(current, params, &intra.reconstruction);
+    for (const PlaneEncodeResult* r : {&intra, &inter}) {
+      const double segment_bits = 8.0 * static_cast<double>(r->bytes.size());
+      // Ideal code lengths: within the coder's flush and a fraction of a percent.
+      EXPECT_NEAR(r->stats.total_bits(), segment_bits, 0.01 * segment_bits + 24) << rdo;
+      EXPECT_EQ(r->stats.intra_mbs + r->stats.inter_mbs + r->stats.td_mbs + r->stats.skip_mbs,
+                4 * 3);
+      EXPECT_GT(r->stats.bits[kSyntaxLevels], 0.0);
+    }
+    EXPECT_EQ(intra.stats.intra_mbs, 12);
+    EXPECT_EQ(intra.stats.bits[kSyntaxMotion], 0.0);
+    EXPECT_GT(inter.stats.bits[kSyntaxMotion], 0.0);
+    EXPECT_LT(inter.stats.intra_mbs, 12);
+  }
+}
+
 TEST(PlaneCoding, EightBitLossyRoundTrip) {
   PlaneCodingParams params;
   params.bit_depth = 8;

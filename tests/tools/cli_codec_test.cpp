@@ -108,7 +108,7 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
 
-  auto rate = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+  auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
                         "--subpel 2 --preset fast");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
@@ -119,6 +119,18 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   EXPECT_EQ((*stats)["options"]["subpel"], 2);
   EXPECT_LE((*stats)["summary"]["max_buffer_fullness_bits"].get<double>(),
             (*stats)["summary"]["buffer_bits"].get<double>());
+  // Bit accounting: per frame type, plane and syntax group, adding up to the frame sizes.
+  const auto& accounting = (*stats)["summary"]["syntax_bits"];
+  EXPECT_EQ(accounting["I"]["frames"], 1);
+  EXPECT_EQ(accounting["P"]["frames"], 2);
+  EXPECT_GT(accounting["P"]["Y"]["motion"].get<double>(), 0.0);
+  double frame_bits = 0;
+  for (const auto& f : (*stats)["frames"]) frame_bits += 8.0 * f["bytes"].get<double>();
+  const double coded =
+      accounting["I"]["all"]["total"].get<double>() + accounting["P"]["all"]["total"].get<double>();
+  EXPECT_LT(coded, frame_bits);
+  EXPECT_GT(coded, 0.8 * frame_bits);
+  EXPECT_TRUE(contains(rate.output, "P frames (2), plane all")) << rate.output;
 
   const std::string in = (dir / "in").string();
   auto tiny = run_gvkit("encode " + in + " -o " + gvid + " --max-error-mm 0.00001");

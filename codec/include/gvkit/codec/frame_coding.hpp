@@ -18,6 +18,7 @@ struct EncodedFrame {
   std::string packet;               // header + payload
   GeometryImage reconstruction;     // exactly what a decoder will output
   std::vector<SamplePlane> planes;  // the reconstructed coded planes (reference of a P frame)
+  std::vector<PlaneCodingStats> plane_stats;  // per coded plane: where its bits went
 };
 
 // Encodes an intra frame, or a P frame predicted from `reference` (the previous frame's

@@ -41,6 +41,8 @@ class GvidWriter {
   int64_t header_bytes() const { return header_bytes_; }
   // QP of each frame written (0 for bypass frames): options.qp, or the rate controller's.
   const std::vector<int>& frame_qp() const { return frame_qp_; }
+  // Where each frame's bits went, per plane and syntax element group.
+  const std::vector<FrameCodingStats>& frame_stats() const { return frame_stats_; }
   // The rate controller when options.bitrate_kbps > 0, else null.
   const RateController* rate_controller() const { return rate_.get(); }
 
@@ -54,6 +56,7 @@ class GvidWriter {
   std::vector<SamplePlane> reference_;  // reconstruction of the last frame written
   std::vector<int64_t> frame_bytes_;
   std::vector<int> frame_qp_;
+  std::vector<FrameCodingStats> frame_stats_;
   std::unique_ptr<RateController> rate_;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;
@@ -67,8 +70,10 @@ Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const Seq
                                            const std::vector<SamplePlane>& reference,
                                            RateController* rate, int* qp_used = nullptr);
 
-// Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes.
+// Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;
+// frame_stats (optional) receives each frame's bit accounting.
 Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
-                                const EncoderOptions& options);
+                                const EncoderOptions& options,
+                                std::vector<FrameCodingStats>* frame_stats = nullptr);
 
 }  // namespace gvkit::codec

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::codec {
@@ -48,6 +49,7 @@ struct SamplePlane {
 struct PlaneEncodeResult {
   std::string bytes;           // the CABAC segment
   SamplePlane reconstruction;  // what the decoder will reconstruct
+  PlaneCodingStats stats;      // where the segment's bits went
 };
 
 // plane.width and plane.height must be positive multiples of 16 (contract). With a reference

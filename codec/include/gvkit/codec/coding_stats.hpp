@@ -1,0 +1,46 @@
+#pragma once
+// Where the bits of a coded plane go: per syntax element group, and how many macroblocks took
+// each kind of prediction. Filled by the encoder (encode_plane), summed per frame and sequence,
+// written by `gvkit encode` into FILE.gvid.stats.json and printed with --verbose.
+
+#include <cstdint>
+#include <vector>
+
+namespace gvkit::codec {
+
+// Syntax element groups of the macroblock layer (docs/bitstream.md 4).
+enum SyntaxGroup : int {
+  kSyntaxMbType,  // is_inter, skip, td_flag, is_i16, is_8x8 (and the motion-shared flag)
+  kSyntaxMotion,  // motion vector differences (and reference / partition syntax)
+  kSyntaxModes,   // intra and TD prediction modes (4x4, 8x8, 16x16)
+  kSyntaxCbp,     // coded block pattern and coded_block_flag
+  kSyntaxSigMap,  // significant / last significant coefficient flags
+  kSyntaxLevels,  // coefficient magnitudes and signs
+  kSyntaxGroupCount
+};
+
+// Short name of a group for tables and JSON: "mb_type", "motion", "modes", "cbp", "sig_map",
+// "levels".
+const char* syntax_group_name(int group);
+
+struct PlaneCodingStats {
+  // Bits per group, estimated as the ideal arithmetic-code length of each bin (-log2 of its
+  // probability in the context state it was coded with; 1 per bypass bin). They add up to the
+  // segment size within the coder's flush (a few bytes per segment).
+  double bits[kSyntaxGroupCount] = {};
+  int64_t intra_mbs = 0;  // I4x4, I8x8, I16x16
+  int64_t inter_mbs = 0;  // inter, not skip, not TD
+  int64_t td_mbs = 0;     // inter with temporal-difference prediction
+  int64_t skip_mbs = 0;   // inter skip
+
+  double total_bits() const;
+  PlaneCodingStats& operator+=(const PlaneCodingStats& other);
+};
+
+// One coded frame's accounting.
+struct FrameCodingStats {
+  bool intra = true;
+  std::vector<PlaneCodingStats> planes;  // X, Y, Z (, T)
+};
+
+}  // namespace gvkit::codec

@@ -1,0 +1,26 @@
+#include "gvkit/codec/coding_stats.hpp"
+
+namespace gvkit::codec {
+
+const char* syntax_group_name(int group) {
+  static const char* const kNames[kSyntaxGroupCount] = {"mb_type", "motion",  "modes",
+                                                        "cbp",     "sig_map", "levels"};
+  return group >= 0 && group < kSyntaxGroupCount ? kNames[group] : "?";
+}
+
+double PlaneCodingStats::total_bits() const {
+  double sum = 0;
+  for (double b : bits) sum += b;
+  return sum;
+}
+
+PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
+  for (int g = 0; g < kSyntaxGroupCount; ++g) bits[g] += other.bits[g];
+  intra_mbs += other.intra_mbs;
+  inter_mbs += other.inter_mbs;
+  td_mbs += other.td_mbs;
+  skip_mbs += other.skip_mbs;
+  return *this;
+}
+
+}  // namespace gvkit::codec
