@@ -29,7 +29,7 @@ struct EncodeArgs {
   std::vector<int> plane_qp_offsets;
   codec::EncoderOptions options;
   double fps = 30.0;
-  bool no_gv_modes = false, no_td = false;
+  bool no_gv_modes = false, no_td = false, no_shared_motion = false, no_decimation = false;
 };
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
@@ -88,6 +88,8 @@ void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
   options.geometry_modes = !args.no_gv_modes;
   options.td_prediction = !args.no_td;
+  options.shared_motion = !args.no_shared_motion;
+  options.inter_decimation = !args.no_decimation;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.value_prediction = value_or_throw(codec::parse_value_prediction(args.value_prediction));
   if (!args.plane_qp_offsets.empty()) {
@@ -160,6 +162,9 @@ void run_encode(const EncodeArgs& args) {
         {"max_error_mm", options.max_error_mm},
         {"td_prediction", options.td_prediction},
         {"subpel", options.subpel},
+        {"shared_motion", options.shared_motion},
+        {"joint_motion_search", options.joint_motion_search},
+        {"inter_decimation", options.inter_decimation},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -223,6 +228,15 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--subpel", args->options.subpel,
                   "Motion vector precision of P frames: 0 (whole samples), 2 (half) or 4 "
                   "(quarter, default; H.264 interpolation)");
+  cmd->add_flag("--no-shared-motion", args->no_shared_motion,
+                "P frames: code the Y and Z planes' motion on their own (format 1.3 syntax) "
+                "instead of letting each macroblock take over the X plane's vector");
+  cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
+                "P frames with shared motion: search the X plane's vectors on the error of all "
+                "three planes (always on in lossless and near-lossless frames)");
+  cmd->add_flag("--no-decimation", args->no_decimation,
+                "P frames: keep sparse +-1 inter residual blocks and the intra rounding (no "
+                "inter dead zone)");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -11,9 +11,10 @@
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
-//                            [--bits-only]
+//                            [--bits-only] [--motion-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
-// rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12)
+// rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
+// 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face)
 #include <time.h>
 
 #include <chrono>
@@ -192,6 +193,50 @@ void report_bit_accounting(const Material& m, const EncoderOptions& base,
   }
 }
 
+// x265 12-bit 4:4:4 (I30 IPBPB, ref 5, slower, tune psnr) on the ICT face, 320x320, 30 frames,
+// QP 0, 4, ..., 24: the points logged in docs/benchmarks.md (format 1.2 section, 2026-11-23), for
+// BD-rates against x265 without re-running it (--no-peers).
+const std::vector<RdPoint> kLoggedX265Ict = {{0.0772, 68.07}, {0.0546, 66.62}, {0.0411, 64.41},
+                                             {0.0320, 61.91}, {0.0252, 59.21}, {0.0204, 57.17},
+                                             {0.0168, 54.32}};
+
+// Format 1.4 tools: shared motion (syntax) and inter decimation (encoder only), each on and off
+// against the 1.3 configuration; returns the curves (1.3, shared, decimation, both).
+std::vector<std::vector<RdPoint>> report_motion_tools(const Material& m, const EncoderOptions& base,
+                                                      const std::vector<int>& qps) {
+  print_header();
+  std::vector<std::vector<RdPoint>> curves;
+  const char* names[4] = {
+      "1.3 (--no-shared-motion --no-decimation)", "shared motion (--no-decimation)",
+      "inter decimation (--no-shared-motion)", "1.4 defaults (shared motion + inter decimation)"};
+  for (int i = 0; i < 4; ++i) {
+    EncoderOptions o = base;
+    o.shared_motion = (i & 1) != 0;
+    o.inter_decimation = (i & 2) != 0;
+    curves.push_back(qp_curve(m, o, names[i], qps));
+  }
+  for (int i : {0, 3}) {
+    EncoderOptions o = base;
+    o.shared_motion = (i & 1) != 0;
+    o.inter_decimation = (i & 2) != 0;
+    o.lossless = true;
+    print_row(std::string("lossless, ") + names[i], "-", run_ours(m, o));
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  print_bd("shared motion vs 1.3", curves[0], curves[1]);
+  print_bd("inter decimation vs 1.3", curves[0], curves[2]);
+  print_bd("1.4 defaults vs 1.3", curves[0], curves[3]);
+  if (std::getenv("GVKIT_BENCH_JOINT")) {
+    EncoderOptions o = base;
+    o.joint_motion_search = true;
+    const auto joint = qp_curve(m, o, "1.4 defaults + joint motion search", qps);
+    print_bd("joint motion search vs 1.4 defaults", curves[3], joint);
+    o.lossless = true;
+    print_row("lossless, 1.4 defaults + joint motion search", "-", run_ours(m, o));
+  }
+  return curves;
+}
+
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
   SequenceInfo info = m.info;
   info.bit_depth = config.bit_depth;
@@ -272,7 +317,7 @@ int main(int argc, char** argv) {
   using namespace gvkit;
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
-  bool peers = true, rate_only = false, subpel_only = false, bits_only = false;
+  bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false;
   int gop = 30;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -294,6 +339,8 @@ int main(int argc, char** argv) {
       subpel_only = true;
     else if (a == "--bits-only")
       bits_only = true;
+    else if (a == "--motion-only")
+      motion_only = true;
     else if (a == "--no-peers")
       peers = false;
     else if (a == "--peer-preset" && i + 1 < argc)
@@ -302,7 +349,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
                    "[--gop N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-                   "[--bits-only]\n");
+                   "[--bits-only] [--motion-only]\n");
       return 2;
     }
   }
@@ -347,6 +394,35 @@ int main(int argc, char** argv) {
   }
   if (bits_only) {
     report_bit_accounting(m, base, {-6, 0, 6, 12});
+    return 0;
+  }
+  if (motion_only) {
+    const auto curves = report_motion_tools(m, base, qps);
+    std::vector<RdPoint> x265_points = kLoggedX265Ict;
+    std::string source = "logged";
+    if (peers) {
+      print_header();
+      x265_points.clear();
+      source = "this run";
+      PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
+      x265.gop = gop;
+      x265.bframes = 1;
+      for (int qp : {0, 4, 8, 12, 16, 20, 24}) {
+        PeerConfig c = x265;
+        c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
+                                                ":bframes=1:ref=5:qp=" + std::to_string(qp)});
+        auto r = run_peer_config(m, c);
+        if (!r) break;
+        print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
+                  "qp " + std::to_string(qp), *r);
+        x265_points.push_back(r->point);
+      }
+    }
+    std::printf("\n| BD-rate vs x265 12-bit (%s points) | value |\n|---|---|\n", source.c_str());
+    print_bd("1.3 configuration vs x265", x265_points, curves[0]);
+    print_bd("shared motion vs x265", x265_points, curves[1]);
+    print_bd("inter decimation vs x265", x265_points, curves[2]);
+    print_bd("1.4 defaults vs x265", x265_points, curves[3]);
     return 0;
   }
   if (subpel_only) {

@@ -114,6 +114,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                            (delta > 0 ? format::kFrameNearLossless : 0) |
                            (reference && options.td_prediction ? format::kFrameTdPrediction : 0) |
                            (reference && options.subpel ? format::kFrameQuarterPel : 0));
+  if (reference && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0),
                                   -6 * (info.bit_depth - 8), 51);
@@ -142,16 +143,34 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
     }
+  const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   const auto code_planes = [&](uint8_t flags, const std::vector<SamplePlane>* ref) {
     std::vector<PlaneEncodeResult> coded(planes.size());
-    run_parallel(static_cast<int>(planes.size()), options.threads, [&](int i) {
+    const auto code = [&](int i) {
       PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
       p.rdo = options.preset == Preset::kSlow;
       p.allow_8x8 = options.preset == Preset::kSlow;
       p.search_range = options.search_range;
+      p.inter_decimation = options.inter_decimation;
       if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
-      coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr);
-    });
+      const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;
+      // Shared motion: X's vectors are searched on the prediction error of X, Y and Z together.
+      JointSearchPlanes joint;
+      if (shared_motion && (options.joint_motion_search || bypass) && i == 0 && ref)
+        for (int j = 1; j < 3; ++j) {
+          joint.sources.push_back(&planes[j]);
+          joint.references.push_back(&(*ref)[j]);
+        }
+      coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint);
+    };
+    if (!shared_motion) {
+      run_parallel(static_cast<int>(planes.size()), options.threads, code);
+    } else {
+      // Shared motion: X first (its motion is Y's and Z's candidate), then the rest in parallel.
+      code(0);
+      run_parallel(static_cast<int>(planes.size()) - 1, options.threads,
+                   [&](int i) { code(i + 1); });
+    }
     return coded;
   };
   std::vector<PlaneEncodeResult> coded = code_planes(header.flags, prediction_ref);
@@ -229,6 +248,11 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
        (format::kFrameValuePrediction | format::kFrameTdPrediction | format::kFrameQuarterPel)) &&
       !predicted)
     return corrupt_data("frame flags: inter tools in an intra frame");
+  if (header.flags2 & ~format::kFrame2Known)
+    return corrupt_data("frame flags2: unknown bits " + std::to_string(header.flags2));
+  const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
+  if (shared_motion && !predicted)
+    return corrupt_data("frame flags2: shared motion in an intra frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -264,6 +288,7 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
     }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   std::vector<SamplePlane> planes;
+  MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
     const uint32_t size = r.u32();
@@ -271,7 +296,9 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
     auto plane = decode_plane(
         bytes, pw, ph, plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax),
-        prediction_ref ? &(*prediction_ref)[i] : nullptr);
+        prediction_ref ? &(*prediction_ref)[i] : nullptr,
+        shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
+        shared_motion && i == 0 ? &x_motion : nullptr);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
   }

@@ -88,7 +88,7 @@ std::string write_packet_header(const PacketHeader& h) {
   w.u8(static_cast<uint8_t>(h.type));
   w.u8(h.flags);
   w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
-  w.u8(0);
+  w.u8(h.flags2);
   w.u32(h.frame_number);
   w.u32(h.payload_size);
   w.u32(h.payload_crc);
@@ -104,7 +104,7 @@ Result<PacketHeader> read_packet_header(std::string_view bytes) {
   h.type = static_cast<FrameType>(r.u8());
   h.flags = r.u8();
   h.qp = static_cast<int8_t>(r.u8());
-  r.u8();
+  h.flags2 = r.u8();
   h.frame_number = r.u32();
   h.payload_size = r.u32();
   h.payload_crc = r.u32();

@@ -43,6 +43,8 @@ struct ContextSet {
   CabacContext skip[3];
   CabacContext mvd_zero[2];
   CabacContext td_flag[3];
+  CabacContext shared_mv[3];    // format 1.4: take the co-located first-plane vector
+  CabacContext shared_skip[2];  // ... then skip, by whether the co-located MB is a skip
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -105,6 +107,8 @@ struct PlaneState {
   std::vector<uint8_t> skip;        // per macroblock (inter, no motion difference, no residual)
   std::vector<int16_t> mv_x, mv_y;  // per macroblock, inter only (units of the plane)
   std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
+  std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
+  const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -116,7 +120,20 @@ struct PlaneState {
         skip(mb_type.size()),
         mv_x(mb_type.size()),
         mv_y(mb_type.size()),
-        td(mb_type.size()) {}
+        td(mb_type.size()),
+        shared(mb_type.size()) {}
+  // Whether macroblock i may take over the co-located first-plane vector.
+  bool can_share(size_t i) const { return colocated && colocated->inter[i]; }
+  // Records the macroblock's motion into a MotionField (P planes).
+  void export_motion(MotionField& out) const {
+    out.mbs_x = mbs_x;
+    out.mbs_y = mbs_y;
+    out.inter.resize(mb_type.size());
+    for (size_t i = 0; i < mb_type.size(); ++i) out.inter[i] = mb_type[i] == kMbInter;
+    out.skip = skip;
+    out.mv_x = mv_x;
+    out.mv_y = mv_y;
+  }
   // Motion vector predictor of a macroblock: the left one's if inter, else the top one's if
   // inter, else zero.
   void mv_predictor(int mb_x, int mb_y, int* px, int* py) const {
@@ -151,6 +168,7 @@ struct MacroblockData {
   int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8)
   bool skip = false;            // inter: motion = predictor, no residual
   bool td = false;              // inter: temporal-difference prediction with modes[0..15]
+  bool shared = false;          // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;       // inter: motion vector (samples, or quarter samples)
 };
 
@@ -309,21 +327,34 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
   };
   set_group(coder, kSyntaxMbType);
   if (st.predicted) {
+    const bool shared = st.can_share(mb_index) && mb.type == kMbInter && mb.shared;
+    if (st.can_share(mb_index))
+      coder.encode(ctx.shared_mv[flag_ctx(st.shared, [](uint8_t k) { return k != 0; })], shared);
+    st.shared[mb_index] = shared;
     const int inter = mb.type == kMbInter;
-    coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
-                 inter);
+    if (!shared)
+      coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
+                   inter);
     if (inter) {
       st.mb_type[mb_index] = kMbInter;
-      coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
+      if (shared)
+        coder.encode(ctx.shared_skip[st.colocated->skip[mb_index]], mb.skip);
+      else
+        coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
       st.skip[mb_index] = mb.skip;
       int px, py;
-      st.mv_predictor(mb_x, mb_y, &px, &py);
-      if (!mb.skip) {
+      if (shared) {
+        px = st.colocated->mv_x[mb_index];
+        py = st.colocated->mv_y[mb_index];
+      } else {
+        st.mv_predictor(mb_x, mb_y, &px, &py);
+      }
+      if (!mb.skip && !shared) {
         write_mvd(coder, ctx, 0, mb.mv_x - px);
         write_mvd(coder, ctx, 1, mb.mv_y - py);
       }
-      st.mv_x[mb_index] = static_cast<int16_t>(mb.skip ? px : mb.mv_x);
-      st.mv_y[mb_index] = static_cast<int16_t>(mb.skip ? py : mb.mv_y);
+      st.mv_x[mb_index] = static_cast<int16_t>(mb.skip || shared ? px : mb.mv_x);
+      st.mv_y[mb_index] = static_cast<int16_t>(mb.skip || shared ? py : mb.mv_y);
       const int gx0 = mb_x * 4, gy0 = mb_y * 4;
       const bool td = !mb.skip && params.td_prediction && mb.td;
       set_group(coder, kSyntaxMbType);

@@ -25,17 +25,30 @@ class MacroblockReader {
         if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
         return n;
       };
-      if (dec_.decode(
+      mb.shared =
+          st_.can_share(mb_index) &&
+          dec_.decode(ctx_.shared_mv[flag_ctx(st_.shared, [](uint8_t k) { return k != 0; })]);
+      st_.shared[mb_index] = mb.shared;
+      if (mb.shared ||
+          dec_.decode(
               ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
         mb.type = kMbInter;
         st_.mb_type[mb_index] = kMbInter;
-        mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
+        mb.skip =
+            mb.shared
+                ? dec_.decode(ctx_.shared_skip[st_.colocated->skip[mb_index]])
+                : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
         st_.skip[mb_index] = mb.skip;
         int px, py;
-        st_.mv_predictor(mb_x, mb_y, &px, &py);
+        if (mb.shared) {
+          px = st_.colocated->mv_x[mb_index];
+          py = st_.colocated->mv_y[mb_index];
+        } else {
+          st_.mv_predictor(mb_x, mb_y, &px, &py);
+        }
         mb.mv_x = px;
         mb.mv_y = py;
-        if (!mb.skip) {
+        if (!mb.skip && !mb.shared) {
           int dx, dy;
           GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
           GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
@@ -69,6 +82,7 @@ class MacroblockReader {
       st_.td[mb_index] = 0;
     }
     mb.td = false;
+    mb.shared = false;
     const auto neighbour_type = [&](int dx, int dy, MbType t) {
       const int x = mb_x + dx, y = mb_y + dy;
       if (x < 0 || y < 0) return 0;
@@ -298,7 +312,8 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
 }  // namespace
 
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
-                                 const PlaneCodingParams& params, const SamplePlane* reference) {
+                                 const PlaneCodingParams& params, const SamplePlane* reference,
+                                 const MotionField* shared, MotionField* motion_out) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
   GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
   SamplePlane plane;
@@ -307,6 +322,11 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
   plane.samples.assign(static_cast<size_t>(width) * height, 0);
   PlaneState st(width, height);
   st.predicted = reference != nullptr;
+  if (reference && shared) {
+    GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
+                "shared motion of another macroblock grid");
+    st.colocated = shared;
+  }
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacDecoder decoder(bytes);
@@ -324,6 +344,7 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
+  if (reference && motion_out) st.export_motion(*motion_out);
   return plane;
 }
 

@@ -18,8 +18,10 @@ using namespace detail;
 class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
-                    const PlaneCodingParams& p, const SamplePlane* reference)
-      : src_(source),
+                    const PlaneCodingParams& p, const SamplePlane* reference,
+                    const JointSearchPlanes* joint)
+      : joint_(joint),
+        src_(source),
         recon_(recon),
         st_(st),
         p_(p),
@@ -49,12 +51,12 @@ class MacroblockEncoder {
     };
     Candidate best;
     best.cost = std::numeric_limits<double>::infinity();
-    const auto consider = [&](MbType type, bool td = false) {
+    const auto consider = [&](MbType type, bool td = false, bool forced_shared = false) {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
       c.cost = td                  ? try_td(c.mb, trial)
-               : type == kMbInter  ? try_inter(c.mb, trial)
+               : type == kMbInter  ? try_inter(c.mb, trial, forced_shared)
                : type == kMbI16x16 ? try_i16(c.mb, trial)
                                    : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
       if (c.cost < best.cost) {
@@ -64,6 +66,10 @@ class MacroblockEncoder {
         best = c;
       }
     };
+    const size_t mb_index = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
+    // Shared motion: the co-located first-plane vector on its own (one flag, no difference),
+    // then the plane's own search (which may land on the same vector).
+    if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, true);
     if (ref_) consider(kMbInter);
     // Fast preset: a skip macroblock (no residual, predicted motion) is taken at once.
     const bool early_skip = ref_ && !p_.rdo && best.mb.skip;
@@ -100,28 +106,43 @@ class MacroblockEncoder {
   // lambda * motion bits; with sub-sample motion, then the predictor and the eight half-sample
   // (and then quarter-sample) neighbours of the best vector by SATD (SAD when lossless) + lambda
   // * motion bits; then the residual as sixteen 4x4 blocks.
-  double try_inter(MacroblockData& mb, ContextSet& trial) {
+  // Motion bits of vector (mx, my): the flag and nothing else for the co-located first-plane
+  // vector (shared motion), else the two differences to the predictor (px, py).
+  double motion_bits(int mx, int my, int px, int py) const {
+    const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+    if (!st_.can_share(i)) return exp_golomb_bits(mx - px) + exp_golomb_bits(my - py);
+    if (mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i]) return 1;
+    return 1 + exp_golomb_bits(mx - px) + exp_golomb_bits(my - py);
+  }
+  bool is_shared_vector(int mx, int my) const {
+    const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+    return st_.can_share(i) && mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i];
+  }
+
+  double try_inter(MacroblockData& mb, ContextSet& trial, bool forced_shared = false) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
-    const int r = p_.search_range;
+    const int r = forced_shared ? -1 : p_.search_range;  // forced: no search
     const bool qpel = p_.subpel != 0;
     const int unit = qpel ? 4 : 1;  // vector units per sample
     double best = std::numeric_limits<double>::infinity();
     int best_x = 0, best_y = 0;
     int32_t pred[256];
     const double lambda_mv = p_.lossless ? 1.0 : lambda_sad_;
+    if (forced_shared) {
+      const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+      best_x = st_.colocated->mv_x[i] / unit;  // (refined below to the exact vector)
+      best_y = st_.colocated->mv_y[i] / unit;
+    }
     for (int dy = -r; dy <= r; ++dy)
       for (int dx = -r; dx <= r; ++dx) {
-        int64_t sad = 0;
-        for (int y = 0; y < 16 && sad < best; ++y) {
-          const int sy = std::clamp(y0 + y + dy, 0, ref_->height - 1);
-          for (int x = 0; x < 16; ++x)
-            sad += std::abs(static_cast<int>(src_.at(x0 + x, y0 + y)) -
-                            ref_->at(std::clamp(x0 + x + dx, 0, ref_->width - 1), sy));
-        }
-        const double cost =
-            sad + lambda_mv * (exp_golomb_bits(unit * dx - px) + exp_golomb_bits(unit * dy - py));
+        int64_t sad = block_sad(src_, *ref_, x0, y0, dx, dy, best);
+        if (joint_)
+          for (size_t j = 0; j < joint_->sources.size() && sad < best; ++j)
+            sad += block_sad(*joint_->sources[j], *joint_->references[j], x0, y0, dx, dy,
+                             best - static_cast<double>(sad));
+        const double cost = sad + lambda_mv * motion_bits(unit * dx, unit * dy, px, py);
         if (cost < best) {
           best = cost;
           best_x = dx;
@@ -132,22 +153,36 @@ class MacroblockEncoder {
     best_y *= unit;
     whole_mv_x_ = best_x;
     whole_mv_y_ = best_y;
-    if (qpel) {
+    if (forced_shared) {
+      const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+      best_x = st_.colocated->mv_x[i];
+      best_y = st_.colocated->mv_y[i];
+    } else if (qpel) {
       const int limit = 4 * kMaxMotion;
       const auto cost_of = [&](int mx, int my) {
         predict_inter(*ref_, x0, y0, mx, my, true, p_.bit_depth, pred);
-        return static_cast<double>(distortion_estimate(16, pred, x0, y0)) +
-               lambda_mv * (exp_golomb_bits(mx - px) + exp_golomb_bits(my - py));
+        int64_t d = distortion_estimate(16, pred, x0, y0);
+        if (joint_)
+          for (size_t j = 0; j < joint_->sources.size(); ++j) {
+            int32_t joint_pred[256];
+            predict_inter(*joint_->references[j], x0, y0, mx, my, true, p_.bit_depth, joint_pred);
+            d += distortion_estimate(16, joint_pred, x0, y0, joint_->sources[j]);
+          }
+        return static_cast<double>(d) + lambda_mv * motion_bits(mx, my, px, py);
       };
       best = cost_of(best_x, best_y);
-      if (px != best_x || py != best_y) {
-        const double c = cost_of(px, py);
+      const auto try_vector = [&](int mx, int my) {
+        if (mx == best_x && my == best_y) return;
+        const double c = cost_of(mx, my);
         if (c < best) {
           best = c;
-          best_x = px;
-          best_y = py;
+          best_x = mx;
+          best_y = my;
         }
-      }
+      };
+      try_vector(px, py);
+      const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+      if (st_.can_share(i)) try_vector(st_.colocated->mv_x[i], st_.colocated->mv_y[i]);
       for (int step = 2; step >= (p_.subpel >= 4 ? 1 : 2); step /= 2) {
         const int cx = best_x, cy = best_y;
         for (int dy = -step; dy <= step; dy += step)
@@ -165,22 +200,24 @@ class MacroblockEncoder {
     }
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
+    mb.shared = is_shared_vector(best_x, best_y);
     predict_inter(*ref_, x0, y0, best_x, best_y, qpel, p_.bit_depth, pred);
-    const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
+    const double mv_bits = motion_bits(best_x, best_y, px, py);
     double cost;
     if (p_.rdo) {
-      cost = code_i16_residual(mb, pred, trial) + lambda_ * (mv_bits - 2);
+      cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
-      code_i16_residual(mb, pred, trial);
+      code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = mb.cbp == 0 && best_x == px && best_y == py;
+    mb.skip = mb.cbp == 0 && (mb.shared || (best_x == px && best_y == py));
     if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
     return cost;
   }
 
   // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
-  bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels) const {
+  bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels,
+                   bool inter_dead_zone = false) const {
     int32_t residual[64];
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
@@ -200,7 +237,10 @@ class MacroblockEncoder {
         forward_transform4x4(residual, coeffs);
       else
         forward_transform8x8(residual, coeffs);
-      quantize(n, coeffs, p_.qp_prime, levels);
+      if (inter_dead_zone)
+        quantize_inter(n, coeffs, p_.qp_prime, levels);
+      else
+        quantize(n, coeffs, p_.qp_prime, levels);
     }
     return any_nonzero(levels, n * n);
   }
@@ -217,12 +257,29 @@ class MacroblockEncoder {
     return ssd;
   }
 
-  // SATD (or SAD when lossless) of source minus prediction over an n x n block.
-  int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0) const {
+  // SAD of the 16x16 block at (x0, y0) of `source` against `ref` displaced by whole samples
+  // (dx, dy), the reference extended at its edges; stops early once above `limit`.
+  static int64_t block_sad(const SamplePlane& source, const SamplePlane& ref, int x0, int y0,
+                           int dx, int dy, double limit) {
+    int64_t sad = 0;
+    for (int y = 0; y < 16 && sad < limit; ++y) {
+      const int sy = std::clamp(y0 + y + dy, 0, ref.height - 1);
+      for (int x = 0; x < 16; ++x)
+        sad += std::abs(static_cast<int>(source.at(x0 + x, y0 + y)) -
+                        ref.at(std::clamp(x0 + x + dx, 0, ref.width - 1), sy));
+    }
+    return sad;
+  }
+
+  // SATD (or SAD when lossless) of source (the plane's own by default) minus prediction over an
+  // n x n block.
+  int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0,
+                              const SamplePlane* source = nullptr) const {
+    const SamplePlane& src = source ? *source : src_;
     int32_t diff[256];
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
-        diff[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
+        diff[y * n + x] = static_cast<int32_t>(src.at(x0 + x, y0 + y)) - pred[y * n + x];
     int64_t sum = 0;
     if (p_.lossless) {
       for (int i = 0; i < n * n; ++i) sum += std::abs(diff[i]);
@@ -325,7 +382,8 @@ class MacroblockEncoder {
     mb.mv_x = mv_x_;
     mb.mv_y = mv_y_;
     mb.td = true;
-    const double mv_bits = exp_golomb_bits(mv_x_ - px) + exp_golomb_bits(mv_y_ - py) + 3;
+    mb.shared = is_shared_vector(mv_x_, mv_y_);
+    const double mv_bits = motion_bits(mv_x_, mv_y_, px, py) + 3;
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
@@ -378,18 +436,40 @@ class MacroblockEncoder {
     return p_.rdo ? rd_cost : best_cost;
   }
 
-  // Residual of an I16x16 prediction as 16 4x4 blocks; reconstructs and returns SSD + lambda R.
-  double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial) {
+  // Residual of an I16x16 or inter prediction as 16 4x4 blocks; reconstructs and returns SSD +
+  // lambda R. Inter residuals (lossy, with options.inter_decimation) are quantized with the
+  // inter dead zone, and sparse blocks of a few +-1 levels are dropped (x264's decimation: an
+  // 8x8 quadrant scoring < 4 and a macroblock scoring < 6 are coded as zero), since their
+  // coded_block_pattern / coded_block_flag / level bits cost more than the error they remove.
+  double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                           bool inter = false) {
     double cost = lambda_ * 3;
     mb.cbp = 0;
+    int32_t preds[16][16];
+    const bool decimate = inter && p_.inter_decimation && !p_.lossless;
     for (int b = 0; b < 16; ++b) {
       const int bx = block_x(b) * 4, by = block_y(b) * 4;
-      int32_t pred[16];
       for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) pred[y * 4 + x] = pred16[(by + y) * 16 + bx + x];
-      const int x0 = mb_x_ * 16 + bx, y0 = mb_y_ * 16 + by;
-      const bool coded = make_levels(4, pred, x0, y0, mb.levels[b]);
-      const int64_t ssd = reconstruct(4, pred, mb.levels[b], x0, y0);
+        for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = pred16[(by + y) * 16 + bx + x];
+      make_levels(4, preds[b], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels[b], decimate);
+    }
+    if (decimate) {
+      int total = 0;
+      for (int q = 0; q < 4; ++q) {
+        int score = 0;
+        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b]);
+        if (score < 4)
+          for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+        else
+          total += score;
+      }
+      if (total < 6)
+        for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+    }
+    for (int b = 0; b < 16; ++b) {
+      const int x0 = mb_x_ * 16 + block_x(b) * 4, y0 = mb_y_ * 16 + block_y(b) * 4;
+      const bool coded = any_nonzero(mb.levels[b], 16);
+      const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
       if (coded) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
       double bits = 0;
       if (p_.rdo) bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
@@ -399,6 +479,28 @@ class MacroblockEncoder {
     return cost;
   }
 
+  // x264's decimation score of a 4x4 block (levels in raster order): large (9) when any level
+  // exceeds 1, else the sum over the nonzero levels of a weight that falls with the run of
+  // zeros before it in scan order (3, 2, 2, 1, 1, 1, then 0).
+  static int decimation_score(const int32_t* levels) {
+    static const int kWeight[16] = {3, 2, 2, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    int score = 0, run = 0;
+    bool seen = false;
+    for (int i = 15; i >= 0; --i) {
+      const int32_t v = levels[kZigzag4x4[i]];
+      if (!v) {
+        if (seen) ++run;
+        continue;
+      }
+      if (std::abs(v) > 1) return 9;
+      if (seen) score += kWeight[run];
+      seen = true;
+      run = 0;
+    }
+    return seen ? score + kWeight[run] : 0;
+  }
+
+  const JointSearchPlanes* joint_;
   const SamplePlane& src_;
   SamplePlane& recon_;
   PlaneState& st_;
@@ -414,7 +516,8 @@ class MacroblockEncoder {
 }  // namespace
 
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                               const SamplePlane* reference) {
+                               const SamplePlane* reference, const MotionField* shared,
+                               const JointSearchPlanes* joint) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -426,11 +529,18 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   GVKIT_CHECK(!reference || (reference->width == plane.width && reference->height == plane.height));
   PlaneState st(plane.width, plane.height);
   st.predicted = reference != nullptr;
+  if (reference && shared) {
+    GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
+                "shared motion of another macroblock grid");
+    st.colocated = shared;
+  }
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
-  MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference);
+  GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
+  MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
+                               reference ? joint : nullptr);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb = mb_encoder.encode(mb_x, mb_y, ctx);
@@ -446,6 +556,7 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
     }
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
+  if (reference) st.export_motion(result.motion);
   return result;
 }
 

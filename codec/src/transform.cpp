@@ -153,6 +153,20 @@ void quantize(int n, const int32_t* coeffs, int qp, int32_t* levels) {
     }
 }
 
+void quantize_inter(int n, const int32_t* coeffs, int qp, int32_t* levels) {
+  const int per = qp / 6, rem = qp % 6;
+  const int qbits = (n == 4 ? 15 : 16) + per;
+  const int64_t f = (int64_t{1} << qbits) / 6;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int k = i * n + j;
+      const int64_t mf = n == 4 ? kMf4[rem][class4(i, j)] : kMf8[rem][class8(i, j)];
+      const int64_t w = coeffs[k];
+      const int64_t z = (std::llabs(w) * mf + f) >> qbits;
+      levels[k] = static_cast<int32_t>(w < 0 ? -z : z);
+    }
+}
+
 void dequantize(int n, const int32_t* levels, int qp, int64_t* coeffs) {
   const int per = qp / 6, rem = qp % 6;
   for (int i = 0; i < n; ++i)

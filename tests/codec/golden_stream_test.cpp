@@ -32,7 +32,12 @@ struct GoldenCase {
 
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
-      plane_qp, qpel_td, hpel_lossless;
+      plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless;
+  shared_fast.qp = 0;  // version 1.4: shared motion, inter decimation, fast preset
+  shared_fast.preset = Preset::kFast;
+  shared_fast.intra_period = 3;
+  shared_lossless.lossless = true;  // version 1.4: shared motion with the joint search, lossless
+  shared_lossless.preset = Preset::kFast;
   qpel_td.qp = 0;  // version 1.3: quarter-sample motion (with TD prediction), slow preset
   qpel_td.intra_period = 3;
   hpel_lossless.lossless = true;  // version 1.3: half-sample motion refinement, lossless
@@ -69,7 +74,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_near_affine_ipp_v1_2_48.gvid", 48, 3, near_affine},
           {"analytic_planeqp_weighted_ipp_v1_2_48.gvid", 48, 3, plane_qp},
           {"analytic_qpel_td_ippi_v1_3_48.gvid", 48, 4, qpel_td, 0.75},
-          {"analytic_hpel_lossless_ipp_v1_3_48.gvid", 48, 3, hpel_lossless, 0.5}};
+          {"analytic_hpel_lossless_ipp_v1_3_48.gvid", 48, 3, hpel_lossless, 0.5},
+          {"analytic_shared_qp0_ippi_v1_4_48.gvid", 48, 4, shared_fast, 0.75},
+          {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

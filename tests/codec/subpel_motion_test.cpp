@@ -182,7 +182,7 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   ASSERT_EQ(o.subpel, 4);  // the default
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
-  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 3);  // minor version
+  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)
   auto reader = GvidReader::open_memory(*bytes, "subpel.gvid");
   ASSERT_TRUE(reader.is_ok()) << reader.status().message();
   // Decoded = the input quantized: within half a quantization step per axis.

@@ -103,6 +103,8 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   EXPECT_EQ((*stats)["options"]["max_error_mm"], 0.05);
   EXPECT_EQ((*stats)["options"]["value_prediction"], "affine");
   EXPECT_EQ((*stats)["options"]["threads"], 2);
+  EXPECT_EQ((*stats)["options"]["shared_motion"], true);
+  EXPECT_EQ((*stats)["options"]["inter_decimation"], true);
   EXPECT_LE((*stats)["summary"]["max_mm"].get<double>(), 0.05);
   for (const auto& f : (*stats)["frames"]) EXPECT_LE(f["max_mm"].get<double>(), 0.05);
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
@@ -110,20 +112,22 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
 
   auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--subpel 2 --preset fast");
+                        "--subpel 2 --preset fast --no-shared-motion --no-decimation");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
   EXPECT_EQ((*stats)["options"]["bitrate_kbps"], 200.0);
   EXPECT_EQ((*stats)["options"]["td_prediction"], false);
   EXPECT_EQ((*stats)["options"]["subpel"], 2);
+  EXPECT_EQ((*stats)["options"]["shared_motion"], false);
+  EXPECT_EQ((*stats)["options"]["inter_decimation"], false);
   EXPECT_LE((*stats)["summary"]["max_buffer_fullness_bits"].get<double>(),
             (*stats)["summary"]["buffer_bits"].get<double>());
   // Bit accounting: per frame type, plane and syntax group, adding up to the frame sizes.
   const auto& accounting = (*stats)["summary"]["syntax_bits"];
   EXPECT_EQ(accounting["I"]["frames"], 1);
   EXPECT_EQ(accounting["P"]["frames"], 2);
-  EXPECT_GT(accounting["P"]["Y"]["motion"].get<double>(), 0.0);
+  EXPECT_GT(accounting["P"]["Y"]["motion"].get<double>(), 0.0);  // Y codes its own vectors
   double frame_bits = 0;
   for (const auto& f : (*stats)["frames"]) frame_bits += 8.0 * f["bytes"].get<double>();
   const double coded =

@@ -45,6 +45,15 @@ struct EncoderOptions {
   // P frames: motion vector precision. 0 = whole samples (format 1.2 syntax); 2 = half and 4 =
   // quarter samples (vectors coded in quarter samples, H.264 interpolation; format 1.3).
   int subpel = 4;
+  // P frames: the Y and Z planes may take over the X plane's motion vector per macroblock with
+  // one flag (format 1.4); false writes 1.3 syntax.
+  bool shared_motion = true;
+  // With shared motion: the X plane's vectors are searched on the prediction error of X, Y and Z
+  // together (encoder only; always in lossless and near-lossless frames, where it pays).
+  bool joint_motion_search = false;
+  // Lossy P frames: inter residuals with the inter dead zone, sparse +-1 blocks dropped
+  // (encoder only; the stream syntax does not change).
+  bool inter_decimation = true;
   int plane_qp_offset[3] = {0, 0, 0};
   int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
                         // added to qp for X, Y, Z (lossy frames), -12..12

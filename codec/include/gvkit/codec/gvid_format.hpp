@@ -18,7 +18,7 @@ inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
-inline constexpr uint8_t kMinorVersion = 3;
+inline constexpr uint8_t kMinorVersion = 4;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -37,11 +37,17 @@ enum FrameFlag : uint8_t {
   kFrameTdPrediction = 64,     // since 1.2: P frames, temporal-difference prediction
   kFrameQuarterPel = 128,      // since 1.3: P frames, motion vectors in quarter samples
 };
+// Packet header byte 7 (reserved, 0, before 1.4): more frame flags.
+enum FrameFlag2 : uint8_t {
+  kFrame2SharedMotion = 1,  // since 1.4: P frames, Y and Z may take over X's motion per MB
+  kFrame2Known = 1,         // every bit a reader understands
+};
 
 struct PacketHeader {
   FrameType type = FrameType::kIntra;
   uint8_t flags = 0;
-  int qp = 0;  // QP in 8-bit units (signed)
+  uint8_t flags2 = 0;  // FrameFlag2 bits (1.4)
+  int qp = 0;          // QP in 8-bit units (signed)
   uint32_t frame_number = 0;
   uint32_t payload_size = 0;
   uint32_t payload_crc = 0;

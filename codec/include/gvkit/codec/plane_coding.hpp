@@ -34,8 +34,11 @@ struct PlaneCodingParams {
   // sample precision around the best whole-sample vector. The decoder only tests != 0.
   int subpel = 0;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
-  bool rdo = true;        // encoder only: SSD + lambda * bits (else SATD-based decisions)
-  int search_range = 4;   // encoder only: full-search motion range (samples) of P planes
+  // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
+  // blocks of +-1 levels (decimation).
+  bool inter_decimation = false;
+  bool rdo = true;       // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  int search_range = 4;  // encoder only: full-search motion range (samples) of P planes
 };
 
 // A plane of samples in [0, 2^bit_depth - 1], row-major.
@@ -46,22 +49,46 @@ struct SamplePlane {
   uint16_t at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
 };
 
+// The motion of a coded P plane, per macroblock in raster order: what the other planes of the
+// frame may take over with one flag per macroblock (shared motion, docs/bitstream.md 4.5).
+struct MotionField {
+  int mbs_x = 0, mbs_y = 0;
+  std::vector<uint8_t> inter;       // 1: inter (plain, skip or TD), 0: intra
+  std::vector<uint8_t> skip;        // 1: skip
+  std::vector<int16_t> mv_x, mv_y;  // the vector the macroblock used (inter only)
+};
+
 struct PlaneEncodeResult {
   std::string bytes;           // the CABAC segment
   SamplePlane reconstruction;  // what the decoder will reconstruct
   PlaneCodingStats stats;      // where the segment's bits went
+  MotionField motion;          // P planes: the macroblocks' motion
+};
+
+// Encoder only: more planes of the same frame (sources and their references, same size) whose
+// prediction error the motion search of a P plane adds to its own, so that its vectors suit all
+// of them (the first plane's search under shared motion).
+struct JointSearchPlanes {
+  std::vector<const SamplePlane*> sources, references;
 };
 
 // plane.width and plane.height must be positive multiples of 16 (contract). With a reference
 // (the previous frame's reconstruction of this plane, same size) the plane is coded as a P plane:
-// each macroblock is intra or inter (integer motion, skip).
+// each macroblock is intra or inter (motion, skip, TD). With `shared` (the motion of the frame's
+// first plane, same macroblock grid; P planes only) a macroblock whose co-located one is inter
+// may take over its vector with one context-coded flag (format 1.4).
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                               const SamplePlane* reference = nullptr);
+                               const SamplePlane* reference = nullptr,
+                               const MotionField* shared = nullptr,
+                               const JointSearchPlanes* joint = nullptr);
 
-// Decodes a segment made by encode_plane with the same bit depth, QP and flags. Fails with a
-// message naming the macroblock and the field when the data cannot be a valid segment.
+// Decodes a segment made by encode_plane with the same bit depth, QP, flags and shared motion.
+// Fails with a message naming the macroblock and the field when the data cannot be a valid
+// segment. motion_out (optional, P planes) receives the plane's motion.
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params,
-                                 const SamplePlane* reference = nullptr);
+                                 const SamplePlane* reference = nullptr,
+                                 const MotionField* shared = nullptr,
+                                 MotionField* motion_out = nullptr);
 
 }  // namespace gvkit::codec
