@@ -226,6 +226,23 @@ std::vector<std::vector<RdPoint>> report_motion_tools(const Material& m, const E
   print_bd("shared motion vs 1.3", curves[0], curves[1]);
   print_bd("inter decimation vs 1.3", curves[0], curves[2]);
   print_bd("1.4 defaults vs 1.3", curves[0], curves[3]);
+  {
+    EncoderOptions o = base;
+    o.skip_check = true;
+    curves.push_back(qp_curve(m, o, "1.4 defaults + --skip-check", qps));
+    o = base;
+    o.p_qp_offset = 9;
+    curves.push_back(qp_curve(m, o, "1.4 defaults + --p-qp-offset 9", qps));
+    o = base;
+    o.preset = Preset::kSlow;
+    curves.push_back(qp_curve(m, o, "1.4 defaults, slow preset (RDO)", qps));
+    o.shared_motion = false;
+    o.inter_decimation = false;
+    curves.push_back(qp_curve(m, o, "1.3 configuration, slow preset (RDO)", qps));
+    print_bd("--skip-check vs 1.4 defaults", curves[3], curves[4]);
+    print_bd("--p-qp-offset 9 vs 6, 1.4 defaults", curves[3], curves[5]);
+    print_bd("1.4 vs 1.3, slow preset", curves[7], curves[6]);
+  }
   if (std::getenv("GVKIT_BENCH_JOINT")) {
     EncoderOptions o = base;
     o.joint_motion_search = true;
@@ -423,6 +440,10 @@ int main(int argc, char** argv) {
     print_bd("shared motion vs x265", x265_points, curves[1]);
     print_bd("inter decimation vs x265", x265_points, curves[2]);
     print_bd("1.4 defaults vs x265", x265_points, curves[3]);
+    print_bd("1.4 defaults + --skip-check vs x265", x265_points, curves[4]);
+    print_bd("1.4 defaults + --p-qp-offset 9 vs x265", x265_points, curves[5]);
+    print_bd("1.4 defaults, slow preset vs x265", x265_points, curves[6]);
+    print_bd("1.3 configuration, slow preset vs x265", x265_points, curves[7]);
     return 0;
   }
   if (subpel_only) {

@@ -15,6 +15,9 @@ namespace gvkit::codec {
 namespace {
 using namespace detail;
 
+// An inter candidate at a given vector instead of the motion search's.
+enum class Forced { kNone, kShared, kPredictor };
+
 class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
@@ -51,12 +54,12 @@ class MacroblockEncoder {
     };
     Candidate best;
     best.cost = std::numeric_limits<double>::infinity();
-    const auto consider = [&](MbType type, bool td = false, bool forced_shared = false) {
+    const auto consider = [&](MbType type, bool td = false, Forced forced = Forced::kNone) {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
       c.cost = td                  ? try_td(c.mb, trial)
-               : type == kMbInter  ? try_inter(c.mb, trial, forced_shared)
+               : type == kMbInter  ? try_inter(c.mb, trial, forced)
                : type == kMbI16x16 ? try_i16(c.mb, trial)
                                    : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
       if (c.cost < best.cost) {
@@ -67,12 +70,14 @@ class MacroblockEncoder {
       }
     };
     const size_t mb_index = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
-    // Shared motion: the co-located first-plane vector on its own (one flag, no difference),
-    // then the plane's own search (which may land on the same vector).
-    if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, true);
-    if (ref_) consider(kMbInter);
-    // Fast preset: a skip macroblock (no residual, predicted motion) is taken at once.
-    const bool early_skip = ref_ && !p_.rdo && best.mb.skip;
+    // Inter: the co-located first-plane vector (shared motion: one flag, no difference), the
+    // predicted vector (H.264's P-skip check), then the plane's own search (which may land on
+    // either). Fast preset: a skip macroblock (no residual) is taken at once.
+    const auto skip_found = [&] { return !p_.rdo && best.mb.skip; };
+    if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, Forced::kShared);
+    if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
+    if (ref_ && !(p_.skip_check && skip_found())) consider(kMbInter);
+    const bool early_skip = ref_ && skip_found();
     if (!early_skip) {
       if (ref_ && p_.td_prediction) {
         consider(kMbInter, true);
@@ -119,11 +124,12 @@ class MacroblockEncoder {
     return st_.can_share(i) && mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i];
   }
 
-  double try_inter(MacroblockData& mb, ContextSet& trial, bool forced_shared = false) {
+  double try_inter(MacroblockData& mb, ContextSet& trial, Forced forced = Forced::kNone) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
-    const int r = forced_shared ? -1 : p_.search_range;  // forced: no search
+    const bool forced_shared = forced == Forced::kShared;
+    const int r = forced != Forced::kNone ? -1 : p_.search_range;  // forced: no search
     const bool qpel = p_.subpel != 0;
     const int unit = qpel ? 4 : 1;  // vector units per sample
     double best = std::numeric_limits<double>::infinity();
@@ -157,6 +163,9 @@ class MacroblockEncoder {
       const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
       best_x = st_.colocated->mv_x[i];
       best_y = st_.colocated->mv_y[i];
+    } else if (forced == Forced::kPredictor) {
+      best_x = px;
+      best_y = py;
     } else if (qpel) {
       const int limit = 4 * kMaxMotion;
       const auto cost_of = [&](int mx, int my) {

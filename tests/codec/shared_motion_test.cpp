@@ -100,6 +100,7 @@ TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
           if (mode) o.qp = 12;
           o.shared_motion = shared;
           o.inter_decimation = decimation;
+          o.skip_check = decimation;  // the predicted-vector skip check with it
           const std::string what = std::string(preset_name(preset)) + " mode " +
                                    std::to_string(mode) + " shared " + std::to_string(shared) +
                                    " decimation " + std::to_string(decimation);

@@ -54,6 +54,9 @@ struct EncoderOptions {
   // Lossy P frames: inter residuals with the inter dead zone, sparse +-1 blocks dropped
   // (encoder only; the stream syntax does not change).
   bool inter_decimation = true;
+  // P frames: try the predicted vector before the motion search and, in the fast preset, take a
+  // skip found there at once (encoder only: about 2x faster, slightly lower quality).
+  bool skip_check = false;
   int plane_qp_offset[3] = {0, 0, 0};
   int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
                         // added to qp for X, Y, Z (lossy frames), -12..12

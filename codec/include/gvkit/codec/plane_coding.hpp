@@ -37,6 +37,9 @@ struct PlaneCodingParams {
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).
   bool inter_decimation = false;
+  // Encoder only, P planes: try the predicted vector on its own before the search (a skip
+  // found there is taken at once by the fast path).
+  bool skip_check = false;
   bool rdo = true;       // encoder only: SSD + lambda * bits (else SATD-based decisions)
   int search_range = 4;  // encoder only: full-search motion range (samples) of P planes
 };
