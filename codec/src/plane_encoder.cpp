@@ -15,6 +15,12 @@ namespace gvkit::codec {
 namespace {
 using namespace detail;
 
+// Weight of the motion bits in the lossy motion search, in units of the SATD lambda: the vectors
+// of a geometry video mostly fit value changes rather than motion, and a dearer vector keeps the
+// field smooth and cheap (ICT face, 30 frames, fast preset: 2 gives -2.3 %, 4 gives -2.9 %
+// BD-rate against 1).
+constexpr double kMotionLambdaScale = 4.0;
+
 // An inter candidate at a given vector instead of the motion search's.
 enum class Forced { kNone, kShared, kPredictor };
 
@@ -135,7 +141,7 @@ class MacroblockEncoder {
     double best = std::numeric_limits<double>::infinity();
     int best_x = 0, best_y = 0;
     int32_t pred[256];
-    const double lambda_mv = p_.lossless ? 1.0 : lambda_sad_;
+    const double lambda_mv = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
     if (forced_shared) {
       const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
       best_x = st_.colocated->mv_x[i] / unit;  // (refined below to the exact vector)
