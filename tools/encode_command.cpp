@@ -29,7 +29,7 @@ struct EncodeArgs {
   std::vector<int> plane_qp_offsets;
   codec::EncoderOptions options;
   double fps = 30.0;
-  bool no_gv_modes = false, no_td = false, no_shared_motion = false, no_decimation = false;
+  bool no_gv_modes = false, no_td = false, no_decimation = false;
 };
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
@@ -88,7 +88,6 @@ void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
   options.geometry_modes = !args.no_gv_modes;
   options.td_prediction = !args.no_td;
-  options.shared_motion = !args.no_shared_motion;
   options.inter_decimation = !args.no_decimation;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.value_prediction = value_or_throw(codec::parse_value_prediction(args.value_prediction));
@@ -229,9 +228,10 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--subpel", args->options.subpel,
                   "Motion vector precision of P frames: 0 (whole samples), 2 (half) or 4 "
                   "(quarter, default; H.264 interpolation)");
-  cmd->add_flag("--no-shared-motion", args->no_shared_motion,
-                "P frames: code the Y and Z planes' motion on their own (format 1.3 syntax) "
-                "instead of letting each macroblock take over the X plane's vector");
+  cmd->add_flag("--shared-motion", args->options.shared_motion,
+                "P frames: let each Y and Z macroblock take over the X plane's vector with one "
+                "flag (format 1.4; pays in lossless coding); without it the Y and Z planes code "
+                "their own motion (1.3 syntax)");
   cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
                 "P frames with shared motion: search the X plane's vectors on the error of all "
                 "three planes (always on in lossless and near-lossless frames)");

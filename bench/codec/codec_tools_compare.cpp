@@ -201,56 +201,55 @@ const std::vector<RdPoint> kLoggedX265Ict = {{0.0772, 68.07}, {0.0546, 66.62}, {
                                              {0.0168, 54.32}};
 
 // Format 1.4 tools: shared motion (syntax) and inter decimation (encoder only), each on and off
-// against the 1.3 configuration; returns the curves (1.3, shared, decimation, both).
+// against the 1.3 encoder configuration, then variants; returns the curves and (names) their
+// labels: 0 1.3, 1 shared motion, 2 decimation (the 1.4 defaults), 3 both, 4 both + skip
+// check, 5 both + P-frame QP offset 9, 6 both in the slow preset, 7 1.3 in the slow preset.
 std::vector<std::vector<RdPoint>> report_motion_tools(const Material& m, const EncoderOptions& base,
-                                                      const std::vector<int>& qps) {
+                                                      const std::vector<int>& qps,
+                                                      std::vector<std::string>* names) {
   print_header();
   std::vector<std::vector<RdPoint>> curves;
-  const char* names[4] = {
-      "1.3 (--no-shared-motion --no-decimation)", "shared motion (--no-decimation)",
-      "inter decimation (--no-shared-motion)", "1.4 defaults (shared motion + inter decimation)"};
+  const auto add = [&](const std::string& name, const EncoderOptions& o) {
+    names->push_back(name);
+    curves.push_back(qp_curve(m, o, name, qps));
+  };
+  const char* labels[4] = {"1.3 encoder (--no-decimation)", "--shared-motion --no-decimation",
+                           "inter decimation (1.4 defaults)",
+                           "--shared-motion with inter decimation"};
   for (int i = 0; i < 4; ++i) {
     EncoderOptions o = base;
     o.shared_motion = (i & 1) != 0;
     o.inter_decimation = (i & 2) != 0;
-    curves.push_back(qp_curve(m, o, names[i], qps));
+    add(labels[i], o);
   }
-  for (int i : {0, 3}) {
+  for (int i : {0, 2, 3}) {
     EncoderOptions o = base;
     o.shared_motion = (i & 1) != 0;
     o.inter_decimation = (i & 2) != 0;
     o.lossless = true;
-    print_row(std::string("lossless, ") + names[i], "-", run_ours(m, o));
+    print_row(std::string("lossless, ") + labels[i], "-", run_ours(m, o));
   }
+  EncoderOptions o = base;
+  o.shared_motion = true;
+  o.skip_check = true;
+  add("shared motion + decimation + --skip-check", o);
+  o.skip_check = false;
+  o.p_qp_offset = 9;
+  add("shared motion + decimation + --p-qp-offset 9", o);
+  o.p_qp_offset = base.p_qp_offset;
+  o.preset = Preset::kSlow;
+  add("shared motion + decimation, slow preset (RDO)", o);
+  o.shared_motion = false;
+  o.inter_decimation = false;
+  add("1.3 encoder, slow preset (RDO)", o);
   std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
   print_bd("shared motion vs 1.3", curves[0], curves[1]);
   print_bd("inter decimation vs 1.3", curves[0], curves[2]);
-  print_bd("1.4 defaults vs 1.3", curves[0], curves[3]);
-  {
-    EncoderOptions o = base;
-    o.skip_check = true;
-    curves.push_back(qp_curve(m, o, "1.4 defaults + --skip-check", qps));
-    o = base;
-    o.p_qp_offset = 9;
-    curves.push_back(qp_curve(m, o, "1.4 defaults + --p-qp-offset 9", qps));
-    o = base;
-    o.preset = Preset::kSlow;
-    curves.push_back(qp_curve(m, o, "1.4 defaults, slow preset (RDO)", qps));
-    o.shared_motion = false;
-    o.inter_decimation = false;
-    curves.push_back(qp_curve(m, o, "1.3 configuration, slow preset (RDO)", qps));
-    print_bd("--skip-check vs 1.4 defaults", curves[3], curves[4]);
-    print_bd("--p-qp-offset 9 vs 6, 1.4 defaults", curves[3], curves[5]);
-    print_bd("1.4 vs 1.3, slow preset", curves[7], curves[6]);
-  }
-  if (std::getenv("GVKIT_BENCH_JOINT")) {
-    EncoderOptions o = base;
-    o.joint_motion_search = true;
-    const auto joint = qp_curve(m, o, "1.4 defaults + joint motion search", qps);
-    print_bd("joint motion search vs 1.4 defaults", curves[3], joint);
-    o.lossless = true;
-    print_row("lossless, 1.4 defaults + joint motion search", "-", run_ours(m, o));
-  }
+  print_bd("shared motion + decimation vs 1.3", curves[0], curves[3]);
+  print_bd("shared motion vs none, both with decimation", curves[2], curves[3]);
+  print_bd("--skip-check vs shared motion + decimation", curves[3], curves[4]);
+  print_bd("--p-qp-offset 9 vs 6, shared motion + decimation", curves[3], curves[5]);
+  print_bd("shared motion + decimation vs 1.3 encoder, slow preset", curves[7], curves[6]);
   return curves;
 }
 
@@ -414,7 +413,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (motion_only) {
-    const auto curves = report_motion_tools(m, base, qps);
+    std::vector<std::string> names;
+    const auto curves = report_motion_tools(m, base, qps, &names);
     std::vector<RdPoint> x265_points = kLoggedX265Ict;
     std::string source = "logged";
     if (peers) {
@@ -436,14 +436,8 @@ int main(int argc, char** argv) {
       }
     }
     std::printf("\n| BD-rate vs x265 12-bit (%s points) | value |\n|---|---|\n", source.c_str());
-    print_bd("1.3 configuration vs x265", x265_points, curves[0]);
-    print_bd("shared motion vs x265", x265_points, curves[1]);
-    print_bd("inter decimation vs x265", x265_points, curves[2]);
-    print_bd("1.4 defaults vs x265", x265_points, curves[3]);
-    print_bd("1.4 defaults + --skip-check vs x265", x265_points, curves[4]);
-    print_bd("1.4 defaults + --p-qp-offset 9 vs x265", x265_points, curves[5]);
-    print_bd("1.4 defaults, slow preset vs x265", x265_points, curves[6]);
-    print_bd("1.3 configuration, slow preset vs x265", x265_points, curves[7]);
+    for (size_t i = 0; i < curves.size(); ++i)
+      print_bd(names[i] + " vs x265", x265_points, curves[i]);
     return 0;
   }
   if (subpel_only) {

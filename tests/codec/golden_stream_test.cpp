@@ -36,8 +36,10 @@ std::vector<GoldenCase> cases() {
   shared_fast.qp = 0;  // version 1.4: shared motion, inter decimation, fast preset
   shared_fast.preset = Preset::kFast;
   shared_fast.intra_period = 3;
+  shared_fast.shared_motion = true;
   shared_lossless.lossless = true;  // version 1.4: shared motion with the joint search, lossless
   shared_lossless.preset = Preset::kFast;
+  shared_lossless.shared_motion = true;
   qpel_td.qp = 0;  // version 1.3: quarter-sample motion (with TD prediction), slow preset
   qpel_td.intra_period = 3;
   hpel_lossless.lossless = true;  // version 1.3: half-sample motion refinement, lossless

@@ -120,6 +120,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.qp = -6;
+  o.shared_motion = true;
   std::string one;
   for (int threads : {1, 3}) {
     o.threads = threads;
@@ -146,6 +147,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.qp = 0;
+  o.shared_motion = true;
   const Coded c = encode(frames, info, o);
   auto header = format::read_packet_header(c.packets[1]);
   ASSERT_TRUE(header.is_ok());

@@ -96,6 +96,7 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --max-error-mm 0.05 --gop 3 --value-prediction affine --threads 2 "
+                       "--shared-motion "
                        "--preset fast");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
@@ -112,7 +113,7 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
 
   auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--subpel 2 --preset fast --no-shared-motion --no-decimation");
+                        "--subpel 2 --preset fast --no-decimation");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());

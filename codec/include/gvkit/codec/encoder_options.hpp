@@ -46,8 +46,9 @@ struct EncoderOptions {
   // quarter samples (vectors coded in quarter samples, H.264 interpolation; format 1.3).
   int subpel = 4;
   // P frames: the Y and Z planes may take over the X plane's motion vector per macroblock with
-  // one flag (format 1.4); false writes 1.3 syntax.
-  bool shared_motion = true;
+  // one flag (format 1.4); false writes 1.3 syntax. Off by default: on the ICT face it saves
+  // 4 % of the lossless rate but costs 3 % BD-rate in lossy coding (docs/benchmarks.md).
+  bool shared_motion = false;
   // With shared motion: the X plane's vectors are searched on the prediction error of X, Y and Z
   // together (encoder only; always in lossless and near-lossless frames, where it pays).
   bool joint_motion_search = false;
