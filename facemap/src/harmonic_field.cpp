@@ -4,11 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <queue>
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
+
+#include "directed_edges.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -121,9 +124,9 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   std::vector<char> on_inner(n, 0), on_outer(n, 0);
   for (int v : inner_loop) on_inner[v] = 1;
   for (int v : outer_loop) on_outer[v] = 1;
-  std::vector<std::vector<int>> neighbours(n);
-  for (const auto& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) neighbours[t[k]].push_back(t[(k + 1) % 3]);
+  // The successor of each vertex per triangle, and (built only when needed) the predecessor.
+  const DirectedEdges edges(surface.triangles, n);
+  std::unique_ptr<DirectedEdges> reversed;
   std::vector<double> dist(n, std::numeric_limits<double>::infinity());
   std::vector<int> parent(n, -1);
   using Item = std::pair<double, int>;
@@ -141,19 +144,24 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
       queue.pop();
       if (d > dist[v]) continue;
       if (on_outer[v]) return v;
-      for (int w : neighbours[v]) {
-        if (on_inner[w]) continue;
-        const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
-        if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+      for (const DirectedEdges* e : {&edges, static_cast<const DirectedEdges*>(reversed.get())}) {
+        if (!e) continue;
+        for (int i = e->begin(v); i < e->end(v); ++i) {
+          const int w = e->to(i);
+          if (on_inner[w]) continue;
+          const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
+          if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+        }
       }
     }
     return -1;
   };
   int end = shortest_to_outer();
-  // neighbours holds only the successor of each vertex per triangle; walk both directions.
+  // edges holds only the successor of each vertex per triangle; walk both directions.
   if (end < 0) {
-    for (const auto& t : surface.triangles)
-      for (int k = 0; k < 3; ++k) neighbours[t[(k + 1) % 3]].push_back(t[k]);
+    std::vector<std::array<int, 3>> flipped = surface.triangles;
+    for (auto& t : flipped) std::swap(t[0], t[1]);
+    reversed = std::make_unique<DirectedEdges>(flipped, n);
     end = shortest_to_outer();
   }
   if (end < 0)
@@ -165,10 +173,6 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   std::reverse(seam.begin(), seam.end());  // seam[0] = start on the inner boundary
 
   // Corners at seam vertices on the left of the seam (seen along its direction) get +1.
-  std::map<std::pair<int, int>, int> face_of_directed_edge;
-  for (int k = 0; k < surface.n_triangles(); ++k)
-    for (int j = 0; j < 3; ++j)
-      face_of_directed_edge[{surface.triangles[k][j], surface.triangles[k][(j + 1) % 3]}] = k;
   std::map<std::pair<int, int>, char> is_seam_edge;
   for (size_t i = 1; i < seam.size(); ++i) {
     is_seam_edge[{seam[i - 1], seam[i]}] = 1;
@@ -178,11 +182,11 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   for (size_t i = 0; i < seam.size(); ++i) {
     const int v = seam[i];
     // A face left of the seam at v: left of (v -> next), or of (prev -> v) at the end.
-    auto it = i + 1 < seam.size() ? face_of_directed_edge.find({v, seam[i + 1]})
-                                  : face_of_directed_edge.find({seam[i - 1], v});
-    GVKIT_CHECK(it != face_of_directed_edge.end());
+    const int first =
+        i + 1 < seam.size() ? edges.triangle(v, seam[i + 1]) : edges.triangle(seam[i - 1], v);
+    GVKIT_CHECK(first >= 0);
     // Flood the fan of v from that face across edges at v that are neither seam nor boundary.
-    std::vector<int> stack = {it->second};
+    std::vector<int> stack = {first};
     std::map<int, char> visited;
     while (!stack.empty()) {
       const int k = stack.back();
@@ -196,8 +200,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
       for (int w : {t[(slot + 1) % 3], t[(slot + 2) % 3]}) {
         if (is_seam_edge.count({v, w})) continue;
         for (auto e : {std::make_pair(v, w), std::make_pair(w, v)}) {
-          auto f = face_of_directed_edge.find(e);
-          if (f != face_of_directed_edge.end() && !visited[f->second]) stack.push_back(f->second);
+          const int f = edges.triangle(e.first, e.second);
+          if (f >= 0 && !visited[f]) stack.push_back(f);
         }
       }
     }
@@ -247,13 +251,13 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   const int m = static_cast<int>(inner_loop.size());
   for (int i = 0; i < m; ++i) {
     const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
-    auto it = face_of_directed_edge.find({u, w});
-    GVKIT_CHECK(it != face_of_directed_edge.end(), "inner loop follows boundary halfedges");
-    const auto& t = surface.triangles[it->second];
+    const int k = edges.triangle(u, w);
+    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
+    const auto& t = surface.triangles[k];
     int su = 0, sw = 0;
     while (t[su] != u) ++su;
     while (t[sw] != w) ++sw;
-    total += psi[3 * it->second + sw] - psi[3 * it->second + su];
+    total += psi[3 * k + sw] - psi[3 * k + su];
   }
   if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
     return failed_precondition("harmonic conjugate: period around the inner boundary is " +

@@ -145,10 +145,11 @@ TEST(EipMap, CutsFallBackToEdgePathsWhenTheDescentFails) {
   const auto bridge = mesh.point(Mesh::VertexHandle(nearest_vertices(mesh, probe)[0]));
   const cv::Vec3d pit(bridge[0], bridge[1], bridge[2]);
   const DistanceFunction heat = heat_geodesic_distance();
-  const DistanceFunction pitted = [&](const Mesh& mesh,
-                                      const std::vector<Mesh::VertexHandle>& sources)
-      -> Result<std::vector<std::vector<double>>> {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields, heat(mesh, sources));
+  const DistanceFunction pitted =
+      [&](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources,
+          double edge_scale) -> Result<std::vector<std::vector<double>>> {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields,
+                           heat(mesh, sources, edge_scale));
     for (auto& d : fields)
       for (auto v : mesh.vertices()) {
         const auto& p = mesh.point(v);
