@@ -133,13 +133,27 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   image.domain_mask = domain.mask().clone();
   out.pixel_source.resize(size.area());
   cv::Mat filled = cv::Mat::zeros(size, CV_8U);
+  // Neighbouring pixels mostly sample the same triangle: try the last one first. Without flips
+  // in (s, t) the triangles (s unwrapped per triangle) do not overlap, so a triangle strictly
+  // containing the point is the one the search below returns for it; with flips every pixel
+  // takes the full search.
+  const bool coherent = flow.flipped == 0;
+  int last = -1;
+  auto strictly_inside = [](const TriangleLocator::Hit& h) {
+    return h.triangle >= 0 && std::min({h.barycentric[0], h.barycentric[1], h.barycentric[2]}) > 0;
+  };
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x) {
       if (!image.domain_mask.at<uint8_t>(y, x)) continue;
       const Eigen::Vector2d st = domain.st(x, y);
       TriangleLocator::Hit best;
+      if (coherent && last >= 0) {
+        const auto hit = locator.in_triangle(last, st);
+        if (strictly_inside(hit)) best = hit;
+      }
       double best_min = -INFINITY;
       for (double shift : {0.0, 1.0, -1.0}) {
+        if (best_min == -INFINITY && best.triangle >= 0) break;  // found in the last triangle
         const auto hit = locator.locate({st.x() + shift, st.y()}, 1e-6);
         if (hit.triangle < 0) continue;
         const double mn = std::min({hit.barycentric[0], hit.barycentric[1], hit.barycentric[2]});
@@ -147,6 +161,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
         if (mn >= 0) break;
       }
       if (best.triangle < 0) continue;
+      last = best.triangle;
       Eigen::Vector3d p = Eigen::Vector3d::Zero();
       float tex = 0;
       SourceWeights src;
