@@ -114,10 +114,13 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   std::vector<double> value(n, 0.0);
   for (int v : annulus.outer_loop) fixed[v] = 1, value[v] = 0.0;
   for (int v : annulus.inner_loop) fixed[v] = 1, value[v] = 1.0;
-  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value));
+  // f and psi: two systems of the same Laplacian, one elimination order.
+  const std::vector<int> order = laplacian_elimination_order(laplacian);
+  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order));
   out.field_report = check_harmonic_field(s, laplacian, fixed, out.t);
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> psi,
-                         harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop));
+  GVKIT_ASSIGN_OR_RETURN(
+      std::vector<double> psi,
+      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order));
 
   // Boundary parameter u along the inner loop (loop order, u(0) at the anchor key).
   const std::vector<int>& loop = annulus.inner_loop;

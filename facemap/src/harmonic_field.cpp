@@ -7,8 +7,10 @@
 #include <memory>
 #include <numeric>
 #include <queue>
+#include <string>
 
 #include <Eigen/Geometry>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
 #include "directed_edges.hpp"
@@ -28,7 +30,52 @@ std::array<double, 3> half_cotangents(const TriSurface& s, const std::array<int,
   return c;
 }
 
+// The free vertices' indices in the reduced system: in vertex order, or in `order` when given.
+// Returns the number of free vertices.
+int free_indices(const std::vector<char>& fixed, const std::vector<int>& order,
+                 std::vector<int>* index) {
+  const int n = static_cast<int>(fixed.size());
+  index->assign(n, -1);
+  int n_free = 0;
+  if (order.empty()) {
+    for (int i = 0; i < n; ++i)
+      if (!fixed[i]) (*index)[i] = n_free++;
+  } else {
+    GVKIT_CHECK(static_cast<int>(order.size()) == n, "an elimination order of every vertex");
+    for (int v : order)
+      if (!fixed[v]) (*index)[v] = n_free++;
+  }
+  return n_free;
+}
+
+// Factorizes a (the reduced system, already in elimination order when `ordered`) and solves.
+Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a,
+                                            const Eigen::VectorXd& rhs, bool ordered,
+                                            const std::string& what) {
+  Eigen::VectorXd x;
+  bool ok = false;
+  if (ordered) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+        solver(a);
+    ok = solver.info() == Eigen::Success;
+    if (ok) x = solver.solve(rhs);
+  } else {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
+    ok = solver.info() == Eigen::Success;
+    if (ok) x = solver.solve(rhs);
+  }
+  if (!ok) return failed_precondition(what + ": the system could not be factorized");
+  if (!x.allFinite()) return failed_precondition(what + ": the solution is not finite");
+  return x;
+}
+
 }  // namespace
+
+std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+  Eigen::AMDOrdering<int>()(laplacian, perm);
+  return std::vector<int>(perm.indices().data(), perm.indices().data() + perm.size());
+}
 
 Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
   std::vector<Eigen::Triplet<double>> triplets;
@@ -51,13 +98,12 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
 
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
-                                            const std::vector<double>& value) {
+                                            const std::vector<double>& value,
+                                            const std::vector<int>& order) {
   const int n = static_cast<int>(laplacian.rows());
   GVKIT_CHECK(static_cast<int>(fixed.size()) == n && static_cast<int>(value.size()) == n);
-  std::vector<int> index(n, -1);
-  int n_free = 0;
-  for (int i = 0; i < n; ++i)
-    if (!fixed[i]) index[i] = n_free++;
+  std::vector<int> index;
+  const int n_free = free_indices(fixed, order, &index);
   std::vector<double> f(n);
   for (int i = 0; i < n; ++i)
     if (fixed[i]) f[i] = value[i];
@@ -75,13 +121,10 @@ Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& l
     }
   Eigen::SparseMatrix<double> a(n_free, n_free);
   a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
-  if (solver.info() != Eigen::Success)
-    return failed_precondition("harmonic field: the Laplacian system could not be factorized");
-  const Eigen::VectorXd x = solver.solve(rhs);
+  GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
+                         factorize_and_solve(a, rhs, !order.empty(), "harmonic field"));
   for (int i = 0; i < n; ++i)
     if (!fixed[i]) f[i] = x[index[i]];
-  if (!x.allFinite()) return failed_precondition("harmonic field: the solution is not finite");
   return f;
 }
 
@@ -117,7 +160,8 @@ HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
 Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
-                                               const std::vector<int>& outer_loop) {
+                                               const std::vector<int>& outer_loop,
+                                               const std::vector<int>& order) {
   const int n = surface.n_vertices();
   // Seam: shortest path (by length) from inner_loop[0] through interior vertices to the outer
   // boundary.
@@ -221,10 +265,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   }
   std::vector<char> fixed(n, 0);
   fixed[start] = 1;
-  std::vector<int> index(n, -1);
-  int n_free = 0;
-  for (int i = 0; i < n; ++i)
-    if (!fixed[i]) index[i] = n_free++;
+  std::vector<int> index;
+  const int n_free = free_indices(fixed, order, &index);
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd b(n_free);
   for (int i = 0; i < n; ++i)
@@ -235,11 +277,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
         triplets.emplace_back(index[it.row()], index[col], it.value());
   Eigen::SparseMatrix<double> a(n_free, n_free);
   a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
-  if (solver.info() != Eigen::Success)
-    return failed_precondition("harmonic conjugate: the system could not be factorized");
-  const Eigen::VectorXd x = solver.solve(b);
-  if (!x.allFinite()) return failed_precondition("harmonic conjugate: solution not finite");
+  GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
+                         factorize_and_solve(a, b, !order.empty(), "harmonic conjugate"));
   std::vector<double> psi(surface.n_triangles() * 3);
   for (int k = 0; k < surface.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) {
