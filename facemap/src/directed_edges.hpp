@@ -44,7 +44,7 @@ class DirectedEdges {
     for (int i = offset_[a]; i < offset_[a + 1]; ++i) n += to_[i] == b;
     return n;
   }
-  // The end vertices of the edges leaving a: [begin, end) into ends().
+  // The edges leaving a are i in [begin(a), end(a)); to(i) is the vertex edge i leads to.
   int begin(int a) const { return offset_[a]; }
   int end(int a) const { return offset_[a + 1]; }
   int to(int i) const { return to_[i]; }

@@ -151,9 +151,10 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
         const auto hit = locator.in_triangle(last, st);
         if (strictly_inside(hit)) best = hit;
       }
+      const bool in_last = best.triangle >= 0;
       double best_min = -INFINITY;
       for (double shift : {0.0, 1.0, -1.0}) {
-        if (best_min == -INFINITY && best.triangle >= 0) break;  // found in the last triangle
+        if (in_last) break;
         const auto hit = locator.locate({st.x() + shift, st.y()}, 1e-6);
         if (hit.triangle < 0) continue;
         const double mn = std::min({hit.barycentric[0], hit.barycentric[1], hit.barycentric[2]});

@@ -368,11 +368,11 @@ struct EdgeGraph {
 // mesh within crop_mm (along edges) of the shortest edge paths between the given pairs of
 // vertices (the routes the cuts take) instead of the whole face: the heat method's cost is its
 // factorizations, and the cuts need the fields only near their routes. A geodesic between two
-// points stays close to the shortest edge path between them, and the heat method's field inside
-// the crop differs from the whole mesh's only by round-off-sized effects of the crop's border
-// far from the routes. Outside the crop the fields are a large value (the descent never goes
-// there). crop_mm <= 0, or a crop that does not keep every source in one piece, solves on the
-// whole mesh.
+// points stays close to the shortest edge path between them. The diffusion time is the whole
+// mesh's (edge_scale); the heat method's result still depends a little on the mesh's border
+// everywhere, which moves the cuts by 0.1-1 mm on main-job frames. Outside the crop the fields
+// are a large value (the descent never goes there). crop_mm <= 0, or a crop whose largest piece
+// does not hold every source, solves on the whole mesh.
 Result<std::vector<std::vector<double>>> cut_distance_fields(
     const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources,
     const std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>>& routes,
