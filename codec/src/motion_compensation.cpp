@@ -193,4 +193,109 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
     }
 }
 
+namespace {
+
+// Quarter-sample phase 4 fy + fx as the rounded average of two stored samples (or one): plane
+// (0 G, 1 b, 2 h, 3 j) and offset (dx, dy) of each, as in the switch of predict_motion_block.
+struct PhaseTaps {
+  int8_t plane1, dx1, dy1, plane2, dx2, dy2;  // plane2 < 0: the first sample alone
+};
+constexpr PhaseTaps kPhaseTaps[16] = {
+    {0, 0, 0, -1, 0, 0}, {0, 0, 0, 1, 0, 0}, {1, 0, 0, -1, 0, 0}, {1, 0, 0, 0, 1, 0},
+    {0, 0, 0, 2, 0, 0},  {1, 0, 0, 2, 0, 0}, {1, 0, 0, 3, 0, 0},  {1, 0, 0, 2, 1, 0},
+    {2, 0, 0, -1, 0, 0}, {2, 0, 0, 3, 0, 0}, {3, 0, 0, -1, 0, 0}, {3, 0, 0, 2, 1, 0},
+    {0, 0, 1, 2, 0, 0},  {2, 0, 0, 1, 0, 1}, {3, 0, 0, 1, 0, 1},  {2, 1, 0, 1, 0, 1}};
+
+}  // namespace
+
+InterpolatedReference::InterpolatedReference(const SamplePlane& ref, int bit_depth, int margin)
+    : ref_(ref), bit_depth_(bit_depth), margin_(margin), stride_(ref.width + 2 * margin) {
+  GVKIT_CHECK(ref.width > 0 && ref.height > 0 && margin >= 0 && bit_depth >= 8 && bit_depth <= 16);
+  const int m = margin, pw = ref.width + 2 * m, ph = ref.height + 2 * m;
+  const int max_value = (1 << bit_depth) - 1;
+  // Edge-extended whole samples over the padded area plus the filter's reach (2 before, 3 after).
+  const int ew = pw + 5, eh = ph + 5;
+  std::vector<int32_t> e(static_cast<size_t>(ew) * eh);
+  for (int y = 0; y < eh; ++y) {
+    const int sy = std::clamp(y - m - 2, 0, ref.height - 1);
+    const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
+    int32_t* out = &e[static_cast<size_t>(y) * ew];
+    for (int x = 0; x < ew; ++x) out[x] = row[std::clamp(x - m - 2, 0, ref.width - 1)];
+  }
+  // Unrounded horizontal sums b1 for every window row, padded columns.
+  std::vector<int32_t> b1(static_cast<size_t>(pw) * eh);
+  for (int y = 0; y < eh; ++y) {
+    const int32_t* v = &e[static_cast<size_t>(y) * ew];
+    int32_t* out = &b1[static_cast<size_t>(y) * pw];
+    for (int x = 0; x < pw; ++x)
+      out[x] = v[x] - 5 * v[x + 1] + 20 * v[x + 2] + 20 * v[x + 3] - 5 * v[x + 4] + v[x + 5];
+  }
+  for (auto& p : planes_) p.resize(static_cast<size_t>(pw) * ph);
+  const auto clip = [max_value](int32_t v) {
+    return static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+  };
+  for (int y = 0; y < ph; ++y) {
+    // Window row y + 2 is padded row y; the vertical taps reach rows y .. y + 5.
+    const int32_t* er[6];
+    const int32_t* br[6];
+    for (int k = 0; k < 6; ++k) {
+      er[k] = &e[static_cast<size_t>(y + k) * ew + 2];
+      br[k] = &b1[static_cast<size_t>(y + k) * pw];
+    }
+    const size_t o = static_cast<size_t>(y) * pw;
+    uint16_t *g = &planes_[0][o], *b = &planes_[1][o], *h = &planes_[2][o], *j = &planes_[3][o];
+    for (int x = 0; x < pw; ++x) {
+      g[x] = static_cast<uint16_t>(er[2][x]);
+      b[x] = clip((br[2][x] + 16) >> 5);
+      h[x] = clip((er[0][x] - 5 * er[1][x] + 20 * er[2][x] + 20 * er[3][x] - 5 * er[4][x] +
+                   er[5][x] + 16) >>
+                  5);
+      j[x] = clip((br[0][x] - 5 * br[1][x] + 20 * br[2][x] + 20 * br[3][x] - 5 * br[4][x] +
+                   br[5][x] + 512) >>
+                  10);
+    }
+  }
+}
+
+void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int mv_y,
+                                    bool quarter_pel, int32_t* pred) const {
+  GVKIT_CHECK(w > 0 && h > 0 && w <= kMaxMotionBlock && h <= kMaxMotionBlock);
+  if (!quarter_pel) {
+    const int x = x0 + mv_x, y = y0 + mv_y;
+    if (!inside(x, y, w, h)) {
+      predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, false, bit_depth_, pred);
+      return;
+    }
+    const uint16_t* g = &planes_[0][index(x, y)];
+    for (int r = 0; r < h; ++r, g += stride_)
+      for (int c = 0; c < w; ++c) pred[r * w + c] = g[c];
+    return;
+  }
+  const int xi = x0 + (mv_x >> 2), yi = y0 + (mv_y >> 2);
+  if (!inside(xi, yi, w + 1, h + 1)) {
+    predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, true, bit_depth_, pred);
+    return;
+  }
+  const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
+  const uint16_t* p1 = &planes_[t.plane1][index(xi + t.dx1, yi + t.dy1)];
+  if (t.plane2 < 0) {
+    for (int r = 0; r < h; ++r, p1 += stride_)
+      for (int c = 0; c < w; ++c) pred[r * w + c] = p1[c];
+    return;
+  }
+  const uint16_t* p2 = &planes_[t.plane2][index(xi + t.dx2, yi + t.dy2)];
+  for (int r = 0; r < h; ++r, p1 += stride_, p2 += stride_)
+    for (int c = 0; c < w; ++c) pred[r * w + c] = (int32_t{p1[c]} + p2[c] + 1) >> 1;
+}
+
+int32_t InterpolatedReference::sample(int x, int y, int mv_x, int mv_y, bool quarter_pel) const {
+  int32_t v;
+  predict(x, y, 1, 1, mv_x, mv_y, quarter_pel, &v);
+  return v;
+}
+
+const uint16_t* InterpolatedReference::whole_block(int x, int y, int w, int h) const {
+  return inside(x, y, w, h) ? &planes_[0][index(x, y)] : nullptr;
+}
+
 }  // namespace gvkit::codec

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
+#include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/motion_search.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "macroblock_syntax.hpp"
 
@@ -25,6 +28,9 @@ class MacroblockEncoder {
         p_(p),
         ref_(reference),
         max_value_((1 << p.bit_depth) - 1) {
+    // Half-sample planes over the search area (the predictor's vector may reach further: the
+    // interpolation then falls back to the plain block-wise path).
+    if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 8);
     if (p.lossless && p.near_lossless > 0) {
       // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
       const double step = 2.0 * p.near_lossless + 1.0;
@@ -104,68 +110,21 @@ class MacroblockEncoder {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
-    const int r = p_.search_range;
     const bool qpel = p_.subpel != 0;
-    const int unit = qpel ? 4 : 1;  // vector units per sample
-    double best = std::numeric_limits<double>::infinity();
-    int best_x = 0, best_y = 0;
+    MotionSearchParams search;
+    search.range = p_.search_range;
+    search.subpel = p_.subpel;
+    search.lossless = p_.lossless;
+    search.lambda = p_.lossless ? 1.0 : lambda_sad_;
+    search.max_abs_mv = 4 * kMaxMotion;
+    const MotionSearchResult found = search_motion_16x16(src_, *interp_, x0, y0, px, py, search);
+    const int best_x = found.mv_x, best_y = found.mv_y;
+    whole_mv_x_ = found.whole_mv_x;
+    whole_mv_y_ = found.whole_mv_y;
     int32_t pred[256];
-    const double lambda_mv = p_.lossless ? 1.0 : lambda_sad_;
-    for (int dy = -r; dy <= r; ++dy)
-      for (int dx = -r; dx <= r; ++dx) {
-        int64_t sad = 0;
-        for (int y = 0; y < 16 && sad < best; ++y) {
-          const int sy = std::clamp(y0 + y + dy, 0, ref_->height - 1);
-          for (int x = 0; x < 16; ++x)
-            sad += std::abs(static_cast<int>(src_.at(x0 + x, y0 + y)) -
-                            ref_->at(std::clamp(x0 + x + dx, 0, ref_->width - 1), sy));
-        }
-        const double cost =
-            sad + lambda_mv * (exp_golomb_bits(unit * dx - px) + exp_golomb_bits(unit * dy - py));
-        if (cost < best) {
-          best = cost;
-          best_x = dx;
-          best_y = dy;
-        }
-      }
-    best_x *= unit;
-    best_y *= unit;
-    whole_mv_x_ = best_x;
-    whole_mv_y_ = best_y;
-    if (qpel) {
-      const int limit = 4 * kMaxMotion;
-      const auto cost_of = [&](int mx, int my) {
-        predict_inter(*ref_, x0, y0, mx, my, true, p_.bit_depth, pred);
-        return static_cast<double>(distortion_estimate(16, pred, x0, y0)) +
-               lambda_mv * (exp_golomb_bits(mx - px) + exp_golomb_bits(my - py));
-      };
-      best = cost_of(best_x, best_y);
-      if (px != best_x || py != best_y) {
-        const double c = cost_of(px, py);
-        if (c < best) {
-          best = c;
-          best_x = px;
-          best_y = py;
-        }
-      }
-      for (int step = 2; step >= (p_.subpel >= 4 ? 1 : 2); step /= 2) {
-        const int cx = best_x, cy = best_y;
-        for (int dy = -step; dy <= step; dy += step)
-          for (int dx = -step; dx <= step; dx += step) {
-            const int mx = cx + dx, my = cy + dy;
-            if ((!dx && !dy) || std::abs(mx) > limit || std::abs(my) > limit) continue;
-            const double c = cost_of(mx, my);
-            if (c < best) {
-              best = c;
-              best_x = mx;
-              best_y = my;
-            }
-          }
-      }
-    }
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
-    predict_inter(*ref_, x0, y0, best_x, best_y, qpel, p_.bit_depth, pred);
+    interp_->predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
     const double mv_bits = exp_golomb_bits(best_x - px) + exp_golomb_bits(best_y - py);
     double cost;
     if (p_.rdo) {
@@ -219,18 +178,8 @@ class MacroblockEncoder {
 
   // SATD (or SAD when lossless) of source minus prediction over an n x n block.
   int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0) const {
-    int32_t diff[256];
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x)
-        diff[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
-    int64_t sum = 0;
-    if (p_.lossless) {
-      for (int i = 0; i < n * n; ++i) sum += std::abs(diff[i]);
-      return sum;
-    }
-    for (int by = 0; by < n; by += 4)
-      for (int bx = 0; bx < n; bx += 4) sum += satd4x4(diff + by * n + bx, n);
-    return sum;
+    const uint16_t* src = &src_.samples[static_cast<size_t>(y0) * src_.width + x0];
+    return p_.lossless ? sad_block(n, src, src_.width, pred) : satd_block(n, src, src_.width, pred);
   }
 
   double mode_bits_estimate(int mode, int mpm) const {
@@ -261,12 +210,10 @@ class MacroblockEncoder {
                           p_.bit_depth)
            : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
     int32_t ref_block[16];
-    if (td)
-      for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x)
-          ref_block[y * 4 + x] =
-              motion_sample(*ref_, x0 + x, y0 + y, mv_x_, mv_y_, p_.subpel != 0, p_.bit_depth) -
-              (1 << (p_.bit_depth - 1));
+    if (td) {
+      interp_->predict(x0, y0, 4, 4, mv_x_, mv_y_, p_.subpel != 0, ref_block);
+      for (int i = 0; i < 16; ++i) ref_block[i] -= 1 << (p_.bit_depth - 1);
+    }
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
@@ -404,6 +351,7 @@ class MacroblockEncoder {
   PlaneState& st_;
   const PlaneCodingParams& p_;
   const SamplePlane* ref_;
+  std::optional<InterpolatedReference> interp_;  // of ref_, for P planes
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;

@@ -1,0 +1,146 @@
+// SSE2 kernels (the x86-64 baseline) with the plain loops as the fallback elsewhere. SATD
+// transforms each 4x4 block vertically first, transposes and transforms again: the sixteen
+// Hadamard coefficients are the same as satd4x4's (row transform first), only their order differs,
+// and all arithmetic is exact in 32 bits (|coefficient| < 2^21).
+#include "gvkit/codec/block_distortion.hpp"
+
+#include <cstdlib>
+
+#include "gvkit/codec/transform.hpp"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace gvkit::codec {
+
+int64_t sad16x16_reference(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b,
+                           ptrdiff_t b_stride) {
+  int64_t sum = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      sum += std::abs(static_cast<int>(a[y * a_stride + x]) - b[y * b_stride + x]);
+  return sum;
+}
+
+int64_t satd_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride,
+                             const int32_t* pred) {
+  int32_t diff[256];
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      diff[y * n + x] = static_cast<int32_t>(src[y * src_stride + x]) - pred[y * n + x];
+  int64_t sum = 0;
+  for (int by = 0; by < n; by += 4)
+    for (int bx = 0; bx < n; bx += 4) sum += satd4x4(diff + by * n + bx, n);
+  return sum;
+}
+
+int64_t sad_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  int64_t sum = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      sum += std::abs(static_cast<int32_t>(src[y * src_stride + x]) - pred[y * n + x]);
+  return sum;
+}
+
+#if defined(__SSE2__)
+namespace {
+
+inline __m128i abs_epi32(__m128i v) {
+  const __m128i s = _mm_srai_epi32(v, 31);
+  return _mm_sub_epi32(_mm_xor_si128(v, s), s);
+}
+
+// Four uint16 samples widened to int32, minus four int32 predictions.
+inline __m128i diff4(const uint16_t* src, const int32_t* pred) {
+  const __m128i s = _mm_unpacklo_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(src)),
+                                       _mm_setzero_si128());
+  return _mm_sub_epi32(s, _mm_loadu_si128(reinterpret_cast<const __m128i*>(pred)));
+}
+
+inline void hadamard4(__m128i& a, __m128i& b, __m128i& c, __m128i& d) {
+  const __m128i a0 = _mm_add_epi32(a, b), a1 = _mm_sub_epi32(a, b);
+  const __m128i a2 = _mm_add_epi32(c, d), a3 = _mm_sub_epi32(c, d);
+  a = _mm_add_epi32(a0, a2);
+  b = _mm_add_epi32(a1, a3);
+  c = _mm_sub_epi32(a0, a2);
+  d = _mm_sub_epi32(a1, a3);
+}
+
+inline int32_t horizontal_sum(__m128i v) {
+  v = _mm_add_epi32(v, _mm_shuffle_epi32(v, _MM_SHUFFLE(1, 0, 3, 2)));
+  v = _mm_add_epi32(v, _mm_shuffle_epi32(v, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm_cvtsi128_si32(v);
+}
+
+// satd4x4 of the 4x4 block whose rows are r0..r3 (int32 differences).
+inline int32_t satd4x4_rows(__m128i r0, __m128i r1, __m128i r2, __m128i r3) {
+  hadamard4(r0, r1, r2, r3);
+  const __m128i t0 = _mm_unpacklo_epi32(r0, r1), t1 = _mm_unpacklo_epi32(r2, r3);
+  const __m128i t2 = _mm_unpackhi_epi32(r0, r1), t3 = _mm_unpackhi_epi32(r2, r3);
+  r0 = _mm_unpacklo_epi64(t0, t1);
+  r1 = _mm_unpackhi_epi64(t0, t1);
+  r2 = _mm_unpacklo_epi64(t2, t3);
+  r3 = _mm_unpackhi_epi64(t2, t3);
+  hadamard4(r0, r1, r2, r3);
+  const __m128i s = _mm_add_epi32(_mm_add_epi32(abs_epi32(r0), abs_epi32(r1)),
+                                  _mm_add_epi32(abs_epi32(r2), abs_epi32(r3)));
+  return horizontal_sum(s) / 2;
+}
+
+}  // namespace
+
+int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdiff_t b_stride) {
+  const __m128i zero = _mm_setzero_si128();
+  __m128i acc = zero;
+  for (int y = 0; y < 16; ++y, a += a_stride, b += b_stride)
+    for (int x = 0; x < 16; x += 8) {
+      const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + x));
+      const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + x));
+      const __m128i d = _mm_or_si128(_mm_subs_epu16(va, vb), _mm_subs_epu16(vb, va));
+      acc = _mm_add_epi32(acc,
+                          _mm_add_epi32(_mm_unpacklo_epi16(d, zero), _mm_unpackhi_epi16(d, zero)));
+    }
+  // At most 256 * 65535 < 2^24: no overflow in 32-bit lanes.
+  return horizontal_sum(acc);
+}
+
+int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  int64_t sum = 0;
+  for (int by = 0; by < n; by += 4) {
+    const uint16_t* s = src + by * src_stride;
+    const int32_t* p = pred + by * n;
+    for (int bx = 0; bx < n; bx += 4)
+      sum += satd4x4_rows(diff4(s + bx, p + bx), diff4(s + src_stride + bx, p + n + bx),
+                          diff4(s + 2 * src_stride + bx, p + 2 * n + bx),
+                          diff4(s + 3 * src_stride + bx, p + 3 * n + bx));
+  }
+  return sum;
+}
+
+int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  __m128i acc = _mm_setzero_si128();
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; x += 4)
+      acc = _mm_add_epi32(acc, abs_epi32(diff4(src + y * src_stride + x, pred + y * n + x)));
+  // At most 256 * 2^17 = 2^25.
+  return horizontal_sum(acc);
+}
+
+#else
+
+int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdiff_t b_stride) {
+  return sad16x16_reference(a, a_stride, b, b_stride);
+}
+
+int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  return satd_block_reference(n, src, src_stride, pred);
+}
+
+int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  return sad_block_reference(n, src, src_stride, pred);
+}
+
+#endif
+
+}  // namespace gvkit::codec
