@@ -213,47 +213,53 @@ InterpolatedReference::InterpolatedReference(const SamplePlane& ref, int bit_dep
   GVKIT_CHECK(ref.width > 0 && ref.height > 0 && margin >= 0 && bit_depth >= 8 && bit_depth <= 16);
   const int m = margin, pw = ref.width + 2 * m, ph = ref.height + 2 * m;
   const int max_value = (1 << bit_depth) - 1;
-  // Edge-extended whole samples over the padded area plus the filter's reach (2 before, 3 after).
-  const int ew = pw + 5, eh = ph + 5;
-  std::vector<int32_t> e(static_cast<size_t>(ew) * eh);
-  for (int y = 0; y < eh; ++y) {
-    const int sy = std::clamp(y - m - 2, 0, ref.height - 1);
+  // Rows of the edge-extended whole samples over the padded area plus the filter's reach (2
+  // before, 3 after), and their unrounded horizontal sums b1, in rings of the 6 rows the
+  // vertical taps read: window row k is picture row k - m - 2.
+  const int ew = pw + 5, lead = m + 2;
+  constexpr int kRing = 8;
+  std::vector<int32_t> e_ring(static_cast<size_t>(kRing) * ew),
+      b1_ring(static_cast<size_t>(kRing) * pw);
+  const auto make_row = [&](int k) {
+    const int sy = std::clamp(k - m - 2, 0, ref.height - 1);
     const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
-    int32_t* out = &e[static_cast<size_t>(y) * ew];
-    for (int x = 0; x < ew; ++x) out[x] = row[std::clamp(x - m - 2, 0, ref.width - 1)];
-  }
-  // Unrounded horizontal sums b1 for every window row, padded columns.
-  std::vector<int32_t> b1(static_cast<size_t>(pw) * eh);
-  for (int y = 0; y < eh; ++y) {
-    const int32_t* v = &e[static_cast<size_t>(y) * ew];
-    int32_t* out = &b1[static_cast<size_t>(y) * pw];
+    int32_t* __restrict out = &e_ring[static_cast<size_t>(k % kRing) * ew];
+    std::fill(out, out + lead, row[0]);
+    for (int x = 0; x < ref.width; ++x) out[lead + x] = row[x];
+    std::fill(out + lead + ref.width, out + ew, row[ref.width - 1]);
+    int32_t* __restrict sum = &b1_ring[static_cast<size_t>(k % kRing) * pw];
     for (int x = 0; x < pw; ++x)
-      out[x] = v[x] - 5 * v[x + 1] + 20 * v[x + 2] + 20 * v[x + 3] - 5 * v[x + 4] + v[x + 5];
-  }
-  for (auto& p : planes_) p.resize(static_cast<size_t>(pw) * ph);
+      sum[x] =
+          out[x] - 5 * out[x + 1] + 20 * out[x + 2] + 20 * out[x + 3] - 5 * out[x + 4] + out[x + 5];
+  };
+  plane_size_ = static_cast<size_t>(pw) * ph;
+  storage_.resize(4 * plane_size_);
   const auto clip = [max_value](int32_t v) {
     return static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
   };
+  for (int k = 0; k < 5; ++k) make_row(k);
   for (int y = 0; y < ph; ++y) {
-    // Window row y + 2 is padded row y; the vertical taps reach rows y .. y + 5.
+    // Padded row y is window row y + 2; the vertical taps read window rows y .. y + 5.
+    make_row(y + 5);
     const int32_t* er[6];
     const int32_t* br[6];
     for (int k = 0; k < 6; ++k) {
-      er[k] = &e[static_cast<size_t>(y + k) * ew + 2];
-      br[k] = &b1[static_cast<size_t>(y + k) * pw];
+      er[k] = &e_ring[static_cast<size_t>((y + k) % kRing) * ew + 2];
+      br[k] = &b1_ring[static_cast<size_t>((y + k) % kRing) * pw];
     }
     const size_t o = static_cast<size_t>(y) * pw;
-    uint16_t *g = &planes_[0][o], *b = &planes_[1][o], *h = &planes_[2][o], *j = &planes_[3][o];
-    for (int x = 0; x < pw; ++x) {
-      g[x] = static_cast<uint16_t>(er[2][x]);
-      b[x] = clip((br[2][x] + 16) >> 5);
-      h[x] = clip((er[0][x] - 5 * er[1][x] + 20 * er[2][x] + 20 * er[3][x] - 5 * er[4][x] +
-                   er[5][x] + 16) >>
-                  5);
-      j[x] = clip((br[0][x] - 5 * br[1][x] + 20 * br[2][x] + 20 * br[3][x] - 5 * br[4][x] +
-                   br[5][x] + 512) >>
-                  10);
-    }
+    uint16_t* __restrict g = &storage_[o];
+    uint16_t* __restrict b = &storage_[plane_size_ + o];
+    uint16_t* __restrict h = &storage_[2 * plane_size_ + o];
+    uint16_t* __restrict j = &storage_[3 * plane_size_ + o];
+    const int32_t* __restrict e0 = er[0], * __restrict e1 = er[1], * __restrict e2 = er[2], * __restrict e3 = er[3], * __restrict e4 = er[4], * __restrict e5 = er[5];
+    const int32_t* __restrict s0 = br[0], * __restrict s1 = br[1], * __restrict s2 = br[2], * __restrict s3 = br[3], * __restrict s4 = br[4], * __restrict s5 = br[5];
+    for (int x = 0; x < pw; ++x) g[x] = static_cast<uint16_t>(e2[x]);
+    for (int x = 0; x < pw; ++x) b[x] = clip((s2[x] + 16) >> 5);
+    for (int x = 0; x < pw; ++x)
+      h[x] = clip((e0[x] - 5 * e1[x] + 20 * e2[x] + 20 * e3[x] - 5 * e4[x] + e5[x] + 16) >> 5);
+    for (int x = 0; x < pw; ++x)
+      j[x] = clip((s0[x] - 5 * s1[x] + 20 * s2[x] + 20 * s3[x] - 5 * s4[x] + s5[x] + 512) >> 10);
   }
 }
 
@@ -266,7 +272,7 @@ void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int 
       predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, false, bit_depth_, pred);
       return;
     }
-    const uint16_t* g = &planes_[0][index(x, y)];
+    const uint16_t* g = &storage_[index(x, y)];
     for (int r = 0; r < h; ++r, g += stride_)
       for (int c = 0; c < w; ++c) pred[r * w + c] = g[c];
     return;
@@ -277,13 +283,13 @@ void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int 
     return;
   }
   const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
-  const uint16_t* p1 = &planes_[t.plane1][index(xi + t.dx1, yi + t.dy1)];
+  const uint16_t* p1 = &storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
   if (t.plane2 < 0) {
     for (int r = 0; r < h; ++r, p1 += stride_)
       for (int c = 0; c < w; ++c) pred[r * w + c] = p1[c];
     return;
   }
-  const uint16_t* p2 = &planes_[t.plane2][index(xi + t.dx2, yi + t.dy2)];
+  const uint16_t* p2 = &storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)];
   for (int r = 0; r < h; ++r, p1 += stride_, p2 += stride_)
     for (int c = 0; c < w; ++c) pred[r * w + c] = (int32_t{p1[c]} + p2[c] + 1) >> 1;
 }
@@ -295,7 +301,7 @@ int32_t InterpolatedReference::sample(int x, int y, int mv_x, int mv_y, bool qua
 }
 
 const uint16_t* InterpolatedReference::whole_block(int x, int y, int w, int h) const {
-  return inside(x, y, w, h) ? &planes_[0][index(x, y)] : nullptr;
+  return inside(x, y, w, h) ? &storage_[index(x, y)] : nullptr;
 }
 
 }  // namespace gvkit::codec

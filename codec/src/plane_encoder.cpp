@@ -30,7 +30,7 @@ class MacroblockEncoder {
         max_value_((1 << p.bit_depth) - 1) {
     // Half-sample planes over the search area (the predictor's vector may reach further: the
     // interpolation then falls back to the plain block-wise path).
-    if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 8);
+    if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 4);
     if (p.lossless && p.near_lossless > 0) {
       // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
       const double step = 2.0 * p.near_lossless + 1.0;

@@ -76,7 +76,10 @@ class InterpolatedReference {
   int bit_depth_;
   int margin_;
   ptrdiff_t stride_;
-  std::vector<uint16_t> planes_[4];  // G (whole samples), b (half right), h (half below), j
+  size_t plane_size_ = 0;
+  // G (whole samples), b (half right), h (half below) and j, one after the other (one
+  // allocation: freed and allocated again per plane, it stays in the heap, without page faults).
+  std::vector<uint16_t> storage_;
 };
 
 }  // namespace gvkit::codec
