@@ -127,7 +127,33 @@ int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_
   return horizontal_sum(acc);
 }
 
+void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
+                    int count, int64_t* out) {
+  const __m128i zero = _mm_setzero_si128();
+  __m128i s[4];
+  for (int r = 0; r < 4; ++r)
+    s[r] = _mm_unpacklo_epi16(
+        _mm_loadl_epi64(reinterpret_cast<const __m128i*>(src + r * src_stride)), zero);
+  for (int i = 0; i < count; ++i) {
+    const __m128i* p = reinterpret_cast<const __m128i*>(preds[i]);
+    const __m128i d0 = _mm_sub_epi32(s[0], _mm_loadu_si128(p)),
+                  d1 = _mm_sub_epi32(s[1], _mm_loadu_si128(p + 1)),
+                  d2 = _mm_sub_epi32(s[2], _mm_loadu_si128(p + 2)),
+                  d3 = _mm_sub_epi32(s[3], _mm_loadu_si128(p + 3));
+    out[i] = sad ? horizontal_sum(_mm_add_epi32(_mm_add_epi32(abs_epi32(d0), abs_epi32(d1)),
+                                                _mm_add_epi32(abs_epi32(d2), abs_epi32(d3))))
+                 : satd4x4_rows(d0, d1, d2, d3);
+  }
+}
+
 #else
+
+void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
+                    int count, int64_t* out) {
+  for (int i = 0; i < count; ++i)
+    out[i] = sad ? sad_block_reference(4, src, src_stride, preds[i])
+                 : satd_block_reference(4, src, src_stride, preds[i]);
+}
 
 int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdiff_t b_stride) {
   return sad16x16_reference(a, a_stride, b, b_stride);

@@ -68,11 +68,10 @@ struct DirectionalTables {
   }
 };
 
+// The three arrays over the neighbour line of an N x N block (raw, 3-tap, 2-tap).
 template <int N>
-void predict_directional(int mode, const IntraNeighbors& nb, int32_t* out) {
-  static const DirectionalTables<N> tables;
-  int32_t line[3 * kLineSize];  // raw, 3-tap, 2-tap
-  int32_t* e = line + 1;        // e[k], k = -1 .. 3N + 1
+void make_line(const IntraNeighbors& nb, int32_t* line) {
+  int32_t* e = line + 1;  // e[k], k = -1 .. 3N + 1
   for (int y = 0; y < N; ++y) e[N - 1 - y] = nb.left[y];
   e[N] = nb.corner;
   for (int x = 0; x < 2 * N; ++x) e[N + 1 + x] = nb.top[x];
@@ -82,8 +81,20 @@ void predict_directional(int mode, const IntraNeighbors& nb, int32_t* out) {
     line[kFilter3 * kLineSize + 1 + k] = (e[k - 1] + 2 * e[k] + e[k + 1] + 2) >> 2;
     line[kMean2 * kLineSize + 1 + k] = (e[k] + e[k + 1] + 1) >> 1;
   }
+}
+
+template <int N>
+void predict_directional(int mode, const int32_t* line, int32_t* out) {
+  static const DirectionalTables<N> tables;
   const uint8_t* entry = tables.entry[mode];
   for (int i = 0; i < N * N; ++i) out[i] = line[entry[i]];
+}
+
+template <int N>
+void predict_directional(int mode, const IntraNeighbors& nb, int32_t* out) {
+  int32_t line[3 * kLineSize];
+  make_line<N>(nb, line);
+  predict_directional<N>(mode, line, out);
 }
 
 template <int N>
@@ -160,6 +171,18 @@ void predict_intra(int n, int mode, const IntraNeighbors& nb, int max_value, int
       return predict_block<8>(mode, nb, max_value, out);
     default:
       return predict_block<16>(mode, nb, max_value, out);
+  }
+}
+
+void predict_intra4x4_modes(const IntraNeighbors& nb, int max_value, int mode_count,
+                            int32_t (*out)[16]) {
+  int32_t line[3 * kLineSize];
+  make_line<4>(nb, line);
+  for (int mode = 0; mode < mode_count; ++mode) {
+    if (mode >= kIntraDiagonalDownLeft && mode <= kIntraHorizontalUp)
+      predict_directional<4>(mode, line, out[mode]);
+    else
+      predict_block<4>(mode, nb, max_value, out[mode]);
   }
 }
 

@@ -217,7 +217,27 @@ class MacroblockEncoder {
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
-    for (int mode = 0; mode < mode_count; ++mode) {
+    if (n == 4 && !p_.rdo) {
+      // Fast decision: every mode predicted and measured in one pass over the neighbours.
+      int32_t preds[kIntra4x4ModeCount][16];
+      int64_t distortion[kIntra4x4ModeCount];
+      predict_intra4x4_modes(nb, max_value_, mode_count, preds);
+      if (td)
+        for (int mode = 0; mode < mode_count; ++mode)
+          for (int i = 0; i < 16; ++i) preds[mode][i] += ref_block[i];
+      distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
+                     src_.width, preds, mode_count, distortion);
+      for (int mode = 0; mode < mode_count; ++mode) {
+        const double cost =
+            static_cast<double>(distortion[mode]) + lambda_sad_ * mode_bits_estimate(mode, mpm);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_mode = mode;
+        }
+      }
+      std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
+    }
+    for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];

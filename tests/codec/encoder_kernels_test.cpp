@@ -41,6 +41,17 @@ TEST(EncoderKernels, SadAndSatdEqualTheReference) {
       ASSERT_EQ(satd_block(n, pa, 40, pred), satd_block_reference(n, pa, 40, pred)) << n;
       ASSERT_EQ(sad_block(n, pa, 40, pred), sad_block_reference(n, pa, 40, pred)) << n;
     }
+    // Many 4x4 predictions against one source block at once.
+    int32_t preds[16][16];
+    for (int m = 0; m < 16; ++m)
+      for (int i = 0; i < 16; ++i) preds[m][i] = pred[(m * 16 + i * 7) % 256];
+    for (bool sad : {false, true}) {
+      int64_t out[16];
+      distortions4x4(sad, pa, 40, preds, 16, out);
+      for (int m = 0; m < 16; ++m)
+        ASSERT_EQ(out[m], sad ? sad_block_reference(4, pa, 40, preds[m])
+                              : satd_block_reference(4, pa, 40, preds[m]));
+    }
   }
   // All-max against all-zero: the largest SAD.
   const SamplePlane hi = random_plane(16, 16, 0, rng);

@@ -23,4 +23,9 @@ int64_t satd_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, c
 int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred);
 int64_t sad_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred);
 
+// satd_block(4, ...) (or, with sad, sad_block(4, ...)) of the 4x4 source block against each of
+// count predictions preds[0 .. count - 1] into out[i].
+void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
+                    int count, int64_t* out);
+
 }  // namespace gvkit::codec
