@@ -295,9 +295,17 @@ void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int 
 }
 
 int32_t InterpolatedReference::sample(int x, int y, int mv_x, int mv_y, bool quarter_pel) const {
-  int32_t v;
-  predict(x, y, 1, 1, mv_x, mv_y, quarter_pel, &v);
-  return v;
+  if (!quarter_pel) {
+    const int sx = x + mv_x, sy = y + mv_y;
+    if (!inside(sx, sy, 1, 1)) return motion_sample(ref_, x, y, mv_x, mv_y, false, bit_depth_);
+    return storage_[index(sx, sy)];
+  }
+  const int xi = x + (mv_x >> 2), yi = y + (mv_y >> 2);
+  if (!inside(xi, yi, 2, 2)) return motion_sample(ref_, x, y, mv_x, mv_y, true, bit_depth_);
+  const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
+  const int32_t v1 = storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
+  if (t.plane2 < 0) return v1;
+  return (v1 + storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)] + 1) >> 1;
 }
 
 const uint16_t* InterpolatedReference::whole_block(int x, int y, int w, int h) const {

@@ -206,8 +206,10 @@ class MacroblockEncoder {
     const int gx = x0 / 4, gy = y0 / 4;
     // Intra: neighbours from the reconstruction; temporal difference: from the difference plane.
     const IntraNeighbors nb =
-        td ? td_neighbors(recon_, *ref_, mv_x_, mv_y_, p_.subpel != 0, x0, y0, mb_x_, mb_y_, block,
-                          p_.bit_depth)
+        td ? td_neighbors_from(
+                 recon_,
+                 [&](int x, int y) { return interp_->sample(x, y, mv_x_, mv_y_, p_.subpel != 0); },
+                 x0, y0, mb_x_, mb_y_, block, p_.bit_depth)
            : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
     int32_t ref_block[16];
     if (td) {
