@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <limits>
+#include <vector>
 
 #include "gvkit/codec/block_distortion.hpp"
 
@@ -38,19 +39,59 @@ MotionSearchResult search_motion_16x16(const SamplePlane& src, const Interpolate
   const int r = params.range;
   double best = std::numeric_limits<double>::infinity();
   int best_x = 0, best_y = 0;
-  for (int dy = -r; dy <= r; ++dy)
-    for (int dx = -r; dx <= r; ++dx) {
-      const double bits =
-          signed_exp_golomb_bits(unit * dx - px) + signed_exp_golomb_bits(unit * dy - py);
-      const double cost =
-          static_cast<double>(whole_sample_sad(block, stride, ref, x0 + dx, y0 + dy)) +
-          lambda * bits;
+  const auto whole_cost = [&](int dx, int dy) {
+    const double bits =
+        signed_exp_golomb_bits(unit * dx - px) + signed_exp_golomb_bits(unit * dy - py);
+    return static_cast<double>(whole_sample_sad(block, stride, ref, x0 + dx, y0 + dy)) +
+           lambda * bits;
+  };
+  if (params.pattern == MotionSearchPattern::kFull) {
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        const double cost = whole_cost(dx, dy);
+        if (cost < best) {
+          best = cost;
+          best_x = dx;
+          best_y = dy;
+        }
+      }
+  } else {
+    // Each vector in range is measured at most once (bit per vector of the (2r+1)^2 window).
+    const int side = 2 * r + 1;
+    std::vector<uint8_t> seen(static_cast<size_t>(side) * side, 0);
+    const auto visit = [&](int dx, int dy) {
+      if (std::abs(dx) > r || std::abs(dy) > r) return false;
+      uint8_t& s = seen[static_cast<size_t>(dy + r) * side + dx + r];
+      if (s) return false;
+      s = 1;
+      const double cost = whole_cost(dx, dy);
       if (cost < best) {
         best = cost;
         best_x = dx;
         best_y = dy;
+        return true;
       }
+      return false;
+    };
+    // Seeds: zero and the predictor (rounded to whole samples, clamped to the range).
+    visit(0, 0);
+    const auto to_whole = [&](int v) {
+      return std::clamp(v >= 0 ? (v + unit / 2) / unit : -((-v + unit / 2) / unit), -r, r);
+    };
+    visit(to_whole(px), to_whole(py));
+    // Small diamond steps until the centre is the best, then its four diagonal neighbours.
+    for (int step = 0; step < 4 * r + 4; ++step) {
+      const int cx = best_x, cy = best_y;
+      visit(cx - 1, cy);
+      visit(cx + 1, cy);
+      visit(cx, cy - 1);
+      visit(cx, cy + 1);
+      if (best_x == cx && best_y == cy) break;
     }
+    const int cx = best_x, cy = best_y;
+    for (int dy = -1; dy <= 1; dy += 2)
+      for (int dx = -1; dx <= 1; dx += 2) visit(cx + dx, cy + dy);
+  }
   MotionSearchResult result;
   result.whole_mv_x = result.mv_x = best_x * unit;
   result.whole_mv_y = result.mv_y = best_y * unit;

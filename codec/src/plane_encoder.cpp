@@ -112,6 +112,7 @@ class MacroblockEncoder {
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
     const bool qpel = p_.subpel != 0;
     MotionSearchParams search;
+    search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
     search.range = p_.search_range;
     search.subpel = p_.subpel;
     search.lossless = p_.lossless;

@@ -10,7 +10,14 @@
 
 namespace gvkit::codec {
 
+enum class MotionSearchPattern {
+  kFull,     // every integer vector in range (ties: the first in raster order of (dy, dx))
+  kDiamond,  // from the better of zero and the rounded predictor, small-diamond steps until the
+             // centre is best, then its diagonal neighbours (each vector measured once)
+};
+
 struct MotionSearchParams {
+  MotionSearchPattern pattern = MotionSearchPattern::kFull;
   int range = 4;          // integer search: |dx|, |dy| <= range samples around zero
   int subpel = 0;         // 0 (whole samples), 2 (refine to half) or 4 (to quarter samples)
   bool lossless = false;  // refinement by SAD instead of SATD
@@ -33,8 +40,7 @@ inline int signed_exp_golomb_bits(int v) {
 }
 
 // The macroblock at (x0, y0) of src (same size as the reference); (px, py) is the motion vector
-// predictor in vector units. Full search over every integer vector in range (ties: the first in
-// raster order of (dy, dx)).
+// predictor in vector units.
 MotionSearchResult search_motion_16x16(const SamplePlane& src, const InterpolatedReference& ref,
                                        int x0, int y0, int px, int py,
                                        const MotionSearchParams& params);
