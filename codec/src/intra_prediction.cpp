@@ -134,27 +134,34 @@ void predict_block(int mode, const IntraNeighbors& nb, int max_value, int32_t* o
     return;
   }
   if (N == 4 && mode >= kIntraGeoPlane) {
+    // |values| < 2^19: 32-bit arithmetic is exact. One loop per mode (no switch per sample).
     const int32_t c = nb.corner, dt = nb.top[3] - c, dl = nb.left[3] - c;
-    for (int y = 0; y < 4; ++y)
-      for (int x = 0; x < 4; ++x) {
-        int64_t v;
-        switch (mode) {
-          case kIntraGeoPlane:
-            v = static_cast<int64_t>(nb.top[x]) + nb.left[y] - c;
-            break;
-          case kIntraGeoVertical:
-            v = nb.top[x] + (((y + 1) * dl + 2) >> 2);
-            break;
-          case kIntraGeoHorizontal:
-            v = nb.left[y] + (((x + 1) * dt + 2) >> 2);
-            break;
-          default:
-            v = c + (((x + 1) * dt + (y + 1) * dl + 2) >> 2);
-            break;
+    const auto clip32 = [max_value](int32_t v) {
+      return v < 0 ? 0 : (v > max_value ? max_value : v);
+    };
+    switch (mode) {
+      case kIntraGeoPlane:
+        for (int y = 0; y < 4; ++y)
+          for (int x = 0; x < 4; ++x) out[y * 4 + x] = clip32(nb.top[x] + nb.left[y] - c);
+        return;
+      case kIntraGeoVertical:
+        for (int y = 0; y < 4; ++y) {
+          const int32_t d = ((y + 1) * dl + 2) >> 2;
+          for (int x = 0; x < 4; ++x) out[y * 4 + x] = clip32(nb.top[x] + d);
         }
-        out[y * 4 + x] = clip(v, max_value);
-      }
-    return;
+        return;
+      case kIntraGeoHorizontal:
+        for (int x = 0; x < 4; ++x) {
+          const int32_t d = ((x + 1) * dt + 2) >> 2;
+          for (int y = 0; y < 4; ++y) out[y * 4 + x] = clip32(nb.left[y] + d);
+        }
+        return;
+      default:
+        for (int y = 0; y < 4; ++y)
+          for (int x = 0; x < 4; ++x)
+            out[y * 4 + x] = clip32(c + (((x + 1) * dt + (y + 1) * dl + 2) >> 2));
+        return;
+    }
   }
   if (N <= 8 && mode >= kIntraDiagonalDownLeft && mode <= kIntraHorizontalUp)
     return predict_directional < N <= 8 ? N : 8 > (mode, nb, out);

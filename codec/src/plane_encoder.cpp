@@ -59,6 +59,7 @@ class MacroblockEncoder {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
+      bound_ = best.cost;
       c.cost = td                  ? try_td(c.mb, trial)
                : type == kMbInter  ? try_inter(c.mb, trial)
                : type == kMbI16x16 ? try_i16(c.mb, trial)
@@ -281,6 +282,7 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
                               &mb.modes[b], mb.levels[b]);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
@@ -301,6 +303,7 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
                               &mb.modes[b], mb.levels[b], true);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
@@ -378,6 +381,9 @@ class MacroblockEncoder {
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
+  // Cost of the best candidate so far: a candidate whose partial cost (a sum of non-negative
+  // block costs) reaches it stops early, as it cannot be chosen.
+  double bound_ = std::numeric_limits<double>::infinity();
   int mv_x_ = 0, mv_y_ = 0;              // motion vector of the inter candidate (reused by try_td)
   int whole_mv_x_ = 0, whole_mv_y_ = 0;  // the whole-sample search result (vector units)
 };
