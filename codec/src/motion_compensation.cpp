@@ -265,23 +265,24 @@ InterpolatedReference::InterpolatedReference(const SamplePlane& ref, int bit_dep
 
 void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int mv_y,
                                     bool quarter_pel, int32_t* pred) const {
-  GVKIT_CHECK(w > 0 && h > 0 && w <= kMaxMotionBlock && h <= kMaxMotionBlock);
+  GVKIT_CHECK(w > 0 && h > 0);
+  // Beyond the margin: block-wise interpolation (blocks up to kMaxMotionBlock), else per sample.
+  const auto fallback = [&] {
+    if (w <= kMaxMotionBlock && h <= kMaxMotionBlock)
+      predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth_, pred);
+    else
+      predict_motion_block_reference(ref_, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth_, pred);
+  };
   if (!quarter_pel) {
     const int x = x0 + mv_x, y = y0 + mv_y;
-    if (!inside(x, y, w, h)) {
-      predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, false, bit_depth_, pred);
-      return;
-    }
+    if (!inside(x, y, w, h)) return fallback();
     const uint16_t* g = &storage_[index(x, y)];
     for (int r = 0; r < h; ++r, g += stride_)
       for (int c = 0; c < w; ++c) pred[r * w + c] = g[c];
     return;
   }
   const int xi = x0 + (mv_x >> 2), yi = y0 + (mv_y >> 2);
-  if (!inside(xi, yi, w + 1, h + 1)) {
-    predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, true, bit_depth_, pred);
-    return;
-  }
+  if (!inside(xi, yi, w + 1, h + 1)) return fallback();
   const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
   const uint16_t* p1 = &storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
   if (t.plane2 < 0) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <limits>
-#include <vector>
 
 #include "gvkit/codec/block_distortion.hpp"
 
@@ -58,7 +57,9 @@ MotionSearchResult search_motion_16x16(const SamplePlane& src, const Interpolate
   } else {
     // Each vector in range is measured at most once (bit per vector of the (2r+1)^2 window).
     const int side = 2 * r + 1;
-    std::vector<uint8_t> seen(static_cast<size_t>(side) * side, 0);
+    uint8_t seen[65 * 65];  // range <= 32
+    GVKIT_CHECK(r >= 0 && r <= 32);
+    std::fill(seen, seen + side * side, uint8_t{0});
     const auto visit = [&](int dx, int dy) {
       if (std::abs(dx) > r || std::abs(dy) > r) return false;
       uint8_t& s = seen[static_cast<size_t>(dy + r) * side + dx + r];

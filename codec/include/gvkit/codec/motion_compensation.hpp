@@ -50,7 +50,8 @@ class InterpolatedReference {
   // ref must outlive this object; 8 <= bit_depth <= 16, margin >= 0.
   InterpolatedReference(const SamplePlane& ref, int bit_depth, int margin);
 
-  // As predict_motion_block(ref, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth, pred).
+  // As predict_motion_block(ref, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth, pred), for
+  // any w, h > 0 (row-major into pred, w * h values).
   void predict(int x0, int y0, int w, int h, int mv_x, int mv_y, bool quarter_pel,
                int32_t* pred) const;
   // As motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth).

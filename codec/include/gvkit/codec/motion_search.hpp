@@ -18,7 +18,7 @@ enum class MotionSearchPattern {
 
 struct MotionSearchParams {
   MotionSearchPattern pattern = MotionSearchPattern::kFull;
-  int range = 4;          // integer search: |dx|, |dy| <= range samples around zero
+  int range = 4;          // integer search: |dx|, |dy| <= range samples around zero (0..32)
   int subpel = 0;         // 0 (whole samples), 2 (refine to half) or 4 (to quarter samples)
   bool lossless = false;  // refinement by SAD instead of SATD
   double lambda = 1;      // cost of one motion bit in distortion units
