@@ -2,11 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace gvkit::codec {
 namespace {
 
 int padded(int n) { return (n + 15) / 16 * 16; }
+
+// std::round (halves away from zero) without the library call: below 2^52 the truncation is
+// exact through int64 and so is q - trunc(q); from 2^52 on every double is an integer.
+inline double round_half_away(double q) {
+  if (!(std::abs(q) < 4503599627370496.0)) return q;
+  const double t = static_cast<double>(static_cast<int64_t>(q));
+  const double f = q - t;
+  return f >= 0.5 ? t + 1 : (f <= -0.5 ? t - 1 : t);
+}
 
 // Push-pull on (value * weight, weight) images: returns the filled values.
 void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int height) {
@@ -52,7 +62,10 @@ SamplePlane to_plane(const std::vector<double>& values, int width, int height, i
     for (int x = 0; x < p.width; ++x) {
       const double v =
           values[static_cast<size_t>(std::min(y, height - 1)) * width + std::min(x, width - 1)];
-      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(std::lround(v), 0, max_value));
+      // std::lround's value wherever it is defined (|v| < 2^52 here: v mixes samples in range).
+      const long r =
+          std::abs(v) < 4503599627370496.0 ? static_cast<long>(round_half_away(v)) : std::lround(v);
+      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(r, 0, max_value));
     }
   return p;
 }
@@ -84,7 +97,7 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
       for (int x = 0; x < w; ++x) {
         const double q = (p[x][a] - info.box_min_mm[a]) / step;
         values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(q) ? std::clamp(std::round(q), 0.0, double(max_value)) : 0.0;
+            std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
       }
     }
     fill_outside_domain(values, w, h, info.domain_mask);
@@ -95,7 +108,7 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
       for (int x = 0; x < w; ++x) {
         const float t = image.texture.empty() ? 0.f : image.texture.at<float>(y, x);
         values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(t) ? std::clamp(std::round(t * 255.0), 0.0, 255.0) : 0.0;
+            std::isfinite(t) ? std::clamp(round_half_away(t * 255.0), 0.0, 255.0) : 0.0;
       }
     planes.push_back(to_plane(values, w, h, 255));
   }
