@@ -78,8 +78,10 @@ class MacroblockEncoder {
       if (ref_ && p_.td_prediction) {
         consider(kMbInter, true);
         // The sub-sample vector suits plain inter prediction; the temporal difference from a
-        // whole-sample vector is often smoother, so TD also tries the whole-sample search result.
-        if (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_) {
+        // whole-sample vector is often smoother, so TD also tries the whole-sample search result
+        // (lossy fast preset: only when TD with the sub-sample vector beat plain inter).
+        if ((p_.lossless || p_.rdo || best.mb.td) &&
+            (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_)) {
           mv_x_ = whole_mv_x_;
           mv_y_ = whole_mv_y_;
           consider(kMbInter, true);
