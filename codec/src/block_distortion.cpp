@@ -9,7 +9,7 @@
 #include "gvkit/codec/transform.hpp"
 
 #if defined(__SSE2__)
-#include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 namespace gvkit::codec {
@@ -105,7 +105,9 @@ int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdi
   return horizontal_sum(acc);
 }
 
-int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+namespace {
+
+int64_t satd_block_sse2(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   int64_t sum = 0;
   for (int by = 0; by < n; by += 4) {
     const uint16_t* s = src + by * src_stride;
@@ -118,17 +120,8 @@ int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32
   return sum;
 }
 
-int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
-  __m128i acc = _mm_setzero_si128();
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; x += 4)
-      acc = _mm_add_epi32(acc, abs_epi32(diff4(src + y * src_stride + x, pred + y * n + x)));
-  // At most 256 * 2^17 = 2^25.
-  return horizontal_sum(acc);
-}
-
-void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
-                    int count, int64_t* out) {
+void distortions4x4_sse2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
+                         const int32_t (*preds)[16], int count, int64_t* out) {
   const __m128i zero = _mm_setzero_si128();
   __m128i s[4];
   for (int r = 0; r < 4; ++r)
@@ -144,6 +137,127 @@ void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const i
                                                 _mm_add_epi32(abs_epi32(d2), abs_epi32(d3))))
                  : satd4x4_rows(d0, d1, d2, d3);
   }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+// AVX2: two 4x4 blocks side by side, one per 128-bit lane (the unpacks work within lanes). The
+// sixteen coefficients of a block all have the parity of its sum of differences, so each block's
+// sum of magnitudes is even and halving the total equals halving each block.
+#define GVKIT_AVX2 __attribute__((target("avx2")))
+
+GVKIT_AVX2 inline void hadamard4_avx2(__m256i& a, __m256i& b, __m256i& c, __m256i& d) {
+  const __m256i a0 = _mm256_add_epi32(a, b), a1 = _mm256_sub_epi32(a, b);
+  const __m256i a2 = _mm256_add_epi32(c, d), a3 = _mm256_sub_epi32(c, d);
+  a = _mm256_add_epi32(a0, a2);
+  b = _mm256_add_epi32(a1, a3);
+  c = _mm256_sub_epi32(a0, a2);
+  d = _mm256_sub_epi32(a1, a3);
+}
+
+// Sum of |coefficients| of the two blocks whose rows are r0..r3, per lane (4 partial sums each).
+GVKIT_AVX2 inline __m256i satd_pair(__m256i r0, __m256i r1, __m256i r2, __m256i r3) {
+  hadamard4_avx2(r0, r1, r2, r3);
+  const __m256i t0 = _mm256_unpacklo_epi32(r0, r1), t1 = _mm256_unpacklo_epi32(r2, r3);
+  const __m256i t2 = _mm256_unpackhi_epi32(r0, r1), t3 = _mm256_unpackhi_epi32(r2, r3);
+  r0 = _mm256_unpacklo_epi64(t0, t1);
+  r1 = _mm256_unpackhi_epi64(t0, t1);
+  r2 = _mm256_unpacklo_epi64(t2, t3);
+  r3 = _mm256_unpackhi_epi64(t2, t3);
+  hadamard4_avx2(r0, r1, r2, r3);
+  return _mm256_add_epi32(_mm256_add_epi32(_mm256_abs_epi32(r0), _mm256_abs_epi32(r1)),
+                          _mm256_add_epi32(_mm256_abs_epi32(r2), _mm256_abs_epi32(r3)));
+}
+
+GVKIT_AVX2 inline __m256i diff8(const uint16_t* src, const int32_t* pred) {
+  return _mm256_sub_epi32(
+      _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(src))),
+      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pred)));
+}
+
+GVKIT_AVX2 inline int32_t lane_sum(__m128i v) { return horizontal_sum(v); }
+
+GVKIT_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                   const int32_t* pred) {
+  if (n == 4) return satd_block_sse2(n, src, src_stride, pred);
+  // Per lane at most 8 blocks x 16 coefficients < 2^21 each: < 2^28, no overflow.
+  __m256i acc = _mm256_setzero_si256();
+  for (int by = 0; by < n; by += 4) {
+    const uint16_t* s = src + by * src_stride;
+    const int32_t* p = pred + by * n;
+    for (int bx = 0; bx < n; bx += 8)
+      acc = _mm256_add_epi32(
+          acc, satd_pair(diff8(s + bx, p + bx), diff8(s + src_stride + bx, p + n + bx),
+                         diff8(s + 2 * src_stride + bx, p + 2 * n + bx),
+                         diff8(s + 3 * src_stride + bx, p + 3 * n + bx)));
+  }
+  const __m128i v = _mm_add_epi32(_mm256_castsi256_si128(acc), _mm256_extracti128_si256(acc, 1));
+  return lane_sum(v) / 2;
+}
+
+GVKIT_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
+                                    const int32_t (*preds)[16], int count, int64_t* out) {
+  if (sad) return distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+  __m256i s[4];
+  for (int r = 0; r < 4; ++r) {
+    const __m128i row =
+        _mm_unpacklo_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(src + r * src_stride)),
+                           _mm_setzero_si128());
+    s[r] = _mm256_broadcastsi128_si256(row);
+  }
+  int i = 0;
+  for (; i + 1 < count; i += 2) {
+    __m256i d[4];
+    for (int r = 0; r < 4; ++r) {
+      const __m256i p = _mm256_inserti128_si256(
+          _mm256_castsi128_si256(
+              _mm_loadu_si128(reinterpret_cast<const __m128i*>(preds[i] + 4 * r))),
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(preds[i + 1] + 4 * r)), 1);
+      d[r] = _mm256_sub_epi32(s[r], p);
+    }
+    const __m256i sum = satd_pair(d[0], d[1], d[2], d[3]);
+    out[i] = lane_sum(_mm256_castsi256_si128(sum)) / 2;
+    out[i + 1] = lane_sum(_mm256_extracti128_si256(sum, 1)) / 2;
+  }
+  if (i < count) distortions4x4_sse2(false, src, src_stride, preds + i, count - i, out + i);
+}
+
+bool has_avx2() {
+  static const bool yes = __builtin_cpu_supports("avx2");
+  return yes;
+}
+#else
+bool has_avx2() { return false; }
+int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  return satd_block_sse2(n, src, src_stride, pred);
+}
+void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
+                         const int32_t (*preds)[16], int count, int64_t* out) {
+  distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+}
+#endif
+
+}  // namespace
+
+int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  return has_avx2() ? satd_block_avx2(n, src, src_stride, pred)
+                    : satd_block_sse2(n, src, src_stride, pred);
+}
+
+void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
+                    int count, int64_t* out) {
+  if (has_avx2())
+    distortions4x4_avx2(sad, src, src_stride, preds, count, out);
+  else
+    distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+}
+
+int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+  __m128i acc = _mm_setzero_si128();
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; x += 4)
+      acc = _mm_add_epi32(acc, abs_epi32(diff4(src + y * src_stride + x, pred + y * n + x)));
+  // At most 256 * 2^17 = 2^25.
+  return horizontal_sum(acc);
 }
 
 #else
