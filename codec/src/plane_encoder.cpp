@@ -105,10 +105,11 @@ class MacroblockEncoder {
     return 2 + 2 * k + 1;
   }
 
-  // Inter candidate: full search of integer motion within the search range around zero, by SAD +
-  // lambda * motion bits; with sub-sample motion, then the predictor and the eight half-sample
-  // (and then quarter-sample) neighbours of the best vector by SATD (SAD when lossless) + lambda
-  // * motion bits; then the residual as sixteen 4x4 blocks.
+  // Inter candidate: integer motion within the search range around zero by SAD + lambda * motion
+  // bits (full search with RDO, else a predictor-seeded diamond search); with sub-sample motion,
+  // then the predictor and the eight half-sample (and then quarter-sample) neighbours of the best
+  // vector by SATD (SAD when lossless) + lambda * motion bits (motion_search.hpp); then the
+  // residual as sixteen 4x4 blocks.
   double try_inter(MacroblockData& mb, ContextSet& trial) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
