@@ -17,6 +17,9 @@ void inverse_transform8x8(const int64_t* coeffs, int32_t* residual);
 // qp_prime = QP + 6 (B - 8), 0 <= qp_prime <= 99. Intra dead zone (rounding offset 1/3).
 void quantize(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
+// The plain per-position formulas of the same (kept to check the table-driven versions).
+void quantize_reference(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
+void dequantize_reference(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
 // Quantizer step size (in sample units of the coded bit depth) of qp_prime: 0.625 * 2^(qp'/6).
 double quantizer_step(int qp_prime);
 
