@@ -102,7 +102,7 @@ Result<ScanMesh> mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions
   MeshRepairOptions repair_options;
   repair_options.keep_largest_component = options.keep_largest_component;
   std::vector<int> original;
-  out.mesh = mesh_from_triangles(points, colors, triangles, repair_options, &out.repair, &original);
+  mesh_from_triangles(points, colors, triangles, repair_options, &out.mesh, &out.repair, &original);
   std::vector<cv::Point> pixel_of_point(points.size());
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x)
