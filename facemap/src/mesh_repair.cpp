@@ -207,7 +207,10 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
       drop[i] = 1;
     }
   }
-  if (n < (1 << 21)) {
+  if (!options.check_duplicates) {
+    // The caller's triangles have none (a pixel grid, a clipped manifold mesh); the direct build
+    // refuses them if that is wrong, and the faces are then checked after all (below).
+  } else if (n < (1 << 21)) {
     std::vector<std::pair<uint64_t, int>> keys;
     keys.reserve(triangles.size());
     for (size_t i = 0; i < triangles.size(); ++i) {
@@ -294,6 +297,11 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
       mesh.set_point(v, points[original[i]]);
       if (with_colors) mesh.set_color(v, colors[original[i]]);
     }
+  } else if (!options.check_duplicates) {
+    MeshRepairOptions checked = options;
+    checked.check_duplicates = true;
+    mesh_from_triangles(points, colors, triangles, checked, out, report, original_index);
+    return;
   } else {
     // The reference: OpenMesh's add_face, which refuses faces that would make an edge
     // non-manifold or a vertex complex. It reports refused faces on its own stream; they are

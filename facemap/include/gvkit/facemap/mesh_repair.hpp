@@ -28,6 +28,9 @@ struct MeshRepairOptions {
   // true: the half-edge structure is written directly (build_half_edges) when the kept faces
   // allow it, else OpenMesh's add_face builds it (the reference, always used when false).
   bool direct_build = true;
+  // false: the caller guarantees no two triangles share their three corners (saves a sort of
+  // all faces); if the direct build finds otherwise, duplicates are checked after all.
+  bool check_duplicates = true;
 };
 
 // A manifold mesh from a triangle soup: points (mm), optional per-point colours (same size or
