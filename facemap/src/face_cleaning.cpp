@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "gvkit/facemap/nearest_vertices.hpp"
+
 namespace gvkit::facemap {
 
 Status CleanOptions::check() const {
@@ -34,31 +36,24 @@ Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const Clea
   for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
   mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
   const std::vector<int> required = required_landmarks();
-  std::vector<double> best_d2(required.size(), std::numeric_limits<double>::infinity());
-  std::vector<Mesh::Point> best(required.size());
   std::vector<Mesh::Point> targets;
   for (int i : required) {
     const cv::Vec3f& p = face->landmarks.points_mm[i];
     targets.emplace_back(p[0], p[1], p[2]);
   }
-  for (auto v : mesh.vertices()) {
-    const Mesh::Point& q = mesh.point(v);
-    for (size_t k = 0; k < targets.size(); ++k) {
-      const double d2 = (q - targets[k]).sqrnorm();
-      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = q;
-    }
-  }
+  std::vector<double> distance;
+  const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, targets, &distance);
   for (size_t k = 0; k < required.size(); ++k) {
-    const double d = std::sqrt(best_d2[k]);
+    const double d = distance[k];
+    const Mesh::Point best = mesh.point(nearest[k]);
     if (d <= 0.5 * mean_edge) continue;
     if (!(d <= options.landmark_max_snap_mm))
       return failed_precondition(
           "landmark " + std::to_string(required[k]) + " lies " +
           std::to_string(static_cast<int>(std::lround(d))) + " mm off the mesh (limit " +
           std::to_string(static_cast<int>(options.landmark_max_snap_mm)) + " mm)");
-    face->landmarks.points_mm[required[k]] =
-        cv::Vec3f(static_cast<float>(best[k][0]), static_cast<float>(best[k][1]),
-                  static_cast<float>(best[k][2]));
+    face->landmarks.points_mm[required[k]] = cv::Vec3f(
+        static_cast<float>(best[0]), static_cast<float>(best[1]), static_cast<float>(best[2]));
     ++face->stats.landmarks_snapped_mm;
     face->stats.landmark_max_snap_mm = std::max(face->stats.landmark_max_snap_mm, d);
   }

@@ -12,6 +12,7 @@
 
 #include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
+#include "gvkit/facemap/nearest_vertices.hpp"
 
 namespace gvkit::facemap {
 
@@ -43,25 +44,6 @@ std::vector<Point> contour_points(const FaceLandmarks& landmarks, const std::arr
 std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mouth) {
   return mouth == MouthContour::kInner ? contour_points(landmarks, kInnerMouthContour)
                                        : contour_points(landmarks, kOuterMouthContour);
-}
-
-// The nearest vertex to each of the points, in one pass over the vertices.
-std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh, const std::vector<Point>& points,
-                                                 std::vector<double>* distances = nullptr) {
-  std::vector<Mesh::VertexHandle> best(points.size());
-  std::vector<double> best_d2(points.size(), std::numeric_limits<double>::infinity());
-  for (auto v : mesh.vertices()) {
-    const Point& q = mesh.point(v);
-    for (size_t k = 0; k < points.size(); ++k) {
-      const double d2 = (q - points[k]).sqrnorm();
-      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = v;
-    }
-  }
-  if (distances) {
-    distances->resize(points.size());
-    for (size_t k = 0; k < points.size(); ++k) (*distances)[k] = std::sqrt(best_d2[k]);
-  }
-  return best;
 }
 
 // Shortest edge path (Dijkstra) from a to b, as vertices from a to b.

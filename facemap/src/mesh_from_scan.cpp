@@ -61,10 +61,11 @@ Status mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options,
     }
 
   // Edge test: |a - b| <= factor * footprint * depth, with room for diagonals (1.5 > sqrt 2).
+  const double edge_per_depth = options.max_edge_factor * footprint * 1.5;
   auto edge_ok = [&](int a, int b) {
     const Mesh::Point d = points[a] - points[b];
-    const double depth = 0.5 * (std::abs(points[a][2]) + std::abs(points[b][2]));
-    return d.norm() <= options.max_edge_factor * footprint * depth * 1.5;
+    const double limit = edge_per_depth * 0.5 * (std::abs(points[a][2]) + std::abs(points[b][2]));
+    return d.sqrnorm() <= limit * limit;
   };
   auto triangle_ok = [&](int a, int b, int c) {
     return edge_ok(a, b) && edge_ok(b, c) && edge_ok(c, a);

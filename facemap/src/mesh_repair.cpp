@@ -194,13 +194,15 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   // sets are packed into one 64-bit key when the indices fit in 21 bits.
   std::vector<char> drop(triangles.size(), 0);
   std::vector<std::array<int, 3>> sorted_corners;
-  sorted_corners.reserve(triangles.size());
+  if (options.check_duplicates) sorted_corners.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
     for (int k = 0; k < 3; ++k) GVKIT_CHECK(t[k] >= 0 && t[k] < n, "triangle index out of range");
-    std::array<int, 3> key = t;
-    std::sort(key.begin(), key.end());
-    sorted_corners.push_back(key);
+    if (options.check_duplicates) {
+      std::array<int, 3> key = t;
+      std::sort(key.begin(), key.end());
+      sorted_corners.push_back(key);
+    }
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] ||
         ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).sqrnorm() == 0.0) {
       ++r.degenerate_faces;
