@@ -341,7 +341,7 @@ Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& optio
         area += (mesh->point(mesh->from_vertex_handle(h)) - origin) %
                 (mesh->point(mesh->to_vertex_handle(h)) - origin);
       const double target = options.density_factor * loops[i].first / hole.size();
-      new_vertices += 1.5 * 0.5 * area.norm() / (0.43 * target * target) + hole.size();
+      new_vertices += 2.5 * 0.5 * area.norm() / (0.43 * target * target) + hole.size();
     }
     const size_t k = static_cast<size_t>(new_vertices);
     mesh->reserve(mesh->n_vertices() + k, mesh->n_edges() + 3 * k, mesh->n_faces() + 2 * k);
