@@ -45,8 +45,10 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
       {std::cbrt(8.0 * volume / n), size[0] / 1000.0, size[1] / 1000.0, size[2] / 1000.0, 1e-9});
   std::array<int, 3> dims;
   for (int k = 0; k < 3; ++k) dims[k] = std::clamp(static_cast<int>(size[k] / cell) + 1, 1, 1024);
-  auto coord = [&](double x, int k) {
-    return std::clamp(static_cast<int>((x - lo[k]) / cell), 0, dims[k] - 1);
+  auto coord = [&](double x, int k) {  // NaN-safe: anything not inside goes to a border cell
+    const double t = (x - lo[k]) / cell;
+    if (!(t >= 0)) return 0;
+    return t >= dims[k] - 1 ? dims[k] - 1 : static_cast<int>(t);
   };
   const size_t n_cells = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   auto cell_of = [&](int x, int y, int z) {
@@ -68,21 +70,21 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
   if (distances) distances->assign(points.size(), std::numeric_limits<double>::infinity());
   for (size_t k = 0; k < points.size(); ++k) {
     const Mesh::Point& q = points[k];
-    const int cx = coord(q[0], 0), cy = coord(q[1], 1), cz = coord(q[2], 2);
-    // Distance from q to the outside of its cell's block of radius r (in cells): every vertex
-    // not yet searched lies at least this far (q may lie outside the grid: clamp to 0).
     double best_d2 = std::numeric_limits<double>::infinity();
     int best_i = -1;
-    const int max_r = std::max({dims[0], dims[1], dims[2]});
-    for (int r = 0; r <= max_r; ++r) {
-      for (int z = cz - r; z <= cz + r; ++z) {
-        if (z < 0 || z >= dims[2]) continue;
-        for (int y = cy - r; y <= cy + r; ++y) {
-          if (y < 0 || y >= dims[1]) continue;
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
+      best[k] = Mesh::VertexHandle();
+      continue;
+    }
+    const int cx = coord(q[0], 0), cy = coord(q[1], 1), cz = coord(q[2], 2);
+    for (int r = 0;; ++r) {
+      // The shell of cells at Chebyshev distance r from q's cell, clipped to the grid.
+      for (int z = std::max(cz - r, 0); z <= std::min(cz + r, dims[2] - 1); ++z)
+        for (int y = std::max(cy - r, 0); y <= std::min(cy + r, dims[1] - 1); ++y) {
           const bool shell_yz = std::abs(z - cz) == r || std::abs(y - cy) == r;
-          for (int x = cx - r; x <= cx + r; ++x) {
+          const int step = shell_yz ? 1 : 2 * r;  // inside the shell only x = cx -+ r
+          for (int x = cx - r; x <= cx + r; x += std::max(step, 1)) {
             if (x < 0 || x >= dims[0]) continue;
-            if (!shell_yz && std::abs(x - cx) != r) continue;  // searched in an earlier shell
             const size_t c = cell_of(x, y, z);
             for (int j = start[c]; j < start[c + 1]; ++j) {
               const int i = in_cell[j];
@@ -91,7 +93,9 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
             }
           }
         }
-      }
+      const bool covered = cx - r <= 0 && cy - r <= 0 && cz - r <= 0 && cx + r >= dims[0] - 1 &&
+                           cy + r >= dims[1] - 1 && cz + r >= dims[2] - 1;
+      if (covered) break;
       // Unsearched vertices lie outside the block of cells within r of q's cell.
       double reach = std::numeric_limits<double>::infinity();
       for (int a = 0; a < 3; ++a) {

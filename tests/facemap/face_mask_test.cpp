@@ -2,6 +2,7 @@
 #include "gvkit/facemap/face_mask.hpp"
 
 #include <cstdio>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -165,6 +166,7 @@ TEST(FaceMask, NearestVerticesMatchTheReference) {
   std::vector<Mesh::Point> points = {{10, 10, 0.01 * 35 * 35}, {0.5, 0.5, 0}, {45.2, 30.7, 3},
                                      {-20, 200, 50},           {89, 0, -40},  {44.5, 44.5, 0}};
   for (int i = 0; i < 20; ++i) points.emplace_back(4.3 * i, 87 - 3.1 * i, (i % 5) - 2.0);
+  points.emplace_back(std::numeric_limits<double>::quiet_NaN(), 0, 0);  // no nearest vertex
   std::vector<double> d, d_reference;
   const auto grid = nearest_vertices(mesh, points, &d);
   const auto reference = nearest_vertices_reference(mesh, points, &d_reference);
