@@ -232,9 +232,8 @@ void run_clean(const CleanArgs& args) {
         return;
       }
     }
-    auto process = [&]() -> Status {
-      if (!frame.status.is_ok()) return frame.status;
-      Result<facemap::CleanedFace> face = Status(StatusCode::kInternal, "not run");
+    // Each branch returns its Result directly (built in place): meshes have no cheap move.
+    auto clean_frame = [&]() -> Result<facemap::CleanedFace> {
       if (kind == InputKind::kScans) {
         GVKIT_ASSIGN_OR_RETURN(RangeScan scan, read_range_scan_exr(frame.path));
         scan.index = frame.index;
@@ -246,22 +245,24 @@ void run_clean(const CleanArgs& args) {
           if (!detected.is_ok()) return detected.status().with_context(name);
           landmarks = std::move(detected).value();
         }
-        face = facemap::clean_scan(scan, std::move(landmarks), options);
-      } else {
-        GVKIT_ASSIGN_OR_RETURN(Mesh mesh, read_mesh(frame.path));
-        if (reference && frame.index == frames.front().index) {
-          face = reference->face;
-        } else if (reference) {
-          facemap::TransferStats transfer;
-          face = facemap::transfer_cleaned_face(reference->face, reference->input, mesh, name,
-                                                &transfer);
-          frame.transfer = transfer;
-        } else {
-          const fs::path landmark_path = frame_path(args.input, frame.index, ".landmarks.json");
-          GVKIT_ASSIGN_OR_RETURN(FaceLandmarks landmarks, read_face_landmarks(landmark_path));
-          face = facemap::clean_mesh(std::move(mesh), landmarks, name, options);
-        }
+        return facemap::clean_scan(scan, std::move(landmarks), options);
       }
+      GVKIT_ASSIGN_OR_RETURN(Mesh mesh, read_mesh(frame.path));
+      if (reference && frame.index == frames.front().index) return reference->face;
+      if (reference) {
+        facemap::TransferStats transfer;
+        auto face = facemap::transfer_cleaned_face(reference->face, reference->input, mesh, name,
+                                                   &transfer);
+        frame.transfer = transfer;
+        return face;
+      }
+      const fs::path landmark_path = frame_path(args.input, frame.index, ".landmarks.json");
+      GVKIT_ASSIGN_OR_RETURN(FaceLandmarks landmarks, read_face_landmarks(landmark_path));
+      return facemap::clean_mesh(std::move(mesh), landmarks, name, options);
+    };
+    auto process = [&]() -> Status {
+      if (!frame.status.is_ok()) return frame.status;
+      Result<facemap::CleanedFace> face = clean_frame();
       if (!face.is_ok()) return face.status();
       frame.stats = face->stats;
       GVKIT_RETURN_IF_ERROR(write_mesh(frame_path(args.output, frame.index, ".ply"), face->mesh));

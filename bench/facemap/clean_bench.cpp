@@ -62,6 +62,9 @@ void BM_CleanScan(benchmark::State& state) {
   state.counters["out_vertices"] = stats.output_vertices;
   state.counters["mesh_ms"] = stats.mesh_ms;
   state.counters["fill_ms"] = stats.fill_ms;
+  state.counters["holes_filled"] = stats.holes_filled;
+  state.counters["vertices_added"] = stats.vertices_added;
+  state.counters["total_ms"] = stats.total_ms;
   state.counters["mask_ms"] = stats.mask_ms;
 }
 // Args: image size (px; the face keeps its size in the image), geodesics (0: fast marching,

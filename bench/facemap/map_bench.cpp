@@ -18,6 +18,7 @@
 #include "gvkit/facemap/eip_map.hpp"
 #include "gvkit/facemap/face_annulus.hpp"
 #include "gvkit/facemap/flow_coordinates.hpp"
+#include "gvkit/facemap/harmonic_field.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
 
 namespace gvkit::facemap {
@@ -86,11 +87,14 @@ void BM_CanonicalDomain(benchmark::State& state) {
 }
 BENCHMARK(BM_CanonicalDomain)->Arg(128)->Arg(320)->Unit(benchmark::kMillisecond);
 
-// Cuts c and d and the annulus; range(1) = 1 traces descent paths, 0 edge paths only.
+// Cuts c and d and the annulus; range(1): 0 = edge paths only, 1 = descent paths with the
+// distance fields solved on the whole mesh (the reference), 2 = descent paths with the fields
+// solved on the crop around the cut routes (the default).
 void BM_FaceAnnulus(benchmark::State& state) {
   REQUIRE_FACE(state);
   FaceAnnulusOptions o;
   o.descent_paths = state.range(1) != 0;
+  if (state.range(1) == 1) o.distance_crop_mm = 0;
   const auto distance = heat_geodesic_distance();
   for (auto _ : state) {
     auto a = make_face_annulus(f->mesh, f->landmarks, distance, o);
@@ -99,8 +103,8 @@ void BM_FaceAnnulus(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FaceAnnulus)
-    ->ArgsProduct({{0, 1, 2}, {0, 1}})
-    ->ArgNames({"face", "descent"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1, 2}})
+    ->ArgNames({"face", "cuts"})
     ->Unit(benchmark::kMillisecond);
 
 // f, its conjugate, the boundary correspondence and the untangling of flips.
@@ -114,6 +118,30 @@ void BM_FlowCoordinates(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(flow_coordinates(*a, d->key_u()));
 }
 BENCHMARK(BM_FlowCoordinates)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// f and psi of the annulus: range(1) = 0 orders each reduced system on its own (the reference),
+// 1 uses one elimination order of the whole Laplacian for both (what flow_coordinates does).
+void BM_HarmonicSolves(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  auto a = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
+  if (!a.is_ok()) return state.SkipWithError(a.status().message().c_str());
+  const TriSurface& s = a->surface;
+  std::vector<char> fixed(s.n_vertices(), 0);
+  std::vector<double> value(s.n_vertices(), 0.0);
+  for (int v : a->outer_loop) fixed[v] = 1;
+  for (int v : a->inner_loop) fixed[v] = 1, value[v] = 1.0;
+  const auto laplacian = cotan_laplacian(s);
+  for (auto _ : state) {
+    const std::vector<int> order =
+        state.range(1) ? laplacian_elimination_order(laplacian) : std::vector<int>{};
+    benchmark::DoNotOptimize(solve_dirichlet(laplacian, fixed, value, order));
+    benchmark::DoNotOptimize(harmonic_conjugate(s, laplacian, a->inner_loop, a->outer_loop, order));
+  }
+}
+BENCHMARK(BM_HarmonicSolves)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgNames({"face", "one_order"})
+    ->Unit(benchmark::kMillisecond);
 
 // The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
 void BM_MapFaceEip(benchmark::State& state) {

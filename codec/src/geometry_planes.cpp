@@ -2,11 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace gvkit::codec {
 namespace {
 
 int padded(int n) { return (n + 15) / 16 * 16; }
+
+// std::round (halves away from zero) without the library call: below 2^52 the truncation is
+// exact through int64 and so is q - trunc(q); from 2^52 on every double is an integer.
+inline double round_half_away(double q) {
+  if (!(std::abs(q) < 4503599627370496.0)) return q;
+  const double t = static_cast<double>(static_cast<int64_t>(q));
+  const double f = q - t;
+  // Branch-free (the fraction is unpredictable): adding 1.0 or 0.0 to an integer is exact.
+  return t + static_cast<double>(f >= 0.5) - static_cast<double>(f <= -0.5);
+}
 
 // Push-pull on (value * weight, weight) images: returns the filled values.
 void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int height) {
@@ -24,23 +35,38 @@ void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int he
       cwt[c] += w[i];
     }
   push_pull(cv_, cwt, cw, ch);
-  for (int y = 0; y < height; ++y)
+  // Bilinear weights from the coarse level at each pixel's centre, per column and per row.
+  struct Tap {
+    int i0, i1;
+    double a;
+  };
+  std::vector<Tap> col(static_cast<size_t>(width)), row(static_cast<size_t>(height));
+  for (int x = 0; x < width; ++x) {
+    const double fx = std::clamp((x + 0.5) / 2 - 0.5, 0.0, cw - 1.0);
+    const int x0 = static_cast<int>(fx);
+    col[x] = {x0, std::min(x0 + 1, cw - 1), fx - x0};
+  }
+  for (int y = 0; y < height; ++y) {
+    const double fy = std::clamp((y + 0.5) / 2 - 0.5, 0.0, ch - 1.0);
+    const int y0 = static_cast<int>(fy);
+    row[y] = {y0, std::min(y0 + 1, ch - 1), fy - y0};
+  }
+  for (int y = 0; y < height; ++y) {
+    const double* c0 = &cv_[static_cast<size_t>(row[y].i0) * cw];
+    const double* c1 = &cv_[static_cast<size_t>(row[y].i1) * cw];
+    const double ay = row[y].a;
     for (int x = 0; x < width; ++x) {
       const size_t i = static_cast<size_t>(y) * width + x;
       if (w[i] > 0) {
-        v[i] /= w[i];
+        if (w[i] != 1.0) v[i] /= w[i];  // x / 1 is x exactly: skip most of the divisions
         continue;
       }
-      // Bilinear from the coarse level at this pixel's centre.
-      const double fx = std::clamp((x + 0.5) / 2 - 0.5, 0.0, cw - 1.0);
-      const double fy = std::clamp((y + 0.5) / 2 - 0.5, 0.0, ch - 1.0);
-      const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
-      const int x1 = std::min(x0 + 1, cw - 1), y1 = std::min(y0 + 1, ch - 1);
-      const double ax = fx - x0, ay = fy - y0;
-      const auto at = [&](int xx, int yy) { return cv_[static_cast<size_t>(yy) * cw + xx]; };
-      v[i] = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
-             ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+      const Tap& t = col[x];
+      const double ax = t.a;
+      v[i] = (1 - ay) * ((1 - ax) * c0[t.i0] + ax * c0[t.i1]) +
+             ay * ((1 - ax) * c1[t.i0] + ax * c1[t.i1]);
     }
+  }
 }
 
 SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value) {
@@ -52,7 +78,10 @@ SamplePlane to_plane(const std::vector<double>& values, int width, int height, i
     for (int x = 0; x < p.width; ++x) {
       const double v =
           values[static_cast<size_t>(std::min(y, height - 1)) * width + std::min(x, width - 1)];
-      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(std::lround(v), 0, max_value));
+      // std::lround's value wherever it is defined (|v| < 2^52 here: v mixes samples in range).
+      const long r =
+          std::abs(v) < 4503599627370496.0 ? static_cast<long>(round_half_away(v)) : std::lround(v);
+      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(r, 0, max_value));
     }
   return p;
 }
@@ -79,12 +108,15 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
   std::vector<SamplePlane> planes;
   std::vector<double> values(static_cast<size_t>(w) * h);
   for (int a = 0; a < 3; ++a) {
+    const double box_min = info.box_min_mm[a];
     for (int y = 0; y < h; ++y) {
-      const cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
+      const float* p = image.xyz_mm.ptr<float>(y) + a;
+      double* row = &values[static_cast<size_t>(y) * w];
+      // The divisions first, in a loop the compiler vectorizes, then the rounding.
+      for (int x = 0; x < w; ++x) row[x] = (p[3 * x] - box_min) / step;
       for (int x = 0; x < w; ++x) {
-        const double q = (p[x][a] - info.box_min_mm[a]) / step;
-        values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(q) ? std::clamp(std::round(q), 0.0, double(max_value)) : 0.0;
+        const double q = row[x];
+        row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
       }
     }
     fill_outside_domain(values, w, h, info.domain_mask);
@@ -95,7 +127,7 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
       for (int x = 0; x < w; ++x) {
         const float t = image.texture.empty() ? 0.f : image.texture.at<float>(y, x);
         values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(t) ? std::clamp(std::round(t * 255.0), 0.0, 255.0) : 0.0;
+            std::isfinite(t) ? std::clamp(round_half_away(t * 255.0), 0.0, 255.0) : 0.0;
       }
     planes.push_back(to_plane(values, w, h, 255));
   }

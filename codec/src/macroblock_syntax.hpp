@@ -464,21 +464,30 @@ inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int 
 // `block` of macroblock (mb_x, mb_y)) taken from the difference plane
 // D'(x, y) = clip(recon(x, y) - ref(x + mv_x, y + mv_y) + 2^(B-1), 0, 2^B - 1) (reference
 // coordinates clamped), with the availability and substitution rules of intra prediction.
-inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& ref, int mv_x,
-                                   int mv_y, bool quarter_pel, int x0, int y0, int mb_x, int mb_y,
-                                   int block, int bit_depth) {
+// mc(x, y) is the motion-compensated reference sample at (x, y) (motion_sample's value).
+template <class MotionSample>
+IntraNeighbors td_neighbors_from(const SamplePlane& recon, const MotionSample& mc, int x0, int y0,
+                                 int mb_x, int mb_y, int block, int bit_depth) {
   constexpr int n = 4, stride = 2 * n + 1;
   const int32_t c = 1 << (bit_depth - 1), max_value = (1 << bit_depth) - 1;
   const auto d = [&](int x, int y) -> uint16_t {
     if (x < 0 || y < 0 || x >= recon.width || y >= recon.height) return 0;
-    const int32_t r = motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth);
-    return static_cast<uint16_t>(std::clamp(recon.at(x, y) - r + c, 0, max_value));
+    return static_cast<uint16_t>(std::clamp(recon.at(x, y) - mc(x, y) + c, 0, max_value));
   };
   uint16_t local[(n + 1) * stride];
   for (int i = 0; i < stride; ++i) local[i] = d(x0 - 1 + i, y0 - 1);
   for (int j = 1; j <= n; ++j) local[j * stride] = d(x0 - 1, y0 - 1 + j);
   const bool top_right = is_coded(x0 + n, y0 - 1, recon.width, mb_x, mb_y, block);
   return make_neighbors(local, stride, 1, 1, n, y0 > 0, x0 > 0, top_right, bit_depth);
+}
+
+inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& ref, int mv_x,
+                                   int mv_y, bool quarter_pel, int x0, int y0, int mb_x, int mb_y,
+                                   int block, int bit_depth) {
+  return td_neighbors_from(
+      recon,
+      [&](int x, int y) { return motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth); },
+      x0, y0, mb_x, mb_y, block, bit_depth);
 }
 
 // The temporal-difference prediction of a 4x4 block: motion-compensated reference plus the

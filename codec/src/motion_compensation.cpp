@@ -4,6 +4,10 @@
 
 #include <algorithm>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace gvkit::codec {
 namespace {
 
@@ -191,6 +195,139 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
       }
       pred[y * w + x] = v;
     }
+}
+
+namespace {
+
+// Quarter-sample phase 4 fy + fx as the rounded average of two stored samples (or one): plane
+// (0 G, 1 b, 2 h, 3 j) and offset (dx, dy) of each, as in the switch of predict_motion_block.
+struct PhaseTaps {
+  int8_t plane1, dx1, dy1, plane2, dx2, dy2;  // plane2 < 0: the first sample alone
+};
+constexpr PhaseTaps kPhaseTaps[16] = {
+    {0, 0, 0, -1, 0, 0}, {0, 0, 0, 1, 0, 0}, {1, 0, 0, -1, 0, 0}, {1, 0, 0, 0, 1, 0},
+    {0, 0, 0, 2, 0, 0},  {1, 0, 0, 2, 0, 0}, {1, 0, 0, 3, 0, 0},  {1, 0, 0, 2, 1, 0},
+    {2, 0, 0, -1, 0, 0}, {2, 0, 0, 3, 0, 0}, {3, 0, 0, -1, 0, 0}, {3, 0, 0, 2, 1, 0},
+    {0, 0, 1, 2, 0, 0},  {2, 0, 0, 1, 0, 1}, {3, 0, 0, 1, 0, 1},  {2, 1, 0, 1, 0, 1}};
+
+}  // namespace
+
+InterpolatedReference::InterpolatedReference(const SamplePlane& ref, int bit_depth, int margin)
+    : ref_(ref), bit_depth_(bit_depth), margin_(margin), stride_(ref.width + 2 * margin) {
+  GVKIT_CHECK(ref.width > 0 && ref.height > 0 && margin >= 0 && bit_depth >= 8 && bit_depth <= 16);
+  const int m = margin, pw = ref.width + 2 * m, ph = ref.height + 2 * m;
+  const int max_value = (1 << bit_depth) - 1;
+  // Rows of the edge-extended whole samples over the padded area plus the filter's reach (2
+  // before, 3 after), and their unrounded horizontal sums b1, in rings of the 6 rows the
+  // vertical taps read: window row k is picture row k - m - 2.
+  const int ew = pw + 5, lead = m + 2;
+  constexpr int kRing = 8;
+  std::vector<int32_t> e_ring(static_cast<size_t>(kRing) * ew),
+      b1_ring(static_cast<size_t>(kRing) * pw);
+  const auto make_row = [&](int k) {
+    const int sy = std::clamp(k - m - 2, 0, ref.height - 1);
+    const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
+    int32_t* __restrict out = &e_ring[static_cast<size_t>(k % kRing) * ew];
+    std::fill(out, out + lead, row[0]);
+    for (int x = 0; x < ref.width; ++x) out[lead + x] = row[x];
+    std::fill(out + lead + ref.width, out + ew, row[ref.width - 1]);
+    int32_t* __restrict sum = &b1_ring[static_cast<size_t>(k % kRing) * pw];
+    for (int x = 0; x < pw; ++x)
+      sum[x] =
+          out[x] - 5 * out[x + 1] + 20 * out[x + 2] + 20 * out[x + 3] - 5 * out[x + 4] + out[x + 5];
+  };
+  plane_size_ = static_cast<size_t>(pw) * ph;
+  storage_.resize(4 * plane_size_);
+  const auto clip = [max_value](int32_t v) {
+    return static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+  };
+  for (int k = 0; k < 5; ++k) make_row(k);
+  for (int y = 0; y < ph; ++y) {
+    // Padded row y is window row y + 2; the vertical taps read window rows y .. y + 5.
+    make_row(y + 5);
+    const int32_t* er[6];
+    const int32_t* br[6];
+    for (int k = 0; k < 6; ++k) {
+      er[k] = &e_ring[static_cast<size_t>((y + k) % kRing) * ew + 2];
+      br[k] = &b1_ring[static_cast<size_t>((y + k) % kRing) * pw];
+    }
+    const size_t o = static_cast<size_t>(y) * pw;
+    uint16_t* __restrict g = &storage_[o];
+    uint16_t* __restrict b = &storage_[plane_size_ + o];
+    uint16_t* __restrict h = &storage_[2 * plane_size_ + o];
+    uint16_t* __restrict j = &storage_[3 * plane_size_ + o];
+    const int32_t* __restrict e0 = er[0], * __restrict e1 = er[1], * __restrict e2 = er[2], * __restrict e3 = er[3], * __restrict e4 = er[4], * __restrict e5 = er[5];
+    const int32_t* __restrict s0 = br[0], * __restrict s1 = br[1], * __restrict s2 = br[2], * __restrict s3 = br[3], * __restrict s4 = br[4], * __restrict s5 = br[5];
+    for (int x = 0; x < pw; ++x) g[x] = static_cast<uint16_t>(e2[x]);
+    for (int x = 0; x < pw; ++x) b[x] = clip((s2[x] + 16) >> 5);
+    for (int x = 0; x < pw; ++x)
+      h[x] = clip((e0[x] - 5 * e1[x] + 20 * e2[x] + 20 * e3[x] - 5 * e4[x] + e5[x] + 16) >> 5);
+    for (int x = 0; x < pw; ++x)
+      j[x] = clip((s0[x] - 5 * s1[x] + 20 * s2[x] + 20 * s3[x] - 5 * s4[x] + s5[x] + 512) >> 10);
+  }
+}
+
+void InterpolatedReference::predict(int x0, int y0, int w, int h, int mv_x, int mv_y,
+                                    bool quarter_pel, int32_t* pred) const {
+  GVKIT_CHECK(w > 0 && h > 0);
+  // Beyond the margin: block-wise interpolation (blocks up to kMaxMotionBlock), else per sample.
+  const auto fallback = [&] {
+    if (w <= kMaxMotionBlock && h <= kMaxMotionBlock)
+      predict_motion_block(ref_, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth_, pred);
+    else
+      predict_motion_block_reference(ref_, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth_, pred);
+  };
+  if (!quarter_pel) {
+    const int x = x0 + mv_x, y = y0 + mv_y;
+    if (!inside(x, y, w, h)) return fallback();
+    const uint16_t* g = &storage_[index(x, y)];
+    for (int r = 0; r < h; ++r, g += stride_)
+      for (int c = 0; c < w; ++c) pred[r * w + c] = g[c];
+    return;
+  }
+  const int xi = x0 + (mv_x >> 2), yi = y0 + (mv_y >> 2);
+  if (!inside(xi, yi, w + 1, h + 1)) return fallback();
+  const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
+  const uint16_t* p1 = &storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
+  if (t.plane2 < 0) {
+    for (int r = 0; r < h; ++r, p1 += stride_)
+      for (int c = 0; c < w; ++c) pred[r * w + c] = p1[c];
+    return;
+  }
+  const uint16_t* p2 = &storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)];
+  for (int r = 0; r < h; ++r, p1 += stride_, p2 += stride_) {
+    int c = 0;
+#if defined(__SSE2__)
+    // pavgw is (a + b + 1) >> 1 on unsigned 16-bit samples, without overflow.
+    const __m128i zero = _mm_setzero_si128();
+    for (; c + 8 <= w; c += 8) {
+      const __m128i a = _mm_avg_epu16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p1 + c)),
+                                      _mm_loadu_si128(reinterpret_cast<const __m128i*>(p2 + c)));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pred + r * w + c), _mm_unpacklo_epi16(a, zero));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(pred + r * w + c + 4),
+                       _mm_unpackhi_epi16(a, zero));
+    }
+#endif
+    for (; c < w; ++c) pred[r * w + c] = (int32_t{p1[c]} + p2[c] + 1) >> 1;
+  }
+}
+
+int32_t InterpolatedReference::sample(int x, int y, int mv_x, int mv_y, bool quarter_pel) const {
+  if (!quarter_pel) {
+    const int sx = x + mv_x, sy = y + mv_y;
+    if (!inside(sx, sy, 1, 1)) return motion_sample(ref_, x, y, mv_x, mv_y, false, bit_depth_);
+    return storage_[index(sx, sy)];
+  }
+  const int xi = x + (mv_x >> 2), yi = y + (mv_y >> 2);
+  if (!inside(xi, yi, 2, 2)) return motion_sample(ref_, x, y, mv_x, mv_y, true, bit_depth_);
+  const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
+  const int32_t v1 = storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
+  if (t.plane2 < 0) return v1;
+  return (v1 + storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)] + 1) >> 1;
+}
+
+const uint16_t* InterpolatedReference::whole_block(int x, int y, int w, int h) const {
+  return inside(x, y, w, h) ? &storage_[index(x, y)] : nullptr;
 }
 
 }  // namespace gvkit::codec

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
+#include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/motion_search.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "macroblock_syntax.hpp"
 
@@ -29,13 +32,22 @@ class MacroblockEncoder {
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
                     const JointSearchPlanes* joint)
-      : joint_(joint),
-        src_(source),
+      : src_(source),
         recon_(recon),
         st_(st),
         p_(p),
         ref_(reference),
         max_value_((1 << p.bit_depth) - 1) {
+    // Half-sample planes over the search area (the predictor's vector may reach further: the
+    // interpolation then falls back to the plain block-wise path).
+    if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 4);
+    if (reference && joint) {
+      joint_interp_.reserve(joint->references.size());
+      for (size_t j = 0; j < joint->references.size(); ++j) {
+        joint_interp_.emplace_back(*joint->references[j], p.bit_depth, p.search_range + 4);
+        joint_planes_.push_back({joint->sources[j], &joint_interp_.back()});
+      }
+    }
     if (p.lossless && p.near_lossless > 0) {
       // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
       const double step = 2.0 * p.near_lossless + 1.0;
@@ -64,6 +76,7 @@ class MacroblockEncoder {
       Candidate c;
       c.mb.type = type;
       ContextSet trial = ctx;
+      bound_ = best.cost;
       c.cost = td                  ? try_td(c.mb, trial)
                : type == kMbInter  ? try_inter(c.mb, trial, forced)
                : type == kMbI16x16 ? try_i16(c.mb, trial)
@@ -88,8 +101,10 @@ class MacroblockEncoder {
       if (ref_ && p_.td_prediction) {
         consider(kMbInter, true);
         // The sub-sample vector suits plain inter prediction; the temporal difference from a
-        // whole-sample vector is often smoother, so TD also tries the whole-sample search result.
-        if (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_) {
+        // whole-sample vector is often smoother, so TD also tries the whole-sample search result
+        // (lossy fast preset: only when TD with the sub-sample vector beat plain inter).
+        if ((p_.lossless || p_.rdo || best.mb.td) &&
+            (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_)) {
           mv_x_ = whole_mv_x_;
           mv_y_ = whole_mv_y_;
           consider(kMbInter, true);
@@ -105,118 +120,71 @@ class MacroblockEncoder {
   }
 
  private:
-  static int exp_golomb_bits(int v) {
-    if (v == 0) return 1;
-    int k = 0;
-    uint32_t a = static_cast<uint32_t>(std::abs(v)) - 1;
-    while (a >= (1u << k)) a -= 1u << k++;
-    return 2 + 2 * k + 1;
-  }
-
-  // Inter candidate: full search of integer motion within the search range around zero, by SAD +
-  // lambda * motion bits; with sub-sample motion, then the predictor and the eight half-sample
-  // (and then quarter-sample) neighbours of the best vector by SATD (SAD when lossless) + lambda
-  // * motion bits; then the residual as sixteen 4x4 blocks.
   // Motion bits of vector (mx, my): the flag and nothing else for the co-located first-plane
   // vector (shared motion), else the two differences to the predictor (px, py).
   double motion_bits(int mx, int my, int px, int py) const {
+    MotionSearchParams shared;
+    set_shared(shared);
+    return motion_vector_bits(mx, my, px, py, shared);
+  }
+  void set_shared(MotionSearchParams& params) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-    if (!st_.can_share(i)) return exp_golomb_bits(mx - px) + exp_golomb_bits(my - py);
-    if (mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i]) return 1;
-    return 1 + exp_golomb_bits(mx - px) + exp_golomb_bits(my - py);
+    params.has_shared = st_.can_share(i);
+    if (params.has_shared) {
+      params.shared_mv_x = st_.colocated->mv_x[i];
+      params.shared_mv_y = st_.colocated->mv_y[i];
+    }
   }
   bool is_shared_vector(int mx, int my) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
     return st_.can_share(i) && mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i];
   }
 
+  // Inter candidate: integer motion within the search range around zero by SAD + lambda * motion
+  // bits (full search with RDO, else a predictor-seeded diamond search); with sub-sample motion,
+  // then the predictor, the co-located first-plane vector (shared motion) and the eight
+  // half-sample (and then quarter-sample) neighbours of the best vector by SATD (SAD when
+  // lossless) + lambda * motion bits (motion_search.hpp); then the residual as sixteen 4x4 blocks.
+  // A forced candidate takes the co-located vector or the predictor without a search.
   double try_inter(MacroblockData& mb, ContextSet& trial, Forced forced = Forced::kNone) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py);
-    const bool forced_shared = forced == Forced::kShared;
-    const int r = forced != Forced::kNone ? -1 : p_.search_range;  // forced: no search
     const bool qpel = p_.subpel != 0;
     const int unit = qpel ? 4 : 1;  // vector units per sample
-    double best = std::numeric_limits<double>::infinity();
-    int best_x = 0, best_y = 0;
-    int32_t pred[256];
-    const double lambda_mv = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
-    if (forced_shared) {
-      const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-      best_x = st_.colocated->mv_x[i] / unit;  // (refined below to the exact vector)
-      best_y = st_.colocated->mv_y[i] / unit;
-    }
-    for (int dy = -r; dy <= r; ++dy)
-      for (int dx = -r; dx <= r; ++dx) {
-        int64_t sad = block_sad(src_, *ref_, x0, y0, dx, dy, best);
-        if (joint_)
-          for (size_t j = 0; j < joint_->sources.size() && sad < best; ++j)
-            sad += block_sad(*joint_->sources[j], *joint_->references[j], x0, y0, dx, dy,
-                             best - static_cast<double>(sad));
-        const double cost = sad + lambda_mv * motion_bits(unit * dx, unit * dy, px, py);
-        if (cost < best) {
-          best = cost;
-          best_x = dx;
-          best_y = dy;
-        }
-      }
-    best_x *= unit;
-    best_y *= unit;
-    whole_mv_x_ = best_x;
-    whole_mv_y_ = best_y;
-    if (forced_shared) {
+    int best_x, best_y;
+    if (forced == Forced::kShared) {
+      // The first plane's vector as it is; its whole-sample part serves the TD candidate.
       const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
       best_x = st_.colocated->mv_x[i];
       best_y = st_.colocated->mv_y[i];
+      whole_mv_x_ = best_x / unit * unit;
+      whole_mv_y_ = best_y / unit * unit;
     } else if (forced == Forced::kPredictor) {
       best_x = px;
       best_y = py;
-    } else if (qpel) {
-      const int limit = 4 * kMaxMotion;
-      const auto cost_of = [&](int mx, int my) {
-        predict_inter(*ref_, x0, y0, mx, my, true, p_.bit_depth, pred);
-        int64_t d = distortion_estimate(16, pred, x0, y0);
-        if (joint_)
-          for (size_t j = 0; j < joint_->sources.size(); ++j) {
-            int32_t joint_pred[256];
-            predict_inter(*joint_->references[j], x0, y0, mx, my, true, p_.bit_depth, joint_pred);
-            d += distortion_estimate(16, joint_pred, x0, y0, joint_->sources[j]);
-          }
-        return static_cast<double>(d) + lambda_mv * motion_bits(mx, my, px, py);
-      };
-      best = cost_of(best_x, best_y);
-      const auto try_vector = [&](int mx, int my) {
-        if (mx == best_x && my == best_y) return;
-        const double c = cost_of(mx, my);
-        if (c < best) {
-          best = c;
-          best_x = mx;
-          best_y = my;
-        }
-      };
-      try_vector(px, py);
-      const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-      if (st_.can_share(i)) try_vector(st_.colocated->mv_x[i], st_.colocated->mv_y[i]);
-      for (int step = 2; step >= (p_.subpel >= 4 ? 1 : 2); step /= 2) {
-        const int cx = best_x, cy = best_y;
-        for (int dy = -step; dy <= step; dy += step)
-          for (int dx = -step; dx <= step; dx += step) {
-            const int mx = cx + dx, my = cy + dy;
-            if ((!dx && !dy) || std::abs(mx) > limit || std::abs(my) > limit) continue;
-            const double c = cost_of(mx, my);
-            if (c < best) {
-              best = c;
-              best_x = mx;
-              best_y = my;
-            }
-          }
-      }
+      whole_mv_x_ = whole_mv_y_ = 0;
+    } else {
+      MotionSearchParams search;
+      search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
+      search.range = p_.search_range;
+      search.subpel = p_.subpel;
+      search.lossless = p_.lossless;
+      search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
+      search.max_abs_mv = 4 * kMaxMotion;
+      set_shared(search);
+      search.joint = joint_planes_;
+      const MotionSearchResult found = search_motion_16x16(src_, *interp_, x0, y0, px, py, search);
+      best_x = found.mv_x;
+      best_y = found.mv_y;
+      whole_mv_x_ = found.whole_mv_x;
+      whole_mv_y_ = found.whole_mv_y;
     }
+    int32_t pred[256];
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
     mb.shared = is_shared_vector(best_x, best_y);
-    predict_inter(*ref_, x0, y0, best_x, best_y, qpel, p_.bit_depth, pred);
+    interp_->predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
     const double mv_bits = motion_bits(best_x, best_y, px, py);
     double cost;
     if (p_.rdo) {
@@ -272,37 +240,10 @@ class MacroblockEncoder {
     return ssd;
   }
 
-  // SAD of the 16x16 block at (x0, y0) of `source` against `ref` displaced by whole samples
-  // (dx, dy), the reference extended at its edges; stops early once above `limit`.
-  static int64_t block_sad(const SamplePlane& source, const SamplePlane& ref, int x0, int y0,
-                           int dx, int dy, double limit) {
-    int64_t sad = 0;
-    for (int y = 0; y < 16 && sad < limit; ++y) {
-      const int sy = std::clamp(y0 + y + dy, 0, ref.height - 1);
-      for (int x = 0; x < 16; ++x)
-        sad += std::abs(static_cast<int>(source.at(x0 + x, y0 + y)) -
-                        ref.at(std::clamp(x0 + x + dx, 0, ref.width - 1), sy));
-    }
-    return sad;
-  }
-
-  // SATD (or SAD when lossless) of source (the plane's own by default) minus prediction over an
-  // n x n block.
-  int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0,
-                              const SamplePlane* source = nullptr) const {
-    const SamplePlane& src = source ? *source : src_;
-    int32_t diff[256];
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x)
-        diff[y * n + x] = static_cast<int32_t>(src.at(x0 + x, y0 + y)) - pred[y * n + x];
-    int64_t sum = 0;
-    if (p_.lossless) {
-      for (int i = 0; i < n * n; ++i) sum += std::abs(diff[i]);
-      return sum;
-    }
-    for (int by = 0; by < n; by += 4)
-      for (int bx = 0; bx < n; bx += 4) sum += satd4x4(diff + by * n + bx, n);
-    return sum;
+  // SATD (or SAD when lossless) of source minus prediction over an n x n block.
+  int64_t distortion_estimate(int n, const int32_t* pred, int x0, int y0) const {
+    const uint16_t* src = &src_.samples[static_cast<size_t>(y0) * src_.width + x0];
+    return p_.lossless ? sad_block(n, src, src_.width, pred) : satd_block(n, src, src_.width, pred);
   }
 
   double mode_bits_estimate(int mode, int mpm) const {
@@ -329,20 +270,44 @@ class MacroblockEncoder {
     const int gx = x0 / 4, gy = y0 / 4;
     // Intra: neighbours from the reconstruction; temporal difference: from the difference plane.
     const IntraNeighbors nb =
-        td ? td_neighbors(recon_, *ref_, mv_x_, mv_y_, p_.subpel != 0, x0, y0, mb_x_, mb_y_, block,
-                          p_.bit_depth)
+        td ? td_neighbors_from(
+                 recon_,
+                 [&](int x, int y) {
+                   return td_mc_[(y - mb_y_ * 16 + 1) * kTdMcWidth + x - mb_x_ * 16 + 1];
+                 },
+                 x0, y0, mb_x_, mb_y_, block, p_.bit_depth)
            : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
     int32_t ref_block[16];
     if (td)
       for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x)
           ref_block[y * 4 + x] =
-              motion_sample(*ref_, x0 + x, y0 + y, mv_x_, mv_y_, p_.subpel != 0, p_.bit_depth) -
+              td_mc_[(y0 + y - mb_y_ * 16 + 1) * kTdMcWidth + x0 + x - mb_x_ * 16 + 1] -
               (1 << (p_.bit_depth - 1));
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
-    for (int mode = 0; mode < mode_count; ++mode) {
+    if (n == 4 && !p_.rdo) {
+      // Fast decision: every mode predicted and measured in one pass over the neighbours.
+      int32_t preds[kIntra4x4ModeCount][16];
+      int64_t distortion[kIntra4x4ModeCount];
+      predict_intra4x4_modes(nb, max_value_, mode_count, preds);
+      if (td)
+        for (int mode = 0; mode < mode_count; ++mode)
+          for (int i = 0; i < 16; ++i) preds[mode][i] += ref_block[i];
+      distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
+                     src_.width, preds, mode_count, distortion);
+      for (int mode = 0; mode < mode_count; ++mode) {
+        const double cost =
+            static_cast<double>(distortion[mode]) + lambda_sad_ * mode_bits_estimate(mode, mpm);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_mode = mode;
+        }
+      }
+      std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
+    }
+    for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
@@ -383,6 +348,7 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
                               &mb.modes[b], mb.levels[b]);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
@@ -400,10 +366,15 @@ class MacroblockEncoder {
     mb.shared = is_shared_vector(mv_x_, mv_y_);
     const double mv_bits = motion_bits(mv_x_, mv_y_, px, py) + 3;
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
+    // The motion-compensated reference over the macroblock and the samples its blocks' TD
+    // neighbours read (one column left, one row above, up to 4 beyond the right edge).
+    interp_->predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_, p_.subpel != 0,
+                     td_mc_);
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
                               &mb.modes[b], mb.levels[b], true);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
@@ -515,15 +486,24 @@ class MacroblockEncoder {
     return seen ? score + kWeight[run] : 0;
   }
 
-  const JointSearchPlanes* joint_;
   const SamplePlane& src_;
   SamplePlane& recon_;
   PlaneState& st_;
   const PlaneCodingParams& p_;
   const SamplePlane* ref_;
+  std::optional<InterpolatedReference> interp_;  // of ref_, for P planes
+  // Joint motion search: the other planes' interpolated references (reserved once, so the
+  // pointers in joint_planes_ stay valid) and the planes the search adds up.
+  std::vector<InterpolatedReference> joint_interp_;
+  std::vector<JointMotionPlane> joint_planes_;
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
+  // Cost of the best candidate so far: a candidate whose partial cost (a sum of non-negative
+  // block costs) reaches it stops early, as it cannot be chosen.
+  double bound_ = std::numeric_limits<double>::infinity();
+  static constexpr int kTdMcWidth = 21;
+  int32_t td_mc_[17 * kTdMcWidth];       // TD candidate: reference at (x0 - 1 .., y0 - 1 ..)
   int mv_x_ = 0, mv_y_ = 0;              // motion vector of the inter candidate (reused by try_td)
   int whole_mv_x_ = 0, whole_mv_y_ = 0;  // the whole-sample search result (vector units)
 };

@@ -1,7 +1,7 @@
 #include "gvkit/core/mesh_topology.hpp"
 
 #include <algorithm>
-#include <queue>
+#include <numeric>
 
 namespace gvkit {
 
@@ -31,27 +31,24 @@ MeshTopology mesh_topology(const Mesh& mesh) {
   MeshTopology t;
   t.faces = static_cast<int>(mesh.n_faces());
   t.edges = static_cast<int>(mesh.n_edges());
-  std::vector<int> component(mesh.n_vertices(), -1);
+  // Components: union-find over the edges' end vertices (isolated vertices are not counted).
+  std::vector<int> parent(mesh.n_vertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&parent](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const int a = root(mesh.from_vertex_handle(h).idx()), b = root(mesh.to_vertex_handle(h).idx());
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
   for (auto v : mesh.vertices()) {
     if (mesh.is_isolated(v)) {
       ++t.isolated_vertices;
       continue;
     }
-    if (component[v.idx()] >= 0) continue;
-    std::queue<Mesh::VertexHandle> queue;
-    queue.push(v);
-    component[v.idx()] = t.components;
-    while (!queue.empty()) {
-      auto u = queue.front();
-      queue.pop();
-      for (auto w : mesh.vv_range(u)) {
-        if (component[w.idx()] < 0) {
-          component[w.idx()] = t.components;
-          queue.push(w);
-        }
-      }
-    }
-    ++t.components;
+    if (root(v.idx()) == v.idx()) ++t.components;
   }
   t.vertices = static_cast<int>(mesh.n_vertices()) - t.isolated_vertices;
   for (const auto& loop : boundary_loops(mesh))

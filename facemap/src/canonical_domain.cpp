@@ -35,7 +35,7 @@ Result<std::vector<cv::Point2d>> points_from_json(const nlohmann::json& j,
 }  // namespace
 
 Result<std::vector<std::vector<double>>> euclidean_distance(
-    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources) {
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources, double /*edge_scale*/) {
   std::vector<std::vector<double>> out;
   for (auto s : sources) {
     const Mesh::Point p = mesh.point(s);
@@ -225,6 +225,7 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.boundaries.min_triangle_area_mm2 = 0;
   options.key_snap_fraction = 0.5;  // keys land on pixel centres
   options.slide_along_start = true;
+  options.distance_crop_mm = 0;  // Euclidean distances cost nothing to solve
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
   GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim));

@@ -10,10 +10,14 @@
 namespace gvkit::facemap {
 
 DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
-  return [options](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources)
-             -> Result<std::vector<std::vector<double>>> {
+  return [options](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources,
+                   double edge_scale) -> Result<std::vector<std::vector<double>>> {
     GVKIT_RETURN_IF_ERROR(options.check());
-    const HeatGeodesics heat(mesh, options);
+    if (!(edge_scale > 0) || !std::isfinite(edge_scale))
+      return invalid_argument("geodesic distance: edge_scale must be > 0");
+    HeatGeodesicsOptions scaled = options;
+    scaled.time_factor *= edge_scale * edge_scale;  // t = time_factor * h^2 of the whole surface
+    const HeatGeodesics heat(mesh, scaled);
     std::vector<std::vector<double>> out;
     for (auto source : sources) {
       out.push_back(heat.distance({source}));
@@ -129,13 +133,28 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   image.domain_mask = domain.mask().clone();
   out.pixel_source.resize(size.area());
   cv::Mat filled = cv::Mat::zeros(size, CV_8U);
+  // Neighbouring pixels mostly sample the same triangle: try the last one first. Without flips
+  // in (s, t) the triangles (s unwrapped per triangle) do not overlap, so a triangle strictly
+  // containing the point is the one the search below returns for it; with flips every pixel
+  // takes the full search.
+  const bool coherent = flow.flipped == 0;
+  int last = -1;
+  auto strictly_inside = [](const TriangleLocator::Hit& h) {
+    return h.triangle >= 0 && std::min({h.barycentric[0], h.barycentric[1], h.barycentric[2]}) > 0;
+  };
   for (int y = 0; y < size.height; ++y)
     for (int x = 0; x < size.width; ++x) {
       if (!image.domain_mask.at<uint8_t>(y, x)) continue;
       const Eigen::Vector2d st = domain.st(x, y);
       TriangleLocator::Hit best;
+      if (coherent && last >= 0) {
+        const auto hit = locator.in_triangle(last, st);
+        if (strictly_inside(hit)) best = hit;
+      }
+      const bool in_last = best.triangle >= 0;
       double best_min = -INFINITY;
       for (double shift : {0.0, 1.0, -1.0}) {
+        if (in_last) break;
         const auto hit = locator.locate({st.x() + shift, st.y()}, 1e-6);
         if (hit.triangle < 0) continue;
         const double mn = std::min({hit.barycentric[0], hit.barycentric[1], hit.barycentric[2]});
@@ -143,6 +162,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
         if (mn >= 0) break;
       }
       if (best.triangle < 0) continue;
+      last = best.triangle;
       Eigen::Vector3d p = Eigen::Vector3d::Zero();
       float tex = 0;
       SourceWeights src;
@@ -193,10 +213,19 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   if (options.measure_quality) {
     std::vector<Eigen::Vector3d> xyz(3 * s.n_triangles());
     std::vector<Eigen::Vector2d> uv(3 * s.n_triangles());
+    // The corners of a vertex differ in s by whole periods only, which pixel_of ignores: one
+    // lookup per vertex.
+    std::vector<int> first_corner(s.n_vertices(), -1);
     for (int k = 0; k < s.n_triangles(); ++k)
       for (int j = 0; j < 3; ++j) {
-        xyz[3 * k + j] = s.xyz[s.triangles[k][j]];
-        uv[3 * k + j] = domain.pixel_of(st_corners[3 * k + j].x(), st_corners[3 * k + j].y());
+        const int v = s.triangles[k][j], c = 3 * k + j;
+        xyz[c] = s.xyz[v];
+        if (first_corner[v] >= 0) {
+          uv[c] = uv[first_corner[v]];
+        } else {
+          first_corner[v] = c;
+          uv[c] = domain.pixel_of(st_corners[c].x(), st_corners[c].y());
+        }
       }
     // Counter-clockwise seen from the front is clockwise in pixels (y down): negative area.
     out.quality = measure_map_quality(xyz, uv, -1);

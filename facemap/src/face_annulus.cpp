@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "gvkit/facemap/mesh_cutting.hpp"
+#include "gvkit/facemap/mesh_repair.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -92,6 +93,8 @@ Status FaceAnnulusOptions::check() const {
   GVKIT_RETURN_IF_ERROR(path.check());
   if (!(key_snap_fraction >= 0 && key_snap_fraction <= 0.5))
     return invalid_argument("face annulus: key_snap_fraction must be in [0, 0.5]");
+  if (!(distance_crop_mm >= 0) || !std::isfinite(distance_crop_mm))
+    return invalid_argument("face annulus: distance_crop_mm must be >= 0 (0: whole mesh)");
   return Status::ok();
 }
 
@@ -317,11 +320,135 @@ int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
   return removed;
 }
 
+// The edges of a mesh as plain arrays (neighbours of vertex v at [offset[v], offset[v + 1]),
+// with their lengths), for the Dijkstra searches that choose the crop below.
+struct EdgeGraph {
+  std::vector<int> offset, neighbour;
+  std::vector<double> length;
+  explicit EdgeGraph(const Mesh& mesh) {
+    const int n = static_cast<int>(mesh.n_vertices());
+    offset.assign(n + 1, 0);
+    for (auto h : mesh.halfedges()) ++offset[mesh.from_vertex_handle(h).idx() + 1];
+    for (int v = 0; v < n; ++v) offset[v + 1] += offset[v];
+    neighbour.resize(offset[n]);
+    length.resize(offset[n]);
+    std::vector<int> fill(offset.begin(), offset.end() - 1);
+    for (auto h : mesh.halfedges()) {
+      const auto a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
+      neighbour[fill[a.idx()]] = b.idx();
+      length[fill[a.idx()]++] = (mesh.point(b) - mesh.point(a)).norm();
+    }
+  }
+  // Dijkstra from sources (distance 0) up to max_distance, or until stop is settled (>= 0).
+  // Returns the distances (infinity where not reached) and the parents.
+  void search(const std::vector<int>& sources, double max_distance, int stop,
+              std::vector<double>* dist, std::vector<int>* parent) const {
+    const int n = static_cast<int>(offset.size()) - 1;
+    dist->assign(n, std::numeric_limits<double>::infinity());
+    parent->assign(n, -1);
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (int s : sources) (*dist)[s] = 0, queue.emplace(0.0, s);
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > (*dist)[v]) continue;
+      if (v == stop) return;
+      for (int i = offset[v]; i < offset[v + 1]; ++i) {
+        const int w = neighbour[i];
+        const double nd = d + length[i];
+        if (nd < (*dist)[w] && nd <= max_distance)
+          (*dist)[w] = nd, (*parent)[w] = v, queue.emplace(nd, w);
+      }
+    }
+  }
+};
+
+// The distance fields from `sources` that the descent cuts follow, solved on the part of the
+// mesh within crop_mm (along edges) of the shortest edge paths between the given pairs of
+// vertices (the routes the cuts take) instead of the whole face: the heat method's cost is its
+// factorizations, and the cuts need the fields only near their routes. A geodesic between two
+// points stays close to the shortest edge path between them. The diffusion time is the whole
+// mesh's (edge_scale); the heat method's result still depends a little on the mesh's border
+// everywhere, which moves the cuts by 0.1-1 mm on main-job frames. Outside the crop the fields
+// are a large value (the descent never goes there). crop_mm <= 0, or a crop whose largest piece
+// does not hold every source, solves on the whole mesh.
+Result<std::vector<std::vector<double>>> cut_distance_fields(
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources,
+    const std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>>& routes,
+    const DistanceFunction& distance, double crop_mm) {
+  if (crop_mm <= 0) return distance(mesh, sources, 1.0);
+  const int n = static_cast<int>(mesh.n_vertices());
+  const EdgeGraph graph(mesh);
+  std::vector<double> dist;
+  std::vector<int> parent;
+  std::vector<int> on_routes;
+  for (const auto& [a, b] : routes) {
+    graph.search({a.idx()}, std::numeric_limits<double>::infinity(), b.idx(), &dist, &parent);
+    if (!std::isfinite(dist[b.idx()])) return distance(mesh, sources, 1.0);
+    for (int v = b.idx(); v >= 0; v = parent[v]) on_routes.push_back(v);
+  }
+  graph.search(on_routes, crop_mm, -1, &dist, &parent);
+  std::vector<int> point_of_vertex(n, -1);
+  std::vector<Mesh::Point> points;
+  std::vector<int> vertex_of_point;
+  std::vector<std::array<int, 3>> triangles;
+  for (auto f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    bool inside = true;
+    for (auto v : mesh.fv_range(f)) {
+      inside = inside && std::isfinite(dist[v.idx()]);
+      t[k++] = v.idx();
+    }
+    if (!inside) continue;
+    for (int& v : t) {
+      if (point_of_vertex[v] < 0) {
+        point_of_vertex[v] = static_cast<int>(points.size());
+        points.push_back(mesh.point(Mesh::VertexHandle(v)));
+        vertex_of_point.push_back(v);
+      }
+      v = point_of_vertex[v];
+    }
+    triangles.push_back(t);
+  }
+  std::vector<int> original;
+  MeshRepairReport report;
+  const Mesh crop = mesh_from_triangles(points, {}, triangles, {}, &report, &original);
+  std::vector<int> crop_vertex(n, -1);
+  for (size_t i = 0; i < original.size(); ++i)
+    crop_vertex[vertex_of_point[original[i]]] = static_cast<int>(i);
+  std::vector<Mesh::VertexHandle> crop_sources;
+  for (auto s : sources) {
+    if (crop_vertex[s.idx()] < 0) return distance(mesh, sources, 1.0);
+    crop_sources.emplace_back(crop_vertex[s.idx()]);
+  }
+  auto mean_edge = [](const Mesh& m) {
+    double sum = 0;
+    for (auto e : m.edges()) sum += m.calc_edge_length(e);
+    return sum / static_cast<double>(std::max<size_t>(m.n_edges(), 1));
+  };
+  GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> crop_fields,
+                         distance(crop, crop_sources, mean_edge(mesh) / mean_edge(crop)));
+  std::vector<std::vector<double>> fields;
+  for (const auto& cf : crop_fields) {
+    double outside = 0;
+    for (double x : cf) outside = std::max(outside, x);
+    outside = 10.0 * outside + 1e3;
+    std::vector<double> f(n, outside);
+    for (int v = 0; v < n; ++v)
+      if (crop_vertex[v] >= 0) f[v] = cf[crop_vertex[v]];
+    fields.push_back(std::move(f));
+  }
+  return fields;
+}
+
 // One attempt at the annulus, with the cuts traced as descent paths or as edge paths.
 Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& original,
                                   const FaceLandmarks& landmarks, FaceBoundaries boundaries,
                                   const DistanceFunction& distance,
-                                  const FaceAnnulusOptions& options, bool edge_paths) {
+                                  const FaceAnnulusOptions& options, bool edge_paths,
+                                  double crop_mm) {
   CuttableMesh cm(mesh, &original);
   auto boundary_flags = [&] {
     std::vector<char> flags(cm.mesh.n_vertices(), 0);
@@ -371,8 +498,12 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
     return failed_precondition("face annulus: no separate vertices for landmarks 27 and 30");
   enum Field { kToBridge = 0, kTo39 = 1, kToNose = 2, kToLip = 3 };
   if (!edge_paths) {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields,
-                           distance(cm.mesh, {bridge, key_vertex[39], nose, lip}));
+    GVKIT_ASSIGN_OR_RETURN(
+        std::vector<std::vector<double>> fields,
+        cut_distance_fields(
+            cm.mesh, {bridge, key_vertex[39], nose, lip},
+            {{key_vertex[42], bridge}, {bridge, key_vertex[39]}, {bridge, nose}, {nose, lip}},
+            distance, crop_mm));
     GVKIT_CHECK(fields.size() == 4, "one distance field per source");
     for (const auto& f : fields) cm.add_field(f);
   }
@@ -626,16 +757,18 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
   const int pinch_faces = open_boundary_pinches(&work, &original);
   GVKIT_ASSIGN_OR_RETURN(FaceBoundaries boundaries,
                          find_face_boundaries(work, landmarks, options.boundaries));
-  auto attempt = [&](bool edge_paths) {
-    Result<FaceAnnulus> a =
-        build_annulus(work, original, landmarks, boundaries, distance, options, edge_paths);
+  auto attempt = [&](bool edge_paths, double crop_mm) {
+    Result<FaceAnnulus> a = build_annulus(work, original, landmarks, boundaries, distance, options,
+                                          edge_paths, crop_mm);
     if (a.is_ok()) a->pinch_faces_removed = pinch_faces;
     return a;
   };
-  if (!options.descent_paths) return attempt(true);
-  Result<FaceAnnulus> descent = attempt(false);
+  if (!options.descent_paths) return attempt(true, 0);
+  Result<FaceAnnulus> descent = attempt(false, options.distance_crop_mm);
+  // A descent that failed on the cropped fields gets the whole mesh's before the edge paths.
+  if (!descent.is_ok() && options.distance_crop_mm > 0) descent = attempt(false, 0);
   if (descent.is_ok() || !options.edge_path_fallback) return descent;
-  Result<FaceAnnulus> edge = attempt(true);
+  Result<FaceAnnulus> edge = attempt(true, 0);
   if (edge.is_ok()) return edge;
   return failed_precondition(descent.status().message() +
                              "; as edge paths: " + edge.status().message());

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "gvkit/facemap/nearest_vertices.hpp"
+
 namespace gvkit::facemap {
 
 Status CleanOptions::check() const {
@@ -34,72 +36,64 @@ Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const Clea
   for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
   mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
   const std::vector<int> required = required_landmarks();
-  std::vector<double> best_d2(required.size(), std::numeric_limits<double>::infinity());
-  std::vector<Mesh::Point> best(required.size());
   std::vector<Mesh::Point> targets;
   for (int i : required) {
     const cv::Vec3f& p = face->landmarks.points_mm[i];
     targets.emplace_back(p[0], p[1], p[2]);
   }
-  for (auto v : mesh.vertices()) {
-    const Mesh::Point& q = mesh.point(v);
-    for (size_t k = 0; k < targets.size(); ++k) {
-      const double d2 = (q - targets[k]).sqrnorm();
-      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = q;
-    }
-  }
+  std::vector<double> distance;
+  const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, targets, &distance);
   for (size_t k = 0; k < required.size(); ++k) {
-    const double d = std::sqrt(best_d2[k]);
+    const double d = distance[k];
+    const Mesh::Point best = mesh.point(nearest[k]);
     if (d <= 0.5 * mean_edge) continue;
     if (!(d <= options.landmark_max_snap_mm))
       return failed_precondition(
           "landmark " + std::to_string(required[k]) + " lies " +
           std::to_string(static_cast<int>(std::lround(d))) + " mm off the mesh (limit " +
           std::to_string(static_cast<int>(options.landmark_max_snap_mm)) + " mm)");
-    face->landmarks.points_mm[required[k]] =
-        cv::Vec3f(static_cast<float>(best[k][0]), static_cast<float>(best[k][1]),
-                  static_cast<float>(best[k][2]));
+    face->landmarks.points_mm[required[k]] = cv::Vec3f(
+        static_cast<float>(best[0]), static_cast<float>(best[1]), static_cast<float>(best[2]));
     ++face->stats.landmarks_snapped_mm;
     face->stats.landmark_max_snap_mm = std::max(face->stats.landmark_max_snap_mm, d);
   }
   return Status::ok();
 }
 
-// Fill and mask, shared by scans and meshes.
-Status fill_and_mask(Mesh mesh, CleanedFace* face, const CleanOptions& options) {
+// Fill and mask, shared by scans and meshes; `mesh` is filled in place, the result written to
+// face->mesh.
+Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options) {
   auto t = std::chrono::steady_clock::now();
   // Pinches of the scan's outer rim lie outside the face mask almost always; the mask step
   // checks the topology of what it keeps, so they are left open here.
   HoleFillingOptions hole_options = options.holes;
   hole_options.fail_on_rim_touching_holes = false;
-  auto filled = fill_holes(&mesh, hole_options);
+  auto filled = fill_holes(mesh, hole_options);
   if (!filled.is_ok()) return filled.status().with_context("hole filling");
   face->stats.holes_filled = filled->holes_filled;
   face->stats.vertices_added = filled->vertices_added;
   face->stats.fill_ms = ms_since(t);
-  GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(mesh, face, options));
+  GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(*mesh, face, options));
   t = std::chrono::steady_clock::now();
-  auto mask = geodesic_face_mask(mesh, face->landmarks, options.mask);
-  if (!mask.is_ok()) return mask.status();
+  FaceMask mask;
+  GVKIT_RETURN_IF_ERROR(
+      geodesic_face_mask(*mesh, face->landmarks, options.mask, &mask, &face->mesh));
   face->stats.mask_ms = ms_since(t);
-  face->stats.radius_mm = mask->radius_mm;
-  face->stats.stray_holes_filled = mask->stray_holes_filled;
-  face->stats.cropped_vertices = mask->cropped_vertices;
-  face->stats.mask_timing = mask->timing;
-  face->mesh = std::move(mask->mesh);
+  face->stats.radius_mm = mask.radius_mm;
+  face->stats.stray_holes_filled = mask.stray_holes_filled;
+  face->stats.cropped_vertices = mask.cropped_vertices;
+  face->stats.mask_timing = mask.timing;
   face->stats.output_vertices = static_cast<int>(face->mesh.n_vertices());
   face->stats.output_faces = static_cast<int>(face->mesh.n_faces());
   return Status::ok();
 }
 
-}  // namespace
-
-Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
-                               const CleanOptions& options) {
+Status clean_scan_into(const RangeScan& scan, FaceLandmarks landmarks, const CleanOptions& options,
+                       CleanedFace* out) {
   GVKIT_RETURN_IF_ERROR(options.check());
   const auto start = std::chrono::steady_clock::now();
   const std::string frame = "frame " + std::to_string(scan.index);
-  CleanedFace face;
+  CleanedFace& face = *out;
   if (static_cast<int>(landmarks.points_px.size()) != FaceLandmarks::kCount)
     return invalid_argument(frame + ": landmarks: expected 68 image points, got " +
                             std::to_string(landmarks.points_px.size()));
@@ -108,7 +102,8 @@ Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
   if (options.cut_feature_interiors)
     skin.valid =
         valid_without_feature_interiors(scan, landmarks, 0.5, &face.stats.feature_pixels_removed);
-  GVKIT_ASSIGN_OR_RETURN(ScanMesh scan_mesh, mesh_from_scan(skin, options.scan));
+  ScanMesh scan_mesh;
+  GVKIT_RETURN_IF_ERROR(mesh_from_scan(skin, options.scan, &scan_mesh));
   face.stats.mesh_ms = ms_since(t);
   // Landmarks are lifted onto the kept mesh: an inner lip over the open mouth, or an eye contour
   // over a removed eyeball, takes the nearest pixel of the lips or lids.
@@ -123,35 +118,54 @@ Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
   face.stats.input_vertices = static_cast<int>(scan_mesh.mesh.n_vertices());
   face.stats.input_faces = static_cast<int>(scan_mesh.mesh.n_faces());
   face.stats.repair = scan_mesh.repair.summary();
-  GVKIT_RETURN_IF_ERROR(
-      fill_and_mask(std::move(scan_mesh.mesh), &face, options).with_context(frame));
+  GVKIT_RETURN_IF_ERROR(fill_and_mask(&scan_mesh.mesh, &face, options).with_context(frame));
   face.stats.total_ms = ms_since(start);
-  return face;
+  return Status::ok();
 }
 
-Result<CleanedFace> clean_mesh(Mesh mesh, const FaceLandmarks& landmarks, const std::string& name,
-                               const CleanOptions& options) {
+Status clean_mesh_into(Mesh* mesh, const FaceLandmarks& landmarks, const std::string& name,
+                       const CleanOptions& options, CleanedFace* out) {
   GVKIT_RETURN_IF_ERROR(options.check());
   const auto start = std::chrono::steady_clock::now();
   if (static_cast<int>(landmarks.points_mm.size()) != FaceLandmarks::kCount)
     return invalid_argument(name + ": landmarks need 68 points_mm, got " +
                             std::to_string(landmarks.points_mm.size()));
-  CleanedFace face;
+  CleanedFace& face = *out;
   face.landmarks = landmarks;
   auto t = std::chrono::steady_clock::now();
   MeshRepairOptions repair;
   repair.keep_largest_component = options.keep_largest_mesh_component;
-  const MeshRepairReport report = repair_mesh(&mesh, repair);
+  const MeshRepairReport report = repair_mesh(mesh, repair);
   if (report.components > 1 && !options.keep_largest_mesh_component)
     return failed_precondition(name + ": mesh has " + std::to_string(report.components) +
                                " connected components (expected one face surface)");
   face.stats.mesh_ms = ms_since(t);
   face.stats.repair = report.summary();
-  face.stats.input_vertices = static_cast<int>(mesh.n_vertices());
-  face.stats.input_faces = static_cast<int>(mesh.n_faces());
-  GVKIT_RETURN_IF_ERROR(fill_and_mask(std::move(mesh), &face, options).with_context(name));
+  face.stats.input_vertices = static_cast<int>(mesh->n_vertices());
+  face.stats.input_faces = static_cast<int>(mesh->n_faces());
+  GVKIT_RETURN_IF_ERROR(fill_and_mask(mesh, &face, options).with_context(name));
   face.stats.total_ms = ms_since(start);
-  return face;
+  return Status::ok();
+}
+
+}  // namespace
+
+// The results are built in place: OpenMesh meshes have no move constructor, so every move of
+// one is a copy.
+Result<CleanedFace> clean_scan(const RangeScan& scan, FaceLandmarks landmarks,
+                               const CleanOptions& options) {
+  Result<CleanedFace> result(std::in_place);
+  if (Status s = clean_scan_into(scan, std::move(landmarks), options, &*result); !s.is_ok())
+    result = std::move(s);
+  return result;
+}
+
+Result<CleanedFace> clean_mesh(Mesh mesh, const FaceLandmarks& landmarks, const std::string& name,
+                               const CleanOptions& options) {
+  Result<CleanedFace> result(std::in_place);
+  if (Status s = clean_mesh_into(&mesh, landmarks, name, options, &*result); !s.is_ok())
+    result = std::move(s);
+  return result;
 }
 
 }  // namespace gvkit::facemap

@@ -8,9 +8,11 @@
 #include <queue>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
+#include "gvkit/facemap/nearest_vertices.hpp"
 
 namespace gvkit::facemap {
 
@@ -44,25 +46,6 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
                                        : contour_points(landmarks, kOuterMouthContour);
 }
 
-// The nearest vertex to each of the points, in one pass over the vertices.
-std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh, const std::vector<Point>& points,
-                                                 std::vector<double>* distances = nullptr) {
-  std::vector<Mesh::VertexHandle> best(points.size());
-  std::vector<double> best_d2(points.size(), std::numeric_limits<double>::infinity());
-  for (auto v : mesh.vertices()) {
-    const Point& q = mesh.point(v);
-    for (size_t k = 0; k < points.size(); ++k) {
-      const double d2 = (q - points[k]).sqrnorm();
-      if (d2 < best_d2[k]) best_d2[k] = d2, best[k] = v;
-    }
-  }
-  if (distances) {
-    distances->resize(points.size());
-    for (size_t k = 0; k < points.size(); ++k) (*distances)[k] = std::sqrt(best_d2[k]);
-  }
-  return best;
-}
-
 // Shortest edge path (Dijkstra) from a to b, as vertices from a to b.
 std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHandle a,
                                               Mesh::VertexHandle b) {
@@ -94,14 +77,13 @@ std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHand
   return path;
 }
 
-// The vertices of the surface region enclosed by the closed edge path through the vertices
-// nearest to the contour points, the path included. A degenerate contour (a closed eye or mouth)
-// encloses nothing and gives the path alone. Regions cut off from the mesh boundary by the path
-// are inside, so folds under the contour (a rolled lip) are handled by connectivity, not by a
-// projection.
+// The vertices of the surface region enclosed by the closed edge path through `corners` (the
+// vertices nearest to the contour points), the path included. A degenerate contour (a closed eye
+// or mouth) encloses nothing and gives the path alone. Regions cut off from the mesh boundary by
+// the path are inside, so folds under the contour (a rolled lip) are handled by connectivity, not
+// by a projection.
 std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
-                                               const std::vector<Point>& contour) {
-  const std::vector<Mesh::VertexHandle> corners = nearest_vertices(mesh, contour);
+                                               const std::vector<Mesh::VertexHandle>& corners) {
   // Faces outside a ball around the contour cannot be enclosed by it: they count as reaching
   // the boundary, so the flood fill of the outside stops there instead of crossing the mesh.
   Point centre(0, 0, 0);
@@ -111,10 +93,17 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
   for (auto v : corners) ball = std::max(ball, (mesh.point(v) - centre).norm());
   ball = 2.0 * ball + 10.0;
   std::vector<char> on_path_edge(mesh.n_edges(), 0), in_region(mesh.n_vertices(), 0);
+  std::vector<Mesh::VertexHandle> region;
+  auto add = [&](Mesh::VertexHandle v) {
+    if (!in_region[v.idx()]) {
+      in_region[v.idx()] = 1;
+      region.push_back(v);
+    }
+  };
   for (size_t k = 0; k < corners.size(); ++k) {
     const auto path = shortest_path(mesh, corners[k], corners[(k + 1) % corners.size()]);
     for (size_t i = 0; i < path.size(); ++i) {
-      in_region[path[i].idx()] = 1;
+      add(path[i]);
       if (i + 1 < path.size()) {
         const auto h = mesh.find_halfedge(path[i], path[i + 1]);
         if (h.is_valid()) on_path_edge[mesh.edge_handle(h).idx()] = 1;
@@ -122,45 +111,53 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
     }
   }
   // Face components across edges that are not on the path; those that reach the mesh boundary
-  // are outside.
+  // (or leave the ball) are outside. Seeds: the faces along the path (every enclosed component
+  // touches it). A flood stops as soon as its component is known to be outside: at the boundary,
+  // past the ball, or on a face of an earlier (outside) flood; only enclosed components are
+  // flooded completely.
   std::vector<int> component(mesh.n_faces(), -1);
-  std::vector<char> reaches_boundary;
-  // Seeds: the faces along the path (every enclosed component touches it).
-  std::vector<Mesh::FaceHandle> seeds;
-  for (auto v : mesh.vertices())
-    if (in_region[v.idx()])
-      for (auto f : mesh.vf_range(v)) seeds.push_back(f);
+  std::vector<Mesh::FaceHandle> seeds, stack, members;
+  for (auto v : region)
+    for (auto f : mesh.vf_range(v)) seeds.push_back(f);
+  int components = 0;
   for (auto f : seeds) {
     if (component[f.idx()] >= 0) continue;
-    const int c = static_cast<int>(reaches_boundary.size());
-    reaches_boundary.push_back(0);
-    std::vector<Mesh::FaceHandle> stack{f};
+    const int c = components++;
+    bool outside = false;
+    stack.assign(1, f);
+    members.assign(1, f);
     component[f.idx()] = c;
-    while (!stack.empty()) {
+    while (!stack.empty() && !outside) {
       const auto g = stack.back();
       stack.pop_back();
       if ((mesh.point(mesh.to_vertex_handle(mesh.halfedge_handle(g))) - centre).norm() > ball) {
-        reaches_boundary[c] = 1;
-        continue;
+        outside = true;
+        break;
       }
       for (auto h : mesh.fh_range(g)) {
         const auto e = mesh.edge_handle(h);
-        if (mesh.is_boundary(e)) reaches_boundary[c] = 1;
+        if (mesh.is_boundary(e)) {
+          outside = true;
+          break;
+        }
         if (on_path_edge[e.idx()]) continue;
         const auto n = mesh.opposite_face_handle(h);
-        if (n.is_valid() && component[n.idx()] < 0) {
+        if (!n.is_valid()) continue;
+        if (component[n.idx()] < 0) {
           component[n.idx()] = c;
           stack.push_back(n);
+          members.push_back(n);
+        } else if (component[n.idx()] != c) {
+          outside = true;  // an earlier flood, stopped because it is outside
+          break;
         }
       }
     }
+    if (!outside)
+      for (auto g : members)
+        for (auto v : mesh.fv_range(g)) add(v);
   }
-  for (auto f : mesh.faces())
-    if (component[f.idx()] >= 0 && !reaches_boundary[component[f.idx()]])
-      for (auto v : mesh.fv_range(f)) in_region[v.idx()] = 1;
-  std::vector<Mesh::VertexHandle> region;
-  for (auto v : mesh.vertices())
-    if (in_region[v.idx()]) region.push_back(v);
+  std::sort(region.begin(), region.end());
   return region;
 }
 
@@ -250,11 +247,21 @@ std::vector<Mesh::VertexHandle> feature_source_vertices(const Mesh& mesh,
 
 Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                                     const FaceMaskOptions& options) {
+  Result<FaceMask> result(std::in_place);
+  if (Status s = geodesic_face_mask(mesh, landmarks, options, &*result, &result->mesh); !s.is_ok())
+    result = std::move(s);
+  return result;
+}
+
+Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                          const FaceMaskOptions& options, FaceMask* info, Mesh* masked) {
   GVKIT_RETURN_IF_ERROR(options.check());
   if (static_cast<int>(landmarks.points_mm.size()) != FaceLandmarks::kCount)
     return invalid_argument("face mask: expected 68 landmarks in mm, got " +
                             std::to_string(landmarks.points_mm.size()));
-  FaceMask result;
+  FaceMask& result = *info;
+  result.timing = {};
+  result.stray_holes_filled = 0;
   auto step_start = std::chrono::steady_clock::now();
   auto lap = [&step_start](double* ms) {
     const auto now = std::chrono::steady_clock::now();
@@ -269,17 +276,27 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   double mean_edge = 0.0;
   for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
   mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
-  // Every feature landmark must lie on the surface.
+  const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
+                                         contour_points(landmarks, kLeftEyeContour),
+                                         mouth_points(landmarks, options.mouth_contour)};
+  // Every feature landmark must lie on the surface. The nearest vertices to the required
+  // landmarks and to the contour points come from one pass over the mesh.
+  std::vector<Mesh::VertexHandle> corners[3];
   {
     const std::vector<int> required = required_landmarks();
     std::vector<Point> points;
     for (int i : required) points.push_back(to_point(landmarks.points_mm[i]));
+    for (const auto& contour : contours)
+      points.insert(points.end(), contour.begin(), contour.end());
     std::vector<double> d;
-    nearest_vertices(mesh, points, &d);
+    const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, points, &d);
     for (size_t k = 0; k < required.size(); ++k)
       if (d[k] > std::max(5.0, 4.0 * mean_edge))
         return failed_precondition("landmark " + std::to_string(required[k]) + " lies " +
                                    std::to_string(static_cast<int>(d[k])) + " mm off the mesh");
+    size_t next = required.size();
+    for (int k = 0; k < 3; ++k)
+      for (size_t i = 0; i < contours[k].size(); ++i) corners[k].push_back(nearest[next++]);
   }
 
   // Heat method: crop to the Euclidean ball of radius R (+ a margin) around the sources first,
@@ -323,9 +340,6 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   else
     marching = std::make_unique<FastMarching>(cropped);
   lap(&result.timing.factor_ms);
-  const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
-                                         contour_points(landmarks, kLeftEyeContour),
-                                         mouth_points(landmarks, options.mouth_contour)};
   const double margins[] = {options.eye_margin_mm, options.eye_margin_mm, options.mouth_margin_mm};
   // Keep f <= 0 with f = max(d_features - R, margin_k - d_k): inside the radius and outside the
   // grown eye and mouth regions; one level-set cut gives all four boundaries.
@@ -333,7 +347,8 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   std::vector<double> f(cropped.n_vertices(), -std::numeric_limits<double>::infinity());
   std::vector<Mesh::VertexHandle> regions[3];
   for (int k = 0; k < 3; ++k) {
-    regions[k] = contour_region(cropped, contours[k]);
+    regions[k] =
+        contour_region(cropped, crop_mesh ? nearest_vertices(cropped, contours[k]) : corners[k]);
     all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
   }
   lap(&result.timing.regions_ms);
@@ -358,16 +373,17 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
   lap(&result.timing.distances_ms);
   LevelSetClipOptions clip;
   clip.level = 0.0;
-  Mesh masked = clip_mesh_below(cropped, f, clip);
+  if (!crop_mesh) clip.snap = 0.1 * mean_edge;  // the default, known already
+  clip_mesh_below(cropped, f, clip, masked);
   lap(&result.timing.clip_ms);
 
-  result.topology = mesh_topology(masked);
+  result.topology = mesh_topology(*masked);
   if (options.fill_stray_holes && result.topology.components == 1 &&
       result.topology.boundary_loops > 4) {
-    auto filled = fill_stray_loops(&masked, contours);
+    auto filled = fill_stray_loops(masked, contours);
     if (!filled.is_ok()) return filled.status().with_context("face mask: stray hole");
     result.stray_holes_filled = *filled;
-    result.topology = mesh_topology(masked);
+    result.topology = mesh_topology(*masked);
   }
   const MeshTopology& t = result.topology;
   if (t.components != 1 || t.genus != 0 || t.boundary_loops != 4)
@@ -376,13 +392,12 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
                                "; expected 1 component, genus 0, 4 boundary loops");
   // What facemap map refuses: triangles without area (a fill or a cut gone flat).
   int degenerate = 0;
-  for (auto face : masked.faces()) degenerate += !(masked.calc_face_area(face) > 1e-10);
+  for (auto face : masked->faces()) degenerate += !(masked->calc_face_area(face) > 1e-10);
   if (degenerate > 0)
     return failed_precondition("face mask: " + std::to_string(degenerate) +
                                " degenerate triangle(s) (area <= 1e-10 mm^2)");
-  result.mesh = std::move(masked);
   lap(&result.timing.check_ms);
-  return result;
+  return Status::ok();
 }
 
 }  // namespace gvkit::facemap

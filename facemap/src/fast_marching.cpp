@@ -64,26 +64,62 @@ std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>
   const int n = static_cast<int>(points_.size());
   std::vector<double> d(n, kInf);
   std::vector<char> accepted(n, 0);
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  // Binary min-heap of vertices by (d, index) with each vertex's heap slot, so a relaxation
+  // moves the vertex up instead of adding a second entry.
+  std::vector<int> heap, slot(n, -1);
+  heap.reserve(1024);
+  auto less = [&](int a, int b) { return d[a] < d[b] || (d[a] == d[b] && a < b); };
+  auto place = [&](int i, int v) {
+    heap[i] = v;
+    slot[v] = i;
+  };
+  auto sift_up = [&](int i) {
+    const int v = heap[i];
+    while (i > 0) {
+      const int parent = (i - 1) / 2;
+      if (!less(v, heap[parent])) break;
+      place(i, heap[parent]);
+      i = parent;
+    }
+    place(i, v);
+  };
+  auto sift_down = [&](int i) {
+    const int size = static_cast<int>(heap.size());
+    const int v = heap[i];
+    for (;;) {
+      int child = 2 * i + 1;
+      if (child >= size) break;
+      if (child + 1 < size && less(heap[child + 1], heap[child])) ++child;
+      if (!less(heap[child], v)) break;
+      place(i, heap[child]);
+      i = child;
+    }
+    place(i, v);
+  };
+  auto relax = [&](int target, double value) {
+    if (!(value < d[target])) return;
+    d[target] = value;
+    if (slot[target] < 0) {
+      heap.push_back(target);
+      slot[target] = static_cast<int>(heap.size()) - 1;
+    }
+    sift_up(slot[target]);
+  };
   for (auto v : sources) {
     GVKIT_CHECK(v.is_valid() && v.idx() < n, "fast marching: source vertex out of range");
-    if (d[v.idx()] > 0) {
-      d[v.idx()] = 0.0;
-      heap.emplace(0.0, v.idx());
-    }
+    relax(v.idx(), 0.0);
   }
-  auto relax = [&](int target, double value) {
-    if (value < d[target]) {
-      d[target] = value;
-      heap.emplace(value, target);
-    }
-  };
   while (!heap.empty()) {
-    const auto [dv, v] = heap.top();
-    heap.pop();
-    if (accepted[v] || dv > d[v]) continue;
+    const int v = heap.front();
+    const double dv = d[v];
     if (dv > max_distance_mm) break;
+    slot[v] = -1;
+    const int last = heap.back();
+    heap.pop_back();
+    if (!heap.empty()) {
+      place(0, last);
+      sift_down(0);
+    }
     accepted[v] = 1;
     const Point& pv = points_[v];
     for (int k = fan_start_[v]; k < fan_start_[v + 1]; ++k) {

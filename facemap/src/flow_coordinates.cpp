@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "directed_edges.hpp"
+
 namespace gvkit::facemap {
 
 namespace {
@@ -112,10 +114,13 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   std::vector<double> value(n, 0.0);
   for (int v : annulus.outer_loop) fixed[v] = 1, value[v] = 0.0;
   for (int v : annulus.inner_loop) fixed[v] = 1, value[v] = 1.0;
-  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value));
+  // f and psi: two systems of the same Laplacian, one elimination order.
+  const std::vector<int> order = laplacian_elimination_order(laplacian);
+  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order));
   out.field_report = check_harmonic_field(s, laplacian, fixed, out.t);
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> psi,
-                         harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop));
+  GVKIT_ASSIGN_OR_RETURN(
+      std::vector<double> psi,
+      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order));
 
   // Boundary parameter u along the inner loop (loop order, u(0) at the anchor key).
   const std::vector<int>& loop = annulus.inner_loop;
@@ -158,9 +163,7 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   }
 
   // psi along the inner loop: per boundary edge from the corners of its triangle.
-  std::map<std::pair<int, int>, int> face_of_edge;
-  for (int k = 0; k < s.n_triangles(); ++k)
-    for (int j = 0; j < 3; ++j) face_of_edge[{s.triangles[k][j], s.triangles[k][(j + 1) % 3]}] = k;
+  const DirectedEdges edges(s.triangles, n);
   auto corner = [&](int k, int v) {
     int j = 0;
     while (s.triangles[k][j] != v) ++j;
@@ -169,7 +172,8 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   std::vector<double> loop_psi(m + 1);
   for (int i = 0; i < m; ++i) {
     const int a = loop[i], b = loop[(i + 1) % m];
-    const int k = face_of_edge.at({a, b});
+    const int k = edges.triangle(a, b);
+    GVKIT_CHECK(k >= 0, "inner loop follows boundary edges");
     if (i == 0) loop_psi[0] = psi[corner(k, a)];
     double step = psi[corner(k, b)] - psi[corner(k, a)];
     if (!(step > 0)) {
@@ -199,10 +203,10 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
     std::vector<int> outer = annulus.outer_loop;
     const int mo = static_cast<int>(outer.size());
     auto psi_step = [&](int a, int b) {  // psi(b) - psi(a) in the triangle of edge a-b
-      auto it = face_of_edge.find({a, b});
-      if (it == face_of_edge.end()) it = face_of_edge.find({b, a});
-      GVKIT_CHECK(it != face_of_edge.end(), "outer loop follows boundary edges");
-      return psi[corner(it->second, b)] - psi[corner(it->second, a)];
+      int k = edges.triangle(a, b);
+      if (k < 0) k = edges.triangle(b, a);
+      GVKIT_CHECK(k >= 0, "outer loop follows boundary edges");
+      return psi[corner(k, b)] - psi[corner(k, a)];
     };
     double total = 0;
     for (int i = 0; i < mo; ++i) total += psi_step(outer[i], outer[(i + 1) % mo]);
@@ -271,9 +275,9 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
     }
     tx.push_back(1.0), tu.push_back(1.0);
     // Absolute psi of the anchor: psi at outer[0] in the triangle of the first edge.
-    auto it = face_of_edge.find({outer[0], outer[1 % mo]});
-    if (it == face_of_edge.end()) it = face_of_edge.find({outer[1 % mo], outer[0]});
-    const double psi0 = psi[corner(it->second, outer[0])] + ta * psi_step(outer[0], outer[1 % mo]);
+    int k0 = edges.triangle(outer[0], outer[1 % mo]);
+    if (k0 < 0) k0 = edges.triangle(outer[1 % mo], outer[0]);
+    const double psi0 = psi[corner(k0, outer[0])] + ta * psi_step(outer[0], outer[1 % mo]);
     auto phi_rim = [&](double x) {
       const double y0 = x - psi0;
       const double shift = std::floor(y0);

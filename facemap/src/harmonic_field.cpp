@@ -4,11 +4,16 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <queue>
+#include <string>
 
 #include <Eigen/Geometry>
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
+
+#include "directed_edges.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -25,7 +30,77 @@ std::array<double, 3> half_cotangents(const TriSurface& s, const std::array<int,
   return c;
 }
 
+// The free vertices' indices in the reduced system: in vertex order, or in `order` when given.
+// Returns the number of free vertices.
+int free_indices(const std::vector<char>& fixed, const std::vector<int>& order,
+                 std::vector<int>* index) {
+  const int n = static_cast<int>(fixed.size());
+  index->assign(n, -1);
+  int n_free = 0;
+  if (order.empty()) {
+    for (int i = 0; i < n; ++i)
+      if (!fixed[i]) (*index)[i] = n_free++;
+  } else {
+    GVKIT_CHECK(static_cast<int>(order.size()) == n, "an elimination order of every vertex");
+    for (int v : order)
+      if (!fixed[v]) (*index)[v] = n_free++;
+  }
+  return n_free;
+}
+
+// L restricted to the free vertices (index[v] >= 0) with vertex v at row and column index[v]:
+// what setFromTriplets of those entries gives, built column by column without the triplets.
+Eigen::SparseMatrix<double> reduced_matrix(const Eigen::SparseMatrix<double>& l,
+                                           const std::vector<int>& index, int n_free) {
+  std::vector<int> vertex_of(n_free);
+  for (int v = 0; v < static_cast<int>(index.size()); ++v)
+    if (index[v] >= 0) vertex_of[index[v]] = v;
+  Eigen::VectorXi count = Eigen::VectorXi::Zero(n_free);
+  for (int j = 0; j < n_free; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(l, vertex_of[j]); it; ++it)
+      count[j] += index[it.row()] >= 0;
+  Eigen::SparseMatrix<double> a(n_free, n_free);
+  a.reserve(count);
+  std::vector<std::pair<int, double>> column;
+  for (int j = 0; j < n_free; ++j) {
+    column.clear();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(l, vertex_of[j]); it; ++it)
+      if (index[it.row()] >= 0) column.emplace_back(index[it.row()], it.value());
+    std::sort(column.begin(), column.end());
+    for (const auto& [row, x] : column) a.insert(row, j) = x;
+  }
+  a.makeCompressed();
+  return a;
+}
+
+// Factorizes a (the reduced system, already in elimination order when `ordered`) and solves.
+Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a,
+                                            const Eigen::VectorXd& rhs, bool ordered,
+                                            const std::string& what) {
+  Eigen::VectorXd x;
+  bool ok = false;
+  if (ordered) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+        solver(a);
+    ok = solver.info() == Eigen::Success;
+    if (ok) x = solver.solve(rhs);
+  } else {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
+    ok = solver.info() == Eigen::Success;
+    if (ok) x = solver.solve(rhs);
+  }
+  if (!ok) return failed_precondition(what + ": the system could not be factorized");
+  if (!x.allFinite()) return failed_precondition(what + ": the solution is not finite");
+  return x;
+}
+
 }  // namespace
+
+std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+  Eigen::AMDOrdering<int>()(laplacian, perm);
+  return std::vector<int>(perm.indices().data(), perm.indices().data() + perm.size());
+}
 
 Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
   std::vector<Eigen::Triplet<double>> triplets;
@@ -48,37 +123,29 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
 
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
-                                            const std::vector<double>& value) {
+                                            const std::vector<double>& value,
+                                            const std::vector<int>& order) {
   const int n = static_cast<int>(laplacian.rows());
   GVKIT_CHECK(static_cast<int>(fixed.size()) == n && static_cast<int>(value.size()) == n);
-  std::vector<int> index(n, -1);
-  int n_free = 0;
-  for (int i = 0; i < n; ++i)
-    if (!fixed[i]) index[i] = n_free++;
+  std::vector<int> index;
+  const int n_free = free_indices(fixed, order, &index);
   std::vector<double> f(n);
   for (int i = 0; i < n; ++i)
     if (fixed[i]) f[i] = value[i];
   if (n_free == 0) return f;
-  std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
-  for (int col = 0; col < n; ++col)
+  for (int col = 0; col < n; ++col) {
+    if (!fixed[col]) continue;
     for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it) {
       const int row = static_cast<int>(it.row());
-      if (fixed[row]) continue;
-      if (fixed[col])
-        rhs[index[row]] -= it.value() * value[col];
-      else
-        triplets.emplace_back(index[row], index[col], it.value());
+      if (!fixed[row]) rhs[index[row]] -= it.value() * value[col];
     }
-  Eigen::SparseMatrix<double> a(n_free, n_free);
-  a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
-  if (solver.info() != Eigen::Success)
-    return failed_precondition("harmonic field: the Laplacian system could not be factorized");
-  const Eigen::VectorXd x = solver.solve(rhs);
+  }
+  const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
+  GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
+                         factorize_and_solve(a, rhs, !order.empty(), "harmonic field"));
   for (int i = 0; i < n; ++i)
     if (!fixed[i]) f[i] = x[index[i]];
-  if (!x.allFinite()) return failed_precondition("harmonic field: the solution is not finite");
   return f;
 }
 
@@ -114,16 +181,17 @@ HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
 Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
-                                               const std::vector<int>& outer_loop) {
+                                               const std::vector<int>& outer_loop,
+                                               const std::vector<int>& order) {
   const int n = surface.n_vertices();
   // Seam: shortest path (by length) from inner_loop[0] through interior vertices to the outer
   // boundary.
   std::vector<char> on_inner(n, 0), on_outer(n, 0);
   for (int v : inner_loop) on_inner[v] = 1;
   for (int v : outer_loop) on_outer[v] = 1;
-  std::vector<std::vector<int>> neighbours(n);
-  for (const auto& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) neighbours[t[k]].push_back(t[(k + 1) % 3]);
+  // The successor of each vertex per triangle, and (built only when needed) the predecessor.
+  const DirectedEdges edges(surface.triangles, n);
+  std::unique_ptr<DirectedEdges> reversed;
   std::vector<double> dist(n, std::numeric_limits<double>::infinity());
   std::vector<int> parent(n, -1);
   using Item = std::pair<double, int>;
@@ -141,19 +209,24 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
       queue.pop();
       if (d > dist[v]) continue;
       if (on_outer[v]) return v;
-      for (int w : neighbours[v]) {
-        if (on_inner[w]) continue;
-        const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
-        if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+      for (const DirectedEdges* e : {&edges, static_cast<const DirectedEdges*>(reversed.get())}) {
+        if (!e) continue;
+        for (int i = e->begin(v); i < e->end(v); ++i) {
+          const int w = e->to(i);
+          if (on_inner[w]) continue;
+          const double nd = d + (surface.xyz[w] - surface.xyz[v]).norm();
+          if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+        }
       }
     }
     return -1;
   };
   int end = shortest_to_outer();
-  // neighbours holds only the successor of each vertex per triangle; walk both directions.
+  // edges holds only the successor of each vertex per triangle; walk both directions.
   if (end < 0) {
-    for (const auto& t : surface.triangles)
-      for (int k = 0; k < 3; ++k) neighbours[t[(k + 1) % 3]].push_back(t[k]);
+    std::vector<std::array<int, 3>> flipped = surface.triangles;
+    for (auto& t : flipped) std::swap(t[0], t[1]);
+    reversed = std::make_unique<DirectedEdges>(flipped, n);
     end = shortest_to_outer();
   }
   if (end < 0)
@@ -165,10 +238,6 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   std::reverse(seam.begin(), seam.end());  // seam[0] = start on the inner boundary
 
   // Corners at seam vertices on the left of the seam (seen along its direction) get +1.
-  std::map<std::pair<int, int>, int> face_of_directed_edge;
-  for (int k = 0; k < surface.n_triangles(); ++k)
-    for (int j = 0; j < 3; ++j)
-      face_of_directed_edge[{surface.triangles[k][j], surface.triangles[k][(j + 1) % 3]}] = k;
   std::map<std::pair<int, int>, char> is_seam_edge;
   for (size_t i = 1; i < seam.size(); ++i) {
     is_seam_edge[{seam[i - 1], seam[i]}] = 1;
@@ -178,11 +247,11 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   for (size_t i = 0; i < seam.size(); ++i) {
     const int v = seam[i];
     // A face left of the seam at v: left of (v -> next), or of (prev -> v) at the end.
-    auto it = i + 1 < seam.size() ? face_of_directed_edge.find({v, seam[i + 1]})
-                                  : face_of_directed_edge.find({seam[i - 1], v});
-    GVKIT_CHECK(it != face_of_directed_edge.end());
+    const int first =
+        i + 1 < seam.size() ? edges.triangle(v, seam[i + 1]) : edges.triangle(seam[i - 1], v);
+    GVKIT_CHECK(first >= 0);
     // Flood the fan of v from that face across edges at v that are neither seam nor boundary.
-    std::vector<int> stack = {it->second};
+    std::vector<int> stack = {first};
     std::map<int, char> visited;
     while (!stack.empty()) {
       const int k = stack.back();
@@ -196,8 +265,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
       for (int w : {t[(slot + 1) % 3], t[(slot + 2) % 3]}) {
         if (is_seam_edge.count({v, w})) continue;
         for (auto e : {std::make_pair(v, w), std::make_pair(w, v)}) {
-          auto f = face_of_directed_edge.find(e);
-          if (f != face_of_directed_edge.end() && !visited[f->second]) stack.push_back(f->second);
+          const int f = edges.triangle(e.first, e.second);
+          if (f >= 0 && !visited[f]) stack.push_back(f);
         }
       }
     }
@@ -217,25 +286,14 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   }
   std::vector<char> fixed(n, 0);
   fixed[start] = 1;
-  std::vector<int> index(n, -1);
-  int n_free = 0;
-  for (int i = 0; i < n; ++i)
-    if (!fixed[i]) index[i] = n_free++;
-  std::vector<Eigen::Triplet<double>> triplets;
+  std::vector<int> index;
+  const int n_free = free_indices(fixed, order, &index);
   Eigen::VectorXd b(n_free);
   for (int i = 0; i < n; ++i)
     if (!fixed[i]) b[index[i]] = rhs[i];
-  for (int col = 0; col < n; ++col)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
-      if (!fixed[it.row()] && !fixed[col])
-        triplets.emplace_back(index[it.row()], index[col], it.value());
-  Eigen::SparseMatrix<double> a(n_free, n_free);
-  a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(a);
-  if (solver.info() != Eigen::Success)
-    return failed_precondition("harmonic conjugate: the system could not be factorized");
-  const Eigen::VectorXd x = solver.solve(b);
-  if (!x.allFinite()) return failed_precondition("harmonic conjugate: solution not finite");
+  const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
+  GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
+                         factorize_and_solve(a, b, !order.empty(), "harmonic conjugate"));
   std::vector<double> psi(surface.n_triangles() * 3);
   for (int k = 0; k < surface.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) {
@@ -247,13 +305,13 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   const int m = static_cast<int>(inner_loop.size());
   for (int i = 0; i < m; ++i) {
     const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
-    auto it = face_of_directed_edge.find({u, w});
-    GVKIT_CHECK(it != face_of_directed_edge.end(), "inner loop follows boundary halfedges");
-    const auto& t = surface.triangles[it->second];
+    const int k = edges.triangle(u, w);
+    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
+    const auto& t = surface.triangles[k];
     int su = 0, sw = 0;
     while (t[su] != u) ++su;
     while (t[sw] != w) ++sw;
-    total += psi[3 * it->second + sw] - psi[3 * it->second + su];
+    total += psi[3 * k + sw] - psi[3 * k + su];
   }
   if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
     return failed_precondition("harmonic conjugate: period around the inner boundary is " +

@@ -107,8 +107,9 @@ Result<MappedFace> map_face_hm(const Mesh& mesh, const FaceLandmarks& landmarks,
     fixed[v] = 1, bx[v] = p.x(), by[v] = p.y();
   }
   const auto laplacian = cotan_laplacian(s);
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> ux, solve_dirichlet(laplacian, fixed, bx));
-  GVKIT_ASSIGN_OR_RETURN(std::vector<double> uy, solve_dirichlet(laplacian, fixed, by));
+  const std::vector<int> order = laplacian_elimination_order(laplacian);  // one for x and y
+  GVKIT_ASSIGN_OR_RETURN(std::vector<double> ux, solve_dirichlet(laplacian, fixed, bx, order));
+  GVKIT_ASSIGN_OR_RETURN(std::vector<double> uy, solve_dirichlet(laplacian, fixed, by, order));
   MappedFace out;
   out.interior_extrema = check_harmonic_field(s, laplacian, fixed, ux).interior_extrema +
                          check_harmonic_field(s, laplacian, fixed, uy).interior_extrema;

@@ -329,6 +329,23 @@ Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& optio
   if (loops.size() <= 1) return report;
   std::sort(loops.begin(), loops.end(),
             [](const auto& a, const auto& b) { return a.first > b.first; });
+  // Room for the fills up front (estimated from each hole's vector area and target edge), so
+  // the mesh's arrays do not grow, and get copied, one split at a time.
+  {
+    double new_vertices = 0.0;
+    for (size_t i = 1; i < loops.size(); ++i) {
+      const auto hole = loop_halfedges(*mesh, loops[i].second);
+      Point area(0, 0, 0);
+      const Point& origin = mesh->point(mesh->from_vertex_handle(hole.front()));
+      for (auto h : hole)
+        area += (mesh->point(mesh->from_vertex_handle(h)) - origin) %
+                (mesh->point(mesh->to_vertex_handle(h)) - origin);
+      const double target = options.density_factor * loops[i].first / hole.size();
+      new_vertices += 2.5 * 0.5 * area.norm() / (0.43 * target * target) + hole.size();
+    }
+    const size_t k = static_cast<size_t>(new_vertices);
+    mesh->reserve(mesh->n_vertices() + k, mesh->n_edges() + 3 * k, mesh->n_faces() + 2 * k);
+  }
   std::set<int> rim_vertices;
   for (auto h : loop_halfedges(*mesh, loops[0].second))
     rim_vertices.insert(mesh->from_vertex_handle(h).idx());

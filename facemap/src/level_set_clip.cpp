@@ -10,8 +10,16 @@
 
 namespace gvkit::facemap {
 
-Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f_in,
+Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f,
                      const LevelSetClipOptions& options, MeshRepairReport* report,
+                     std::vector<int>* source_vertex) {
+  Mesh out;
+  clip_mesh_below(mesh, f, options, &out, report, source_vertex);
+  return out;
+}
+
+void clip_mesh_below(const Mesh& mesh, const std::vector<double>& f_in,
+                     const LevelSetClipOptions& options, Mesh* out, MeshRepairReport* report,
                      std::vector<int>* source_vertex) {
   GVKIT_CHECK(f_in.size() == mesh.n_vertices(), "clip: one value per vertex");
   const double level = options.level;
@@ -29,6 +37,9 @@ Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f_in,
   std::vector<Mesh::Point> points;
   std::vector<Mesh::Color> point_colors;
   std::vector<int> point_source;
+  points.reserve(mesh.n_vertices());
+  if (colors) point_colors.reserve(mesh.n_vertices());
+  point_source.reserve(mesh.n_vertices());
   std::vector<int> point_of_vertex(mesh.n_vertices(), -1);
   std::map<std::pair<int, int>, int> point_of_edge;
   auto vertex_point = [&](Mesh::VertexHandle v) {
@@ -99,13 +110,15 @@ Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f_in,
   }
   MeshRepairOptions repair;
   repair.keep_largest_component = options.keep_largest_component;
+  // Two triangles with the same corners would need two input faces on the same three points
+  // (a vertex pair and a point on their edge: collinear, dropped as degenerate).
+  repair.check_duplicates = false;
   std::vector<int> original;
-  Mesh out = mesh_from_triangles(points, point_colors, triangles, repair, report, &original);
+  mesh_from_triangles(points, point_colors, triangles, repair, out, report, &original);
   if (source_vertex) {
     source_vertex->resize(original.size());
     for (size_t i = 0; i < original.size(); ++i) (*source_vertex)[i] = point_source[original[i]];
   }
-  return out;
 }
 
 }  // namespace gvkit::facemap

@@ -3,6 +3,8 @@
 #include <map>
 #include <numeric>
 
+#include "directed_edges.hpp"
+
 namespace gvkit::facemap {
 
 SourceWeights interpolate_source_weights(const SourceWeights& a, const SourceWeights& b, double t) {
@@ -135,17 +137,17 @@ TriSurface cut_along_edges(const CuttableMesh& cm, const std::vector<char>& edge
 
 std::vector<std::vector<int>> tri_surface_boundary_loops(const TriSurface& surface) {
   // Directed boundary edges: (a -> b) of a triangle whose reverse (b -> a) is in no triangle.
-  std::map<std::pair<int, int>, int> directed;
-  for (const auto& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) directed[{t[k], t[(k + 1) % 3]}] += 1;
+  const DirectedEdges directed(surface.triangles, surface.n_vertices());
   std::vector<int> next(surface.n_vertices(), -1);
-  for (const auto& [edge, count] : directed) {
-    GVKIT_CHECK(count == 1, "non-manifold edge in a TriSurface");
-    if (!directed.count({edge.second, edge.first})) {
-      GVKIT_CHECK(next[edge.first] < 0, "non-manifold boundary vertex in a TriSurface");
-      next[edge.first] = edge.second;
+  for (int a = 0; a < surface.n_vertices(); ++a)
+    for (int i = directed.begin(a); i < directed.end(a); ++i) {
+      const int b = directed.to(i);
+      GVKIT_CHECK(directed.count(a, b) == 1, "non-manifold edge in a TriSurface");
+      if (directed.corner(b, a) < 0) {
+        GVKIT_CHECK(next[a] < 0, "non-manifold boundary vertex in a TriSurface");
+        next[a] = b;
+      }
     }
-  }
   std::vector<std::vector<int>> loops;
   std::vector<char> seen(surface.n_vertices(), 0);
   for (int v = 0; v < surface.n_vertices(); ++v) {

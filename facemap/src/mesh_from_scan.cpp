@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace gvkit::facemap {
 
@@ -15,6 +16,12 @@ Status MeshFromScanOptions::check() const {
 }
 
 Result<ScanMesh> mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options) {
+  Result<ScanMesh> result(std::in_place);
+  if (Status s = mesh_from_scan(scan, options, &*result); !s.is_ok()) result = std::move(s);
+  return result;
+}
+
+Status mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options, ScanMesh* out) {
   GVKIT_RETURN_IF_ERROR(options.check());
   const std::string frame = "frame " + std::to_string(scan.index);
   GVKIT_RETURN_IF_ERROR(scan.check().with_context(frame));
@@ -54,10 +61,11 @@ Result<ScanMesh> mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions
     }
 
   // Edge test: |a - b| <= factor * footprint * depth, with room for diagonals (1.5 > sqrt 2).
+  const double edge_per_depth = options.max_edge_factor * footprint * 1.5;
   auto edge_ok = [&](int a, int b) {
     const Mesh::Point d = points[a] - points[b];
-    const double depth = 0.5 * (std::abs(points[a][2]) + std::abs(points[b][2]));
-    return d.norm() <= options.max_edge_factor * footprint * depth * 1.5;
+    const double limit = edge_per_depth * 0.5 * (std::abs(points[a][2]) + std::abs(points[b][2]));
+    return d.sqrnorm() <= limit * limit;
   };
   auto triangle_ok = [&](int a, int b, int c) {
     return edge_ok(a, b) && edge_ok(b, c) && edge_ok(c, a);
@@ -97,23 +105,24 @@ Result<ScanMesh> mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions
     return failed_precondition(frame + ": no triangle in the range scan (" +
                                std::to_string(points.size()) + " valid pixels)");
 
-  ScanMesh out;
-  out.footprint_per_depth = footprint;
+  out->footprint_per_depth = footprint;
   MeshRepairOptions repair_options;
   repair_options.keep_largest_component = options.keep_largest_component;
+  repair_options.check_duplicates = false;  // each 2x2 block gives its own triangles
   std::vector<int> original;
-  out.mesh = mesh_from_triangles(points, colors, triangles, repair_options, &out.repair, &original);
+  mesh_from_triangles(points, colors, triangles, repair_options, &out->mesh, &out->repair,
+                      &original);
   std::vector<cv::Point> pixel_of_point(points.size());
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x)
       if (index.at<int>(y, x) >= 0) pixel_of_point[index.at<int>(y, x)] = {x, y};
-  out.vertex_of_pixel = cv::Mat(rows, cols, CV_32S, cv::Scalar(-1));
-  out.vertex_pixel.resize(original.size());
+  out->vertex_of_pixel = cv::Mat(rows, cols, CV_32S, cv::Scalar(-1));
+  out->vertex_pixel.resize(original.size());
   for (size_t v = 0; v < original.size(); ++v) {
-    out.vertex_pixel[v] = pixel_of_point[original[v]];
-    out.vertex_of_pixel.at<int>(out.vertex_pixel[v]) = static_cast<int>(v);
+    out->vertex_pixel[v] = pixel_of_point[original[v]];
+    out->vertex_of_pixel.at<int>(out->vertex_pixel[v]) = static_cast<int>(v);
   }
-  return out;
+  return Status::ok();
 }
 
 }  // namespace gvkit::facemap

@@ -1,6 +1,7 @@
 #include "gvkit/facemap/mesh_repair.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <mutex>
 #include <numeric>
 #include <set>
@@ -42,10 +43,146 @@ int find_root(std::vector<int>& parent, int i) {
 
 }  // namespace
 
+bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& faces, Mesh* mesh) {
+  const int nf = static_cast<int>(faces.size());
+  const int nc = 3 * nf;  // face halfedge c = 3 t + k runs from faces[t][k] to faces[t][k + 1]
+  const int* corner = faces.empty() ? nullptr : faces.front().data();
+  auto next = [](int c) { return c % 3 == 2 ? c - 2 : c + 1; };
+  auto prev = [](int c) { return c % 3 == 0 ? c + 2 : c - 1; };
+  auto from = [&](int c) { return corner[c]; };
+  auto to = [&](int c) { return corner[next(c)]; };
+  // Face halfedges leaving each vertex (CSR).
+  std::vector<int> out_start(static_cast<size_t>(n_vertices) + 1, 0);
+  for (int c = 0; c < nc; ++c) {
+    GVKIT_CHECK(corner[c] >= 0 && corner[c] < n_vertices, "triangle index out of range");
+    ++out_start[corner[c] + 1];
+  }
+  for (int i = 0; i < n_vertices; ++i) out_start[i + 1] += out_start[i];
+  std::vector<int> out(static_cast<size_t>(nc));
+  {
+    std::vector<int> fill(out_start.begin(), out_start.end() - 1);
+    for (int c = 0; c < nc; ++c) out[fill[corner[c]]++] = c;
+  }
+  // Twins, per vertex a: its outgoing halfedges a -> b by b, then the incoming ones x -> a (the
+  // previous halfedge of each outgoing one) look up a -> x. A directed edge used twice, a
+  // degenerate face or a face equal to its three neighbours is not representable here.
+  std::vector<int> twin(static_cast<size_t>(nc), -1);
+  std::vector<int> stamp(n_vertices, -1), leaving(n_vertices, -1);
+  for (int a = 0; a < n_vertices; ++a) {
+    for (int i = out_start[a]; i < out_start[a + 1]; ++i) {
+      const int c = out[i], b = to(c);
+      if (b == a || stamp[b] == a) return false;
+      stamp[b] = a;
+      leaving[b] = c;
+    }
+    for (int i = out_start[a]; i < out_start[a + 1]; ++i) {
+      const int d = prev(out[i]), x = from(d);  // d: x -> a
+      if (stamp[x] == a) twin[d] = leaving[x];
+    }
+  }
+  for (int c = 0; c < nc; ++c)
+    if (twin[c] >= 0 && twin[twin[c]] != c) return false;
+  for (int t = 0; t < nf; ++t)
+    if (twin[3 * t] >= 0 && twin[3 * t + 1] >= 0 && twin[3 * t + 2] >= 0 &&
+        twin[3 * t] / 3 == twin[3 * t + 1] / 3 && twin[3 * t] / 3 == twin[3 * t + 2] / 3)
+      return false;
+  // OpenMesh halfedge ids: edge e holds 2e and 2e + 1; a boundary halfedge is the odd one.
+  std::vector<int> hedge(static_cast<size_t>(nc), -1);
+  int n_edges = 0;
+  for (int c = 0; c < nc; ++c) {
+    if (hedge[c] >= 0) continue;
+    hedge[c] = 2 * n_edges;
+    if (twin[c] >= 0) hedge[twin[c]] = 2 * n_edges + 1;
+    ++n_edges;
+  }
+  // Boundary: around each vertex, every open fan of faces has a boundary halfedge entering it
+  // (the twin of its first face halfedge a -> b) and one leaving it on its other side. As in
+  // OpenMesh, the entering halfedge of one fan continues with the leaving halfedge of the next
+  // fan (in a cycle), so circulating around a vertex visits all its fans.
+  std::vector<int> fan_faces(n_vertices, 0);
+  std::vector<int> fans_start(static_cast<size_t>(n_vertices) + 1, 0);
+  std::vector<int> fan_in, fan_out;  // per fan (grouped by vertex): entering c, leaving prev(c)
+  std::vector<int> fan_vertex;
+  for (int c = 0; c < nc; ++c) {
+    if (twin[c] >= 0) continue;
+    const int a = from(c);
+    int cur = c, steps = 1;
+    for (; twin[prev(cur)] >= 0; ++steps) {
+      cur = twin[prev(cur)];
+      if (steps > out_start[a + 1] - out_start[a]) return false;
+    }
+    fan_in.push_back(c);
+    fan_out.push_back(prev(cur));  // its twin (a -> x) is the boundary halfedge leaving a
+    fan_vertex.push_back(a);
+    fan_faces[a] += steps;
+    ++fans_start[a + 1];
+  }
+  for (int i = 0; i < n_vertices; ++i) fans_start[i + 1] += fans_start[i];
+  std::vector<int> fans(fan_in.size());
+  {
+    std::vector<int> fill(fans_start.begin(), fans_start.end() - 1);
+    for (size_t k = 0; k < fan_in.size(); ++k) fans[fill[fan_vertex[k]]++] = static_cast<int>(k);
+  }
+  std::vector<int> next_boundary(static_cast<size_t>(nc), -1);
+  for (int a = 0; a < n_vertices; ++a) {
+    const int first = fans_start[a], count = fans_start[a + 1] - first;
+    for (int i = 0; i < count; ++i)
+      next_boundary[fan_in[fans[first + i]]] = fan_out[fans[first + (i + 1) % count]];
+  }
+  for (int a = 0; a < n_vertices; ++a) {
+    const int degree = out_start[a + 1] - out_start[a];
+    if (degree == 0) continue;
+    if (fans_start[a + 1] == fans_start[a]) {
+      // One closed fan must hold all the faces.
+      const int start = out[out_start[a]];
+      int cur = start, steps = 0;
+      do {
+        cur = twin[prev(cur)];
+        ++steps;
+      } while (cur >= 0 && cur != start && steps <= degree);
+      if (cur != start || steps != degree) return false;
+    } else if (fan_faces[a] != degree) {
+      return false;  // a closed fan besides the open ones
+    }
+  }
+
+  mesh->resize(n_vertices, n_edges, nf);
+  using HH = Mesh::HalfedgeHandle;
+  for (int c = 0; c < nc; ++c) {
+    const HH h(hedge[c]);
+    const int t = c / 3;
+    mesh->set_vertex_handle(h, Mesh::VertexHandle(to(c)));
+    mesh->set_face_handle(h, Mesh::FaceHandle(t));
+    mesh->set_next_halfedge_handle(h, HH(hedge[next(c)]));
+    if (c % 3 == 0) mesh->set_halfedge_handle(Mesh::FaceHandle(t), h);
+    if (twin[c] < 0) {
+      const HH g(hedge[c] + 1);  // b -> a
+      mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
+      mesh->set_face_handle(g, Mesh::FaceHandle());
+      const HH leaving(hedge[next_boundary[c]] + 1);
+      mesh->set_next_halfedge_handle(g, leaving);
+      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), leaving);
+    } else if (fans_start[from(c) + 1] == fans_start[from(c)]) {
+      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), h);
+    }
+  }
+  return true;
+}
+
 Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<Mesh::Color>& colors,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, MeshRepairReport* report,
+                         std::vector<int>* original_index) {
+  Mesh mesh;
+  mesh_from_triangles(points, colors, triangles, options, &mesh, report, original_index);
+  return mesh;
+}
+
+void mesh_from_triangles(const std::vector<Mesh::Point>& points,
+                         const std::vector<Mesh::Color>& colors,
+                         const std::vector<std::array<int, 3>>& triangles,
+                         const MeshRepairOptions& options, Mesh* out, MeshRepairReport* report,
                          std::vector<int>* original_index) {
   MeshRepairReport local;
   MeshRepairReport& r = report ? *report : local;
@@ -53,29 +190,58 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
   const int n = static_cast<int>(points.size());
 
   // Degenerate and duplicate faces.
-  // Duplicates by sorting (corner set, position): the first of equal corner sets is kept.
-  std::vector<std::pair<std::array<int, 3>, int>> keys;
-  keys.reserve(triangles.size());
+  // Duplicates by sorting (corner set, position): the first of equal corner sets is kept. Corner
+  // sets are packed into one 64-bit key when the indices fit in 21 bits.
   std::vector<char> drop(triangles.size(), 0);
+  std::vector<std::array<int, 3>> sorted_corners;
+  if (options.check_duplicates) sorted_corners.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
     for (int k = 0; k < 3; ++k) GVKIT_CHECK(t[k] >= 0 && t[k] < n, "triangle index out of range");
+    if (options.check_duplicates) {
+      std::array<int, 3> key = t;
+      std::sort(key.begin(), key.end());
+      sorted_corners.push_back(key);
+    }
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] ||
         ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).sqrnorm() == 0.0) {
       ++r.degenerate_faces;
       drop[i] = 1;
-      continue;
     }
-    std::array<int, 3> key = t;
-    std::sort(key.begin(), key.end());
-    keys.emplace_back(key, static_cast<int>(i));
   }
-  std::sort(keys.begin(), keys.end());
-  for (size_t k = 1; k < keys.size(); ++k)
-    if (keys[k].first == keys[k - 1].first) {
-      drop[keys[k].second] = 1;
-      ++r.duplicate_faces;
+  if (!options.check_duplicates) {
+    // The caller's triangles have none (a pixel grid, a clipped manifold mesh); the direct build
+    // refuses them if that is wrong, and the faces are then checked after all (below).
+  } else if (n < (1 << 21)) {
+    std::vector<std::pair<uint64_t, int>> keys;
+    keys.reserve(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i) {
+      if (drop[i]) continue;
+      const auto& k = sorted_corners[i];
+      keys.emplace_back((static_cast<uint64_t>(k[0]) << 42) | (static_cast<uint64_t>(k[1]) << 21) |
+                            static_cast<uint64_t>(k[2]),
+                        static_cast<int>(i));
     }
+    std::sort(keys.begin(), keys.end());
+    for (size_t k = 1; k < keys.size(); ++k)
+      if (keys[k].first == keys[k - 1].first) {
+        drop[keys[k].second] = 1;
+        ++r.duplicate_faces;
+      }
+  } else {
+    std::vector<std::pair<std::array<int, 3>, int>> keys;
+    keys.reserve(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i)
+      if (!drop[i]) keys.emplace_back(sorted_corners[i], static_cast<int>(i));
+    std::sort(keys.begin(), keys.end());
+    for (size_t k = 1; k < keys.size(); ++k)
+      if (keys[k].first == keys[k - 1].first) {
+        drop[keys[k].second] = 1;
+        ++r.duplicate_faces;
+      }
+  }
+  sorted_corners.clear();
+  sorted_corners.shrink_to_fit();
   std::vector<std::array<int, 3>> faces;
   faces.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i)
@@ -98,52 +264,83 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
     keep_root = static_cast<int>(std::max_element(faces_per_root.begin(), faces_per_root.end()) -
                                  faces_per_root.begin());
 
-  // OpenMesh reports refused faces on its own stream; they are counted here instead.
-  static std::once_flag silence;
-  std::call_once(silence, [] { omerr().disable(); });
-  Mesh mesh;
-  mesh.reserve(n, 3 * faces.size() / 2 + n, faces.size());
-  const bool with_colors = !colors.empty();
-  GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");
-  if (with_colors) mesh.request_vertex_colors();
-  std::vector<Mesh::VertexHandle> handle(n);
+  // Kept faces on compact vertex indices (in order of first use).
+  std::vector<int> compact(n, -1);
   std::vector<int> original;
+  std::vector<std::array<int, 3>> kept;
+  kept.reserve(faces.size());
   for (const auto& t : faces) {
     if (keep_root >= 0 && find_root(parent, t[0]) != keep_root) {
       ++r.removed_component_faces;
       continue;
     }
-    std::array<Mesh::VertexHandle, 3> fv;
+    std::array<int, 3> c;
     for (int k = 0; k < 3; ++k) {
-      if (!handle[t[k]].is_valid()) {
-        handle[t[k]] = mesh.add_vertex(points[t[k]]);
-        if (with_colors) mesh.set_color(handle[t[k]], colors[t[k]]);
+      if (compact[t[k]] < 0) {
+        compact[t[k]] = static_cast<int>(original.size());
         original.push_back(t[k]);
       }
-      fv[k] = handle[t[k]];
+      c[k] = compact[t[k]];
     }
-    if (!mesh.add_face(fv[0], fv[1], fv[2]).is_valid()) ++r.non_manifold_faces;
+    kept.push_back(c);
   }
-  // Vertices whose only faces were dropped.
-  bool any_isolated = false;
-  for (auto v : mesh.vertices())
-    if (mesh.is_isolated(v)) {
-      mesh.delete_vertex(v, false);
-      any_isolated = true;
+  faces.clear();
+  faces.shrink_to_fit();
+
+  const bool with_colors = !colors.empty();
+  GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");
+  Mesh& mesh = *out;
+  mesh.clear();
+  if (with_colors) mesh.request_vertex_colors();
+  const int n_kept = static_cast<int>(original.size());
+  if (options.direct_build && build_half_edges(n_kept, kept, &mesh)) {
+    for (int i = 0; i < n_kept; ++i) {
+      const Mesh::VertexHandle v(i);
+      mesh.set_point(v, points[original[i]]);
+      if (with_colors) mesh.set_color(v, colors[original[i]]);
     }
-  if (any_isolated) {
-    // Track the original indices through garbage collection via a vertex property.
-    OpenMesh::VPropHandleT<int> orig;
-    mesh.add_property(orig);
-    for (auto v : mesh.all_vertices()) mesh.property(orig, v) = original[v.idx()];
-    mesh.garbage_collection();
-    original.assign(mesh.n_vertices(), -1);
-    for (auto v : mesh.vertices()) original[v.idx()] = mesh.property(orig, v);
-    mesh.remove_property(orig);
+  } else if (!options.check_duplicates) {
+    MeshRepairOptions checked = options;
+    checked.check_duplicates = true;
+    mesh_from_triangles(points, colors, triangles, checked, out, report, original_index);
+    return;
+  } else {
+    // The reference: OpenMesh's add_face, which refuses faces that would make an edge
+    // non-manifold or a vertex complex. It reports refused faces on its own stream; they are
+    // counted here instead.
+    static std::once_flag silence;
+    std::call_once(silence, [] { omerr().disable(); });
+    mesh.clear();
+    mesh.reserve(n_kept, 3 * kept.size() / 2 + n_kept, kept.size());
+    for (int i = 0; i < n_kept; ++i) {
+      const auto v = mesh.add_vertex(points[original[i]]);
+      if (with_colors) mesh.set_color(v, colors[original[i]]);
+    }
+    for (const auto& t : kept)
+      if (!mesh.add_face(Mesh::VertexHandle(t[0]), Mesh::VertexHandle(t[1]),
+                         Mesh::VertexHandle(t[2]))
+               .is_valid())
+        ++r.non_manifold_faces;
+    // Vertices whose only faces were refused.
+    bool any_isolated = false;
+    for (auto v : mesh.vertices())
+      if (mesh.is_isolated(v)) {
+        mesh.delete_vertex(v, false);
+        any_isolated = true;
+      }
+    if (any_isolated) {
+      // Track the original indices through garbage collection via a vertex property.
+      OpenMesh::VPropHandleT<int> orig;
+      mesh.add_property(orig);
+      for (auto v : mesh.all_vertices()) mesh.property(orig, v) = original[v.idx()];
+      mesh.garbage_collection();
+      original.assign(mesh.n_vertices(), -1);
+      for (auto v : mesh.vertices()) original[v.idx()] = mesh.property(orig, v);
+      mesh.remove_property(orig);
+    }
   }
   r.removed_vertices = n - static_cast<int>(mesh.n_vertices());
   if (original_index) *original_index = std::move(original);
-  return mesh;
 }
 
 MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options) {

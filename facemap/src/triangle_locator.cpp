@@ -56,24 +56,30 @@ TriangleLocator::Hit TriangleLocator::locate(const Eigen::Vector2d& p, double to
   double best_min = -tolerance;
   const int bin = by * nx_ + bx;
   for (int i = bin_start_[bin]; i < bin_start_[bin + 1]; ++i) {
-    const int k = bin_items_[i];
-    const Eigen::Vector2d& a = corners_[3 * k];
-    const Eigen::Vector2d& b = corners_[3 * k + 1];
-    const Eigen::Vector2d& c = corners_[3 * k + 2];
-    const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-    if (det == 0) continue;
-    const double l1 = ((p - a).x() * (c - a).y() - (p - a).y() * (c - a).x()) / det;
-    const double l2 = ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x()) / det;
-    const double l0 = 1.0 - l1 - l2;
-    const double mn = std::min({l0, l1, l2});
+    const Hit hit = in_triangle(bin_items_[i], p);
+    if (hit.triangle < 0) continue;
+    const double mn = std::min({hit.barycentric[0], hit.barycentric[1], hit.barycentric[2]});
     if (mn >= best_min) {
       best_min = mn;
-      best.triangle = k;
-      best.barycentric = {l0, l1, l2};
+      best = hit;
       if (mn > 0) break;
     }
   }
   return best;
+}
+
+TriangleLocator::Hit TriangleLocator::in_triangle(int k, const Eigen::Vector2d& p) const {
+  Hit hit;
+  const Eigen::Vector2d& a = corners_[3 * k];
+  const Eigen::Vector2d& b = corners_[3 * k + 1];
+  const Eigen::Vector2d& c = corners_[3 * k + 2];
+  const double det = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  if (det == 0) return hit;
+  const double l1 = ((p - a).x() * (c - a).y() - (p - a).y() * (c - a).x()) / det;
+  const double l2 = ((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x()) / det;
+  hit.triangle = k;
+  hit.barycentric = {1.0 - l1 - l2, l1, l2};
+  return hit;
 }
 
 }  // namespace gvkit::facemap

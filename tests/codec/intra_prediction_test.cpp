@@ -35,6 +35,13 @@ TEST(IntraPrediction, OptimisedEqualsReferenceOnRandomNeighbours) {
           for (int i = 0; i < s.n * s.n; ++i)
             ASSERT_EQ(fast[i], ref[i]) << "n " << s.n << " mode " << mode << " sample " << i;
         }
+      int32_t all[kIntra4x4ModeCount][16];
+      predict_intra4x4_modes(nb, max_value, kIntra4x4ModeCount, all);
+      for (int mode = 0; mode < kIntra4x4ModeCount; ++mode) {
+        int32_t ref[16];
+        predict_intra_reference(4, mode, nb, max_value, ref);
+        for (int i = 0; i < 16; ++i) ASSERT_EQ(all[mode][i], ref[i]) << "all modes, mode " << mode;
+      }
     }
   }
 }

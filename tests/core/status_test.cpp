@@ -47,6 +47,29 @@ TEST(Result, ValueOfFailedResultIsAContractError) {
   EXPECT_THROW(Result<int>(Status::ok()), ContractError);
 }
 
+// A value without a move constructor (like OpenMesh meshes): copies are counted.
+int g_copies = 0;
+struct Counted {
+  explicit Counted(int v) : value(v) {}
+  Counted(const Counted& other) : value(other.value) { ++g_copies; }
+  ~Counted() = default;
+  int value;
+};
+
+// Built in place and returned as the only named result: never copied.
+TEST(Result, InPlaceValueIsNotCopied) {
+  auto make = [](bool ok) {
+    Result<Counted> r(std::in_place, 7);
+    if (!ok) r = Status(StatusCode::kInvalidArgument, "no");
+    return r;
+  };
+  Result<Counted> a = make(true);
+  ASSERT_TRUE(a.is_ok());
+  EXPECT_EQ(a->value, 7);
+  EXPECT_EQ(g_copies, 0);
+  EXPECT_FALSE(make(false).is_ok());
+}
+
 TEST(Check, ThrowsContractErrorNamingTheCondition) {
   try {
     GVKIT_CHECK(1 + 1 == 3, "arithmetic");

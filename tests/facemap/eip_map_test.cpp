@@ -130,6 +130,48 @@ TEST(EipMap, EdgePathCutsMapLikeDescentCuts) {
     EXPECT_LT((mapped->keys_px.at(name) - px).norm(), 0.5) << name;
 }
 
+// The distance fields of the descent cuts solved on a crop around the cut routes (the default)
+// give the cuts of the whole mesh's fields: same keys, every cut vertex within half a mean edge
+// of the whole-mesh cut, on less than half the vertices.
+TEST(EipMap, CroppedDistanceFieldsCutLikeTheWholeMesh) {
+  REQUIRE_FIXTURE();
+  const auto pos = model.evaluate({{"jawOpen", 0.3}, {"mouthSmile_L", 0.4}});
+  const Mesh mesh = model.face_mesh(pos);
+  const FaceLandmarks landmarks = ict_landmarks(model, pos);
+  int largest_field = 0;
+  const DistanceFunction heat = heat_geodesic_distance();
+  const DistanceFunction counted = [&](const Mesh& m, const std::vector<Mesh::VertexHandle>& s,
+                                       double edge_scale) {
+    largest_field = std::max(largest_field, static_cast<int>(m.n_vertices()));
+    return heat(m, s, edge_scale);
+  };
+  FaceAnnulusOptions whole;
+  whole.distance_crop_mm = 0;
+  auto reference = make_face_annulus(mesh, landmarks, counted, whole);
+  ASSERT_TRUE(reference.is_ok()) << reference.status().message();
+  EXPECT_GE(largest_field, static_cast<int>(mesh.n_vertices()));  // + the key points split in
+  largest_field = 0;
+  auto cropped = make_face_annulus(mesh, landmarks, counted);
+  ASSERT_TRUE(cropped.is_ok()) << cropped.status().message();
+  EXPECT_LT(largest_field, static_cast<int>(mesh.n_vertices()) / 2);
+  EXPECT_EQ(cropped->cut_method, "descent");
+  EXPECT_EQ(cropped->key_names(), reference->key_names());
+  double worst = 0;
+  for (int v : cropped->inner_loop) {
+    double nearest = INFINITY;
+    for (int w : reference->inner_loop)
+      nearest = std::min(nearest, (cropped->surface.xyz[v] - reference->surface.xyz[w]).norm());
+    worst = std::max(worst, nearest);
+  }
+  double edge_sum = 0;
+  for (auto e : mesh.edges()) edge_sum += mesh.calc_edge_length(e);
+  const double mean_edge = edge_sum / static_cast<double>(mesh.n_edges());
+  EXPECT_LT(worst, 0.5 * mean_edge);
+  std::cout << "largest distance-field mesh " << largest_field << " of " << mesh.n_vertices()
+            << " vertices; cut vertices at most " << worst << " mm from the whole-mesh cut (mean "
+            << "edge " << mean_edge << " mm)\n";
+}
+
 // The main job's failures: a descent path that stops before its target, runs into the other
 // cut or back onto itself. Here the distance the cuts follow has a pit on the nose bridge
 // between the eyes, so the descent of c stops there; the edge-path fallback still cuts the face
@@ -145,10 +187,11 @@ TEST(EipMap, CutsFallBackToEdgePathsWhenTheDescentFails) {
   const auto bridge = mesh.point(Mesh::VertexHandle(nearest_vertices(mesh, probe)[0]));
   const cv::Vec3d pit(bridge[0], bridge[1], bridge[2]);
   const DistanceFunction heat = heat_geodesic_distance();
-  const DistanceFunction pitted = [&](const Mesh& mesh,
-                                      const std::vector<Mesh::VertexHandle>& sources)
-      -> Result<std::vector<std::vector<double>>> {
-    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields, heat(mesh, sources));
+  const DistanceFunction pitted =
+      [&](const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources,
+          double edge_scale) -> Result<std::vector<std::vector<double>>> {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<std::vector<double>> fields,
+                           heat(mesh, sources, edge_scale));
     for (auto& d : fields)
       for (auto v : mesh.vertices()) {
         const auto& p = mesh.point(v);

@@ -2,11 +2,13 @@
 #include "gvkit/facemap/face_mask.hpp"
 
 #include <cstdio>
+#include <limits>
 
 #include <gtest/gtest.h>
 
 #include "gvkit/core/ict_face_model.hpp"
 #include "gvkit/facemap/hole_filling.hpp"
+#include "gvkit/facemap/nearest_vertices.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit::facemap {
@@ -144,6 +146,34 @@ TEST(FaceMask, OptionsAreChecked) {
   EXPECT_TRUE(options.check().is_ok());
   options.radius_mm = -1;
   EXPECT_FALSE(options.check().is_ok());
+}
+
+// The grid search against one pass over all vertices: the same vertex (ties to the lower index)
+// for points on, near, between and far off a curved grid with repeated positions.
+TEST(FaceMask, NearestVerticesMatchTheReference) {
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v;
+  const int n = 90;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      v.push_back(mesh.add_vertex(Mesh::Point(x, y, 0.01 * (x - 45) * (y - 45))));
+  mesh.add_vertex(Mesh::Point(10, 10, 0.01 * 35 * 35));  // a duplicate position
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      mesh.add_face(v[y * n + x], v[y * n + x + 1], v[(y + 1) * n + x + 1]);
+      mesh.add_face(v[y * n + x], v[(y + 1) * n + x + 1], v[(y + 1) * n + x]);
+    }
+  std::vector<Mesh::Point> points = {{10, 10, 0.01 * 35 * 35}, {0.5, 0.5, 0}, {45.2, 30.7, 3},
+                                     {-20, 200, 50},           {89, 0, -40},  {44.5, 44.5, 0}};
+  for (int i = 0; i < 20; ++i) points.emplace_back(4.3 * i, 87 - 3.1 * i, (i % 5) - 2.0);
+  points.emplace_back(std::numeric_limits<double>::quiet_NaN(), 0, 0);  // no nearest vertex
+  std::vector<double> d, d_reference;
+  const auto grid = nearest_vertices(mesh, points, &d);
+  const auto reference = nearest_vertices_reference(mesh, points, &d_reference);
+  for (size_t k = 0; k < points.size(); ++k) {
+    EXPECT_EQ(grid[k], reference[k]) << k;
+    EXPECT_DOUBLE_EQ(d[k], d_reference[k]) << k;
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gvkit/facemap/flow_coordinates.hpp"
@@ -55,6 +56,32 @@ TEST(HarmonicField, DirichletOnARingIsTheLogarithm) {
     worst = std::max(worst, std::abs(flow->t[v] - std::log(3.0 / r) / std::log(3.0)));
   }
   EXPECT_LT(worst, 0.01);
+}
+
+// One elimination order of the whole Laplacian, restricted to each system's free vertices,
+// gives the solutions of each system ordered on its own (the reference), for f and for psi.
+TEST(HarmonicField, OneEliminationOrderGivesTheReferenceSolutions) {
+  const FaceAnnulus a = ring(9, 40);
+  const int n = a.surface.n_vertices();
+  const auto laplacian = cotan_laplacian(a.surface);
+  const std::vector<int> order = laplacian_elimination_order(laplacian);
+  ASSERT_EQ(static_cast<int>(order.size()), n);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int v = 0; v < n; ++v) ASSERT_EQ(sorted[v], v);  // a permutation
+  std::vector<char> fixed(n, 0);
+  std::vector<double> value(n, 0.0);
+  for (int v : a.outer_loop) fixed[v] = 1;
+  for (int v : a.inner_loop) fixed[v] = 1, value[v] = 1.0;
+  auto ordered = solve_dirichlet(laplacian, fixed, value, order);
+  auto reference = solve_dirichlet(laplacian, fixed, value);
+  ASSERT_TRUE(ordered.is_ok() && reference.is_ok());
+  for (int v = 0; v < n; ++v) EXPECT_NEAR((*ordered)[v], (*reference)[v], 1e-12) << v;
+  auto psi_ordered = harmonic_conjugate(a.surface, laplacian, a.inner_loop, a.outer_loop, order);
+  auto psi_reference = harmonic_conjugate(a.surface, laplacian, a.inner_loop, a.outer_loop);
+  ASSERT_TRUE(psi_ordered.is_ok() && psi_reference.is_ok());
+  for (size_t c = 0; c < psi_ordered->size(); ++c)
+    EXPECT_NEAR((*psi_ordered)[c], (*psi_reference)[c], 1e-10) << c;
 }
 
 TEST(HarmonicField, ConjugateLevelSetsAreTheRadialIntegralCurves) {

@@ -56,6 +56,10 @@ IntraNeighbors make_neighbors(const uint16_t* plane, int stride, int x0, int y0,
 // Predicts an n x n block (n = 4, 8, 16) into out (row-major, n*n values). mode must be valid for
 // the size (4: 0..12, 8: 0..8, 16: 0..3).
 void predict_intra(int n, int mode, const IntraNeighbors& nb, int max_value, int32_t* out);
+// predict_intra(4, mode, ...) for every mode 0 .. mode_count - 1 (<= kIntra4x4ModeCount) into
+// out[mode], sharing the work on the neighbours.
+void predict_intra4x4_modes(const IntraNeighbors& nb, int max_value, int mode_count,
+                            int32_t (*out)[16]);
 // The plain per-sample formulas of the same predictors, kept to check predict_intra.
 void predict_intra_reference(int n, int mode, const IntraNeighbors& nb, int max_value,
                              int32_t* out);

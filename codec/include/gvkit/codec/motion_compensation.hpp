@@ -5,7 +5,9 @@
 // two nearest integer / half samples for quarter positions. The reference is extended beyond its
 // edges by repeating the edge samples (every tap's coordinates are clamped).
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "gvkit/codec/plane_coding.hpp"
 
@@ -37,5 +39,48 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
 // The same, sample by sample through motion_sample (the plain reference implementation).
 void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x,
                                     int mv_y, bool quarter_pel, int bit_depth, int32_t* pred);
+
+// A reference plane with its half-sample planes (H.264's b, h and j) precomputed once over the
+// picture and a margin of `margin` samples around it (edge-extended), for an encoder that
+// evaluates many vectors against one reference: a quarter-sample prediction is then the rounded
+// average of two stored samples. Every value equals predict_motion_block's (and so
+// interpolate_quarter_sample's); blocks reaching beyond the margin fall back to it.
+class InterpolatedReference {
+ public:
+  // ref must outlive this object; 8 <= bit_depth <= 16, margin >= 0.
+  InterpolatedReference(const SamplePlane& ref, int bit_depth, int margin);
+
+  // As predict_motion_block(ref, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth, pred), for
+  // any w, h > 0 (row-major into pred, w * h values).
+  void predict(int x0, int y0, int w, int h, int mv_x, int mv_y, bool quarter_pel,
+               int32_t* pred) const;
+  // As motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth).
+  int32_t sample(int x, int y, int mv_x, int mv_y, bool quarter_pel) const;
+  // The whole-sample plane at (x, y), edge-extended, when the w x h block there lies within the
+  // margin (else nullptr); rows are stride() samples apart.
+  const uint16_t* whole_block(int x, int y, int w, int h) const;
+  ptrdiff_t stride() const { return stride_; }
+  const SamplePlane& plane() const { return ref_; }
+  int bit_depth() const { return bit_depth_; }
+
+ private:
+  // Index into the padded planes of picture position (x, y) (may be negative).
+  ptrdiff_t index(int x, int y) const {
+    return static_cast<ptrdiff_t>(y + margin_) * stride_ + x + margin_;
+  }
+  bool inside(int x, int y, int w, int h) const {
+    return x >= -margin_ && y >= -margin_ && x + w <= ref_.width + margin_ &&
+           y + h <= ref_.height + margin_;
+  }
+
+  const SamplePlane& ref_;
+  int bit_depth_;
+  int margin_;
+  ptrdiff_t stride_;
+  size_t plane_size_ = 0;
+  // G (whole samples), b (half right), h (half below) and j, one after the other (one
+  // allocation: freed and allocated again per plane, it stays in the heap, without page faults).
+  std::vector<uint16_t> storage_;
+};
 
 }  // namespace gvkit::codec

@@ -20,6 +20,9 @@ void quantize(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 // for inter blocks): a wider dead zone, fewer isolated small levels.
 void quantize_inter(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
+// The plain per-position formulas of the same (kept to check the table-driven versions).
+void quantize_reference(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
+void dequantize_reference(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
 // Quantizer step size (in sample units of the coded bit depth) of qp_prime: 0.625 * 2^(qp'/6).
 double quantizer_step(int qp_prime);
 

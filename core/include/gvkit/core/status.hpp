@@ -71,6 +71,10 @@ class [[nodiscard]] Result {
   Result(Status status) : status_(std::move(status)) {  // NOLINT(google-explicit-constructor)
     if (status_.is_ok()) fail_check("!status.is_ok()", __FILE__, __LINE__, "Result from ok Status");
   }
+  // The value built in place (for types without a cheap move, e.g. OpenMesh meshes).
+  template <typename... Args>
+  explicit Result(std::in_place_t, Args&&... args)
+      : value_(std::in_place, std::forward<Args>(args)...) {}
 
   bool is_ok() const { return value_.has_value(); }
   explicit operator bool() const { return is_ok(); }

@@ -75,7 +75,8 @@ class CanonicalDomain {
 
 // Euclidean distance in the mesh's embedding from each source (one field per source): the
 // geodesic distance on a flat domain (where the straight segment stays inside it).
+// (edge_scale is not used: a DistanceFunction.)
 Result<std::vector<std::vector<double>>> euclidean_distance(
-    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources);
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources, double edge_scale = 1.0);
 
 }  // namespace gvkit::facemap

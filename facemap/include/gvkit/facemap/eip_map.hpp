@@ -28,7 +28,8 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
                                 const CanonicalDomain& domain, const DistanceFunction& distance,
                                 const EipOptions& options = {});
 
-// The geodesic distance the cuts follow in gvkit: the heat method (HeatGeodesics).
+// The geodesic distance the cuts follow in gvkit: the heat method (HeatGeodesics), its diffusion
+// time scaled by edge_scale^2 (see DistanceFunction).
 DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options = {});
 
 // Fills the xyz (and texture) of domain pixels that no triangle covered from their nearest

@@ -28,9 +28,12 @@
 namespace gvkit::facemap {
 
 // Geodesic distance (mm) from each source vertex to every vertex of mesh: one field per source
-// (indexed by vertex idx()), so one factorization can serve all of them.
+// (indexed by vertex idx()), so one factorization can serve all of them. mesh may be a part cut
+// out of a larger surface around the sources; edge_scale is then the larger surface's mean edge
+// length over mesh's own (1 for a whole surface), so a method whose parameters follow the mean
+// edge length (the heat method's diffusion time) gives the larger surface's field.
 using DistanceFunction = std::function<Result<std::vector<std::vector<double>>>(
-    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources)>;
+    const Mesh& mesh, const std::vector<Mesh::VertexHandle>& sources, double edge_scale)>;
 
 struct FaceAnnulusOptions {
   FaceBoundaryOptions boundaries;
@@ -50,6 +53,10 @@ struct FaceAnnulusOptions {
   // whose route and middle move between frames where the nose bridge is a flat saddle.
   bool c_through_nose_bridge = true;
   bool edge_path_fallback = true;
+  // The distance fields of the descent cuts are solved only on the part of the mesh within this
+  // distance (mm, along edges) of the shortest edge paths the cuts roughly follow (a descent
+  // that fails there is traced again with the whole mesh's fields); 0: on the whole mesh.
+  double distance_crop_mm = 20.0;
   Status check() const;
 };
 

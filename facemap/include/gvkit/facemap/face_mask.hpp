@@ -70,6 +70,9 @@ struct FaceMask {
 // off the mesh.
 Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                                     const FaceMaskOptions& options = {});
+// The same with the masked mesh written to `masked` (info->mesh is left alone): no copy of it.
+Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                          const FaceMaskOptions& options, FaceMask* info, Mesh* masked);
 
 // The default radius for these landmarks: factor x |eyes midpoint - mouth centre| (mm).
 double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor);

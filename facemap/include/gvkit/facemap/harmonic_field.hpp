@@ -16,11 +16,20 @@ namespace gvkit::facemap {
 // w_ij = (cot alpha + cot beta) / 2).
 Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface);
 
+// A fill-reducing elimination order of all the vertices of L (AMD on its pattern; order[k] is the
+// vertex eliminated k-th). The systems below are L restricted to their free vertices, and this
+// order restricted to a subset of the vertices fills no more there than on the whole, so one
+// order serves every system of one surface instead of an AMD ordering per system.
+std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian);
+
 // Solves L f = 0 at free vertices with f = value at the fixed ones (fixed[i] >= 0 marks vertex
-// i fixed to value[i]). Fails when the factorization fails (a singular system).
+// i fixed to value[i]). order: laplacian_elimination_order(laplacian), or empty to order the
+// reduced system on its own (the reference; same solution up to round-off). Fails when the
+// factorization fails (a singular system).
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
-                                            const std::vector<double>& value);
+                                            const std::vector<double>& value,
+                                            const std::vector<int>& order = {});
 
 // How well a discrete harmonic field keeps the maximum principle.
 struct HarmonicFieldReport {
@@ -37,10 +46,11 @@ HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
 // per-corner values psi (triangle k, corner j at [3k + j]): psi is harmonic with zero normal
 // derivative on both boundaries and jumps by 1 across a seam from inner_loop[0] to the outer
 // boundary, so it is single-valued per triangle. Its values increase by exactly 1 around inner_loop
-// in loop order.
+// in loop order. order: as for solve_dirichlet.
 Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
-                                               const std::vector<int>& outer_loop);
+                                               const std::vector<int>& outer_loop,
+                                               const std::vector<int>& order = {});
 
 }  // namespace gvkit::facemap

@@ -24,5 +24,9 @@ struct LevelSetClipOptions {
 Mesh clip_mesh_below(const Mesh& mesh, const std::vector<double>& f,
                      const LevelSetClipOptions& options, MeshRepairReport* report = nullptr,
                      std::vector<int>* source_vertex = nullptr);
+// The same into `out` (no copy of the mesh).
+void clip_mesh_below(const Mesh& mesh, const std::vector<double>& f,
+                     const LevelSetClipOptions& options, Mesh* out,
+                     MeshRepairReport* report = nullptr, std::vector<int>* source_vertex = nullptr);
 
 }  // namespace gvkit::facemap

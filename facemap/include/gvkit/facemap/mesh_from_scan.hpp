@@ -36,5 +36,7 @@ struct ScanMesh {
 // Fails (failed precondition, naming the frame index) when the scan has fewer than 3 valid
 // pixels or no triangle survives; the scan must pass RangeScan::check().
 Result<ScanMesh> mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options = {});
+// The same into `out` (no copy of the mesh).
+Status mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options, ScanMesh* out);
 
 }  // namespace gvkit::facemap

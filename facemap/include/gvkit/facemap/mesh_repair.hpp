@@ -25,6 +25,12 @@ struct MeshRepairReport {
 
 struct MeshRepairOptions {
   bool keep_largest_component = true;
+  // true: the half-edge structure is written directly (build_half_edges) when the kept faces
+  // allow it, else OpenMesh's add_face builds it (the reference, always used when false).
+  bool direct_build = true;
+  // false: the caller guarantees no two triangles share their three corners (saves a sort of
+  // all faces); if the direct build finds otherwise, duplicates are checked after all.
+  bool check_duplicates = true;
 };
 
 // A manifold mesh from a triangle soup: points (mm), optional per-point colours (same size or
@@ -35,6 +41,22 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, MeshRepairReport* report,
                          std::vector<int>* original_index = nullptr);
+
+// The same, into `mesh` (OpenMesh meshes have no move constructor: this avoids a copy).
+void mesh_from_triangles(const std::vector<Mesh::Point>& points,
+                         const std::vector<Mesh::Color>& colors,
+                         const std::vector<std::array<int, 3>>& triangles,
+                         const MeshRepairOptions& options, Mesh* mesh, MeshRepairReport* report,
+                         std::vector<int>* original_index = nullptr);
+
+// Writes the half-edge structure of `mesh` (vertices 0..n_vertices-1, positions left to the
+// caller) directly from triangles that are edge-manifold and consistently oriented, without
+// OpenMesh's per-face checks: much faster than add_face. A vertex may have several open fans
+// (a boundary loop passing it leaves each fan on its own other side). Returns false, leaving the
+// mesh in an unspecified state, when the triangles are not representable: a directed edge used
+// twice, a degenerate face, two faces on the same three edges, or a closed fan of faces around
+// a vertex with further faces there. Every vertex needs a face.
+bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& faces, Mesh* mesh);
 
 // Repairs `mesh` in place (rebuilding it from its faces); colours are kept when present.
 MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options = {});

@@ -22,6 +22,9 @@ class TriangleLocator {
   // The triangle containing p (barycentrics >= -tolerance); among several, the one whose
   // smallest barycentric is largest. triangle = -1 when none.
   Hit locate(const Eigen::Vector2d& p, double tolerance = 1e-9) const;
+  // p's barycentrics in triangle k, computed as locate does (triangle = -1 when k is degenerate):
+  // a cheap first test where consecutive queries tend to fall into the same triangle.
+  Hit in_triangle(int k, const Eigen::Vector2d& p) const;
   int n_triangles() const { return static_cast<int>(corners_.size() / 3); }
 
  private:

@@ -1,0 +1,112 @@
+// Timings of the encoder's kernels against their plain reference versions: SAD of two 16x16
+// blocks, SATD of a 16x16 and a 4x4 block against a prediction, 4x4 quantization, and the
+// quarter-sample prediction of a 16x16 block (all 16 phases) from the precomputed half-sample
+// planes against the block-wise interpolation; plus building those planes for a 320x320 plane.
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "gvkit/codec/block_distortion.hpp"
+#include "gvkit/codec/motion_compensation.hpp"
+#include "gvkit/codec/transform.hpp"
+
+namespace gvkit::codec {
+namespace {
+
+SamplePlane random_plane(int size) {
+  SamplePlane p;
+  p.width = p.height = size;
+  p.samples.resize(static_cast<size_t>(size) * size);
+  std::mt19937 rng(1);
+  for (uint16_t& v : p.samples) v = static_cast<uint16_t>(rng() & 0xffff);
+  return p;
+}
+
+void BM_Sad16x16(benchmark::State& state) {
+  const SamplePlane p = random_plane(64);
+  const bool reference = state.range(0) != 0;
+  const uint16_t* a = &p.samples[5 * 64 + 3];
+  const uint16_t* b = &p.samples[20 * 64 + 30];
+  for (auto _ : state)
+    benchmark::DoNotOptimize(reference ? sad16x16_reference(a, 64, b, 64) : sad16x16(a, 64, b, 64));
+}
+BENCHMARK(BM_Sad16x16)->Arg(0)->Arg(1)->ArgName("reference");
+
+void BM_Satd(benchmark::State& state) {
+  const SamplePlane p = random_plane(64);
+  const int n = static_cast<int>(state.range(0));
+  const bool reference = state.range(1) != 0;
+  int32_t pred[256];
+  for (int i = 0; i < 256; ++i) pred[i] = p.samples[40 * 64 + i];
+  const uint16_t* src = &p.samples[5 * 64 + 3];
+  for (auto _ : state)
+    benchmark::DoNotOptimize(reference ? satd_block_reference(n, src, 64, pred)
+                                       : satd_block(n, src, 64, pred));
+}
+BENCHMARK(BM_Satd)->ArgsProduct({{4, 16}, {0, 1}})->ArgNames({"n", "reference"});
+
+// The fast preset's mode decision: SATD of one 4x4 block against 13 predictions.
+void BM_Satd4x4ThirteenPredictions(benchmark::State& state) {
+  const SamplePlane p = random_plane(64);
+  const bool reference = state.range(0) != 0;
+  int32_t preds[13][16];
+  for (int m = 0; m < 13; ++m)
+    for (int i = 0; i < 16; ++i) preds[m][i] = p.samples[30 * 64 + m * 16 + i];
+  const uint16_t* src = &p.samples[5 * 64 + 3];
+  int64_t out[13];
+  for (auto _ : state) {
+    if (reference)
+      for (int m = 0; m < 13; ++m) out[m] = satd_block_reference(4, src, 64, preds[m]);
+    else
+      distortions4x4(false, src, 64, preds, 13, out);
+    benchmark::DoNotOptimize(out);
+  }
+}
+BENCHMARK(BM_Satd4x4ThirteenPredictions)->Arg(0)->Arg(1)->ArgName("reference");
+
+void BM_Quantize4x4(benchmark::State& state) {
+  int32_t coeffs[16], levels[16];
+  std::mt19937 rng(2);
+  for (int32_t& c : coeffs) c = static_cast<int32_t>(rng() % 200000) - 100000;
+  const bool reference = state.range(0) != 0;
+  for (auto _ : state) {
+    if (reference)
+      quantize_reference(4, coeffs, 48, levels);
+    else
+      quantize(4, coeffs, 48, levels);
+    benchmark::DoNotOptimize(levels);
+  }
+}
+BENCHMARK(BM_Quantize4x4)->Arg(0)->Arg(1)->ArgName("reference");
+
+void BM_QuarterSample16x16AllPhases(benchmark::State& state) {
+  const SamplePlane ref = random_plane(64);
+  const InterpolatedReference interp(ref, 16, 12);
+  const bool block_wise = state.range(0) != 0;
+  int32_t pred[256];
+  for (auto _ : state)
+    for (int phase = 0; phase < 16; ++phase) {
+      const int mv_x = 20 + (phase & 3), mv_y = -12 + (phase >> 2);
+      if (block_wise)
+        predict_motion_block(ref, 16, 16, 16, 16, mv_x, mv_y, true, 16, pred);
+      else
+        interp.predict(16, 16, 16, 16, mv_x, mv_y, true, pred);
+      benchmark::DoNotOptimize(pred);
+    }
+  state.SetItemsProcessed(state.iterations() * 16);
+}
+BENCHMARK(BM_QuarterSample16x16AllPhases)->Arg(0)->Arg(1)->ArgName("block_wise");
+
+void BM_InterpolatedReference320(benchmark::State& state) {
+  const SamplePlane ref = random_plane(320);
+  for (auto _ : state) {
+    InterpolatedReference interp(ref, 16, 12);
+    benchmark::DoNotOptimize(interp.whole_block(0, 0, 16, 16));
+  }
+}
+BENCHMARK(BM_InterpolatedReference320);
+
+}  // namespace
+}  // namespace gvkit::codec
+
+BENCHMARK_MAIN();

@@ -1,0 +1,117 @@
+// The encoder's optimised kernels return exactly what their plain reference versions return: SAD
+// and SATD (SSE2, and AVX2 where the processor has it), table-driven quantization, and
+// quarter-sample prediction from precomputed half-sample planes (inside the margin and beyond it,
+// at every phase, at 8 and 16 bits).
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "gvkit/codec/block_distortion.hpp"
+#include "gvkit/codec/motion_compensation.hpp"
+#include "gvkit/codec/transform.hpp"
+
+namespace gvkit::codec {
+namespace {
+
+SamplePlane random_plane(int width, int height, int max_value, std::mt19937& rng) {
+  SamplePlane p;
+  p.width = width;
+  p.height = height;
+  p.samples.resize(static_cast<size_t>(width) * height);
+  std::uniform_int_distribution<int> u(0, max_value);
+  // Half the rows noise, half extremes (0 and max) to reach the clipping and overflow bounds.
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      p.at(x, y) = static_cast<uint16_t>(y % 4 < 2 ? u(rng) : ((x + y) % 3 ? max_value : 0));
+  return p;
+}
+
+TEST(EncoderKernels, SadAndSatdEqualTheReference) {
+  std::mt19937 rng(7);
+  const SamplePlane a = random_plane(40, 40, 65535, rng), b = random_plane(40, 40, 65535, rng);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int ax = rng() % 24, ay = rng() % 24, bx = rng() % 24, by = rng() % 24;
+    const uint16_t* pa = &a.samples[ay * 40 + ax];
+    const uint16_t* pb = &b.samples[by * 40 + bx];
+    ASSERT_EQ(sad16x16(pa, 40, pb, 40), sad16x16_reference(pa, 40, pb, 40));
+    // Predictions as the encoder makes them: in range, or (temporal difference) beyond it.
+    int32_t pred[256];
+    std::uniform_int_distribution<int> u(trial % 2 ? -32768 : 0, trial % 2 ? 98303 : 65535);
+    for (int32_t& v : pred) v = trial % 5 == 0 ? (trial % 10 ? 98303 : -32768) : u(rng);
+    for (int n : {4, 8, 16}) {
+      ASSERT_EQ(satd_block(n, pa, 40, pred), satd_block_reference(n, pa, 40, pred)) << n;
+      ASSERT_EQ(sad_block(n, pa, 40, pred), sad_block_reference(n, pa, 40, pred)) << n;
+    }
+    // Many 4x4 predictions against one source block at once.
+    int32_t preds[16][16];
+    for (int m = 0; m < 16; ++m)
+      for (int i = 0; i < 16; ++i) preds[m][i] = pred[(m * 16 + i * 7) % 256];
+    for (bool sad : {false, true}) {
+      int64_t out[16];
+      const int count = trial % 2 ? 13 : 16;  // an odd count too (the paired AVX2 path's tail)
+      distortions4x4(sad, pa, 40, preds, count, out);
+      for (int m = 0; m < count; ++m)
+        ASSERT_EQ(out[m], sad ? sad_block_reference(4, pa, 40, preds[m])
+                              : satd_block_reference(4, pa, 40, preds[m]));
+    }
+  }
+  // All-max against all-zero: the largest SAD.
+  const SamplePlane hi = random_plane(16, 16, 0, rng);
+  SamplePlane full = hi;
+  for (uint16_t& v : full.samples) v = 65535;
+  EXPECT_EQ(sad16x16(full.samples.data(), 16, hi.samples.data(), 16), 256 * 65535);
+}
+
+TEST(EncoderKernels, QuantizationEqualsTheReference) {
+  std::mt19937 rng(11);
+  for (int qp = 0; qp <= 99; ++qp)
+    for (int n : {4, 8}) {
+      int32_t coeffs[64], fast[64], ref[64];
+      std::uniform_int_distribution<int> u(-(1 << 22), 1 << 22);
+      for (int32_t& c : coeffs) c = u(rng);
+      quantize(n, coeffs, qp, fast);
+      quantize_reference(n, coeffs, qp, ref);
+      for (int i = 0; i < n * n; ++i) ASSERT_EQ(fast[i], ref[i]) << "qp " << qp << " n " << n;
+      int64_t dq_fast[64], dq_ref[64];
+      dequantize(n, fast, qp, dq_fast);
+      dequantize_reference(n, fast, qp, dq_ref);
+      for (int i = 0; i < n * n; ++i) ASSERT_EQ(dq_fast[i], dq_ref[i]) << "qp " << qp;
+    }
+}
+
+TEST(EncoderKernels, InterpolatedReferenceEqualsTheSampleBySamplePrediction) {
+  std::mt19937 rng(5);
+  for (int bit_depth : {8, 16}) {
+    const SamplePlane ref = random_plane(48, 32, (1 << bit_depth) - 1, rng);
+    const InterpolatedReference interp(ref, bit_depth, 6);
+    for (int trial = 0; trial < 400; ++trial) {
+      const int w = trial % 3 == 0 ? 4 : 16, h = w;
+      const int x0 = w * static_cast<int>(rng() % (48 / w)),
+                y0 = h * static_cast<int>(rng() % (32 / h));
+      // Vectors reaching inside the margin and (every fourth) far beyond it.
+      const int reach = trial % 4 == 0 ? 120 : 36;
+      const int mv_x = static_cast<int>(rng() % (2 * reach + 1)) - reach;
+      const int mv_y = static_cast<int>(rng() % (2 * reach + 1)) - reach;
+      const bool quarter_pel = trial % 7 != 0;
+      int32_t fast[256], slow[256];
+      interp.predict(x0, y0, w, h, mv_x, mv_y, quarter_pel, fast);
+      predict_motion_block_reference(ref, x0, y0, w, h, mv_x, mv_y, quarter_pel, bit_depth, slow);
+      for (int i = 0; i < w * h; ++i)
+        ASSERT_EQ(fast[i], slow[i]) << "block (" << x0 << ", " << y0 << ") vector (" << mv_x << ", "
+                                    << mv_y << ") sample " << i;
+      EXPECT_EQ(interp.sample(x0 + 3, y0 + 2, mv_x, mv_y, quarter_pel),
+                motion_sample(ref, x0 + 3, y0 + 2, mv_x, mv_y, quarter_pel, bit_depth));
+    }
+    // The whole-sample block inside the margin is the edge-extended plane.
+    const uint16_t* block = interp.whole_block(-6, -6, 16, 16);
+    ASSERT_NE(block, nullptr);
+    EXPECT_EQ(block[0], ref.at(0, 0));
+    EXPECT_EQ(block[15 * interp.stride() + 15], ref.at(9, 9));
+    EXPECT_EQ(interp.whole_block(-7, 0, 16, 16), nullptr);
+    EXPECT_EQ(interp.whole_block(48 + 6 - 16, 32 + 6 - 16, 16, 16) != nullptr, true);
+    EXPECT_EQ(interp.whole_block(48 + 6 - 15, 0, 16, 16), nullptr);
+  }
+}
+
+}  // namespace
+}  // namespace gvkit::codec
