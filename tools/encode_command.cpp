@@ -132,6 +132,8 @@ void run_encode(const EncodeArgs& args) {
                          {"rms_mm", e.rms_mm},
                          {"max_mm", e.max_mm},
                          {"qp", writer->frame_qp()[i]}});
+    if (const auto* q = writer->quality_controller())
+      per_frame.back()["encodes"] = q->frame_encodes()[i];
     nlohmann::json syntax_bits;
     const codec::FrameCodingStats& fs = writer->frame_stats()[i];
     for (size_t p = 0; p < fs.planes.size(); ++p)
@@ -175,6 +177,8 @@ void run_encode(const EncodeArgs& args) {
         {"p_qp_offset", options.p_qp_offset},
         {"bitrate_kbps", options.bitrate_kbps},
         {"buffer_seconds", options.buffer_seconds},
+        {"target_psnr_db", options.target_psnr_db},
+        {"target_rms_mm", options.target_rms_mm},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -198,6 +202,10 @@ void run_encode(const EncodeArgs& args) {
         {"buffer_bits", writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0},
         {"syntax_bits", bit_accounting(writer->frame_stats(), vertices)}}},
       {"frames", per_frame}};
+  if (const auto* q = writer->quality_controller()) {
+    stats["summary"]["encodes_per_frame"] = q->total_encodes() / n;
+    stats["summary"]["frames_missing_target"] = q->frames_missed();
+  }
   for (auto& f : stats["frames"])
     if (!std::isfinite(f["psnr_db"].get<double>())) f["psnr_db"] = "inf";
   throw_if_error(write_json(args.output + ".stats.json", stats));
@@ -267,6 +275,12 @@ void add_encode_command(CLI::App& app) {
                   "QP");
   cmd->add_option("--buffer-seconds", args->options.buffer_seconds,
                   "Rate-control buffer in seconds of the target bitrate, 0.1..100");
+  cmd->add_option("--target-psnr", args->options.target_psnr_db,
+                  "Constant quality: each frame at the coarsest QP whose geometry PSNR (dB) meets "
+                  "this (2-4 encodes per frame; --qp is the starting QP); 0 = off");
+  cmd->add_option("--target-rms-mm", args->options.target_rms_mm,
+                  "Constant quality: each frame at the coarsest QP whose RMS point error (mm) "
+                  "meets this; 0 = off");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });

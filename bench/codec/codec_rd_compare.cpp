@@ -1,10 +1,11 @@
 // codec_rd_compare: rate-distortion of the .gvid codec (geometry modes on and off) and of its
-// peers (x265 12-bit, x264 10-bit, FFV1 16-bit lossless) through libavcodec, intra-only, on the
-// same geometry video and with the same metric (geometry PSNR over domain pixels, peak = the
+// peers (x265 12-bit, x264 10-bit, FFV1 16-bit lossless) through libavcodec, intra-only, and of
+// Draco per frame (mesh and point cloud, 11..16-bit positions; bench/codec/draco_peer.hpp), on
+// the same geometry video and with the same metric (geometry PSNR over domain pixels, peak = the
 // bounding-box diagonal; bits per vertex per frame). Prints markdown tables.
 //
 // Usage: codec_rd_compare [--ict DIR | --analytic] [--size N] [--frames N] [--no-peers]
-//                         [--no-slow] [--gop N]
+//                         [--no-slow] [--gop N] [--draco | --no-draco] [--draco-level N]
 #include <time.h>
 
 #include <chrono>
@@ -21,6 +22,9 @@
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "libav_peer.hpp"
+#ifdef GVKIT_HAVE_DRACO
+#include "draco_peer.hpp"
+#endif
 
 namespace gvkit::bench {
 namespace {
@@ -103,6 +107,45 @@ std::optional<RdPoint> run_libav(const Material& m, const PeerConfig& config, do
   return RdPoint{bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
 }
 
+#ifdef GVKIT_HAVE_DRACO
+// Draco per frame on the original frames; prints one row per quantization and returns the curve.
+Curve run_draco(const Material& m, DracoGeometry geometry, int level) {
+  Curve c;
+  c.name = std::string("Draco ") + draco_geometry_name(geometry) +
+           (geometry == DracoGeometry::kMesh ? " (edgebreaker" : " (kd-tree") + ", level " +
+           std::to_string(level) + ")";
+  for (int bits = 11; bits <= 16; ++bits) {
+    DracoOptions o;
+    o.geometry = geometry;
+    o.quantization_bits = bits;
+    o.compression_level = level;
+    GeometryError total;
+    int64_t bytes = 0, lost = 0;
+    double enc = 0, dec = 0;
+    for (const GeometryImage& f : m.frames) {
+      auto r = draco_round_trip(f, m.info, o);
+      if (!r.is_ok()) {
+        std::fprintf(stderr, "%s\n", r.status().message().c_str());
+        std::exit(1);
+      }
+      accumulate(total, geometry_error(f, r->decoded));
+      bytes += r->bytes;
+      enc += r->encode_seconds;
+      dec += r->decode_seconds;
+      lost += std::max<int64_t>(0, r->input_points - r->decoded_points);
+    }
+    const double n = static_cast<double>(m.frames.size());
+    c.points.push_back({bytes * 8.0 / m.vertices / n, total.psnr_db(m.peak)});
+    c.labels.push_back(std::to_string(bits) + " bits");
+    std::printf("| %s | %d bits | %.4f | %.2f | %.4f | %.4f | %.1f | %.1f | %lld |\n",
+                c.name.c_str(), bits, c.points.back().rate, c.points.back().psnr_db, total.rms_mm,
+                total.max_mm, n / enc, n / dec, static_cast<long long>(lost));
+    std::fflush(stdout);
+  }
+  return c;
+}
+#endif
+
 void print_bd(const char* what, const Curve& anchor, const Curve& test) {
   const auto bd = bd_rate_percent(anchor.points, test.points);
   if (bd)
@@ -119,6 +162,12 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit";
   bool analytic = false, peers = true, slow = true;
+#ifdef GVKIT_HAVE_DRACO
+  bool draco = true;
+#else
+  bool draco = false;
+#endif
+  int draco_level = 7;
   int gop = 1;  // our intra period: 1 = intra only (the peers are always intra only)
   testing::GeometryVideoOptions vo;
   vo.frames = 10;
@@ -138,13 +187,26 @@ int main(int argc, char** argv) {
       slow = false;
     else if (a == "--gop" && i + 1 < argc)
       gop = std::atoi(argv[++i]);
+    else if (a == "--draco")
+      draco = true;
+    else if (a == "--no-draco")
+      draco = false;
+    else if (a == "--draco-level" && i + 1 < argc)
+      draco_level = std::atoi(argv[++i]);
     else {
       std::fprintf(stderr,
                    "usage: codec_rd_compare [--ict DIR | --analytic] [--size N] "
-                   "[--frames N] [--no-peers] [--no-slow] [--gop N]\n");
+                   "[--frames N] [--no-peers] [--no-slow] [--gop N] [--draco | --no-draco] "
+                   "[--draco-level N]\n");
       return 2;
     }
   }
+#ifndef GVKIT_HAVE_DRACO
+  if (draco) {
+    std::fprintf(stderr, "codec_rd_compare: built without Draco (libdraco-dev)\n");
+    return 2;
+  }
+#endif
   Material m;
   if (analytic) {
     m.frames = testing::make_analytic_video(vo);
@@ -200,6 +262,7 @@ int main(int argc, char** argv) {
     }
     ours.push_back(c);
   }
+  std::vector<RdPoint> lossless_points;
   for (const auto& [gv, preset] : configs) {
     codec::EncoderOptions o;
     o.lossless = true;
@@ -209,6 +272,7 @@ int main(int argc, char** argv) {
     o.preset = preset;
     double ef, df, mx;
     const RdPoint p = run_ours(m, o, &ef, &df, &mx);
+    lossless_points.push_back(p);
     std::printf("| gvid lossless %s, gv %s | - | %.4f | %.2f | %.4f | %.1f | %.1f |\n",
                 codec::preset_name(preset), gv ? "on" : "off", p.rate, p.psnr_db, mx, ef, df);
   }
@@ -266,10 +330,51 @@ int main(int argc, char** argv) {
                     p->psnr_db, mx, ef, df);
     }
   }
+  std::vector<Curve> draco_curves;
+  Curve fine;  // our best configuration at high rates, where Draco's curves lie
+#ifdef GVKIT_HAVE_DRACO
+  if (draco) {
+    std::printf(
+        "\n| Draco per frame | quantization | bits/vertex/frame | PSNR (dB) | RMS (mm) | max error "
+        "(mm) | encode fps | decode fps | points lost |\n|---|---|---|---|---|---|---|---|---|\n");
+    for (const DracoGeometry g : {DracoGeometry::kMesh, DracoGeometry::kPointCloud})
+      draco_curves.push_back(run_draco(m, g, draco_level));
+    const auto& [gv, preset] = slow ? configs[2] : configs[0];
+    fine.name = std::string("gvid ") + codec::preset_name(preset) + ", geometry modes on";
+    std::printf(
+        "\n| %s, high rates | QP | bits/vertex/frame | PSNR (dB) | max error (mm) | "
+        "encode fps | decode fps |\n|---|---|---|---|---|---|---|\n",
+        fine.name.c_str());
+    for (int qp : {-48, -42, -36, -30, -24, -18, -12}) {
+      codec::EncoderOptions o;
+      o.qp = qp;
+      o.intra_period = gop;
+      o.intra_only = gop <= 1;
+      o.geometry_modes = gv;
+      o.preset = preset;
+      double ef, df, mx;
+      fine.points.push_back(run_ours(m, o, &ef, &df, &mx));
+      std::printf("| %s | %d | %.4f | %.2f | %.4f | %.1f | %.1f |\n", fine.name.c_str(), qp,
+                  fine.points.back().rate, fine.points.back().psnr_db, mx, ef, df);
+      std::fflush(stdout);
+    }
+    const RdPoint& ours_lossless = lossless_points[slow ? 2 : 0];
+    const RdPoint& draco16 = draco_curves[0].points.back();
+    std::printf(
+        "\ngvid lossless (%s) %.4f bits/vertex/frame vs Draco mesh 16-bit %.4f: %.3fx (goal: "
+        "below Draco at 16 bits: %s)\n",
+        fine.name.c_str(), ours_lossless.rate, draco16.rate, ours_lossless.rate / draco16.rate,
+        ours_lossless.rate < draco16.rate ? "met" : "not met");
+  }
+#endif
   std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
   print_bd("geometry modes on vs off, fast preset", ours[1], ours[0]);
   if (slow) print_bd("geometry modes on vs off, slow preset (RDO)", ours[3], ours[2]);
   const Curve& best = slow ? ours[2] : ours[0];
   for (const Curve& p : peer_curves) print_bd(("gvid vs " + p.name).c_str(), p, best);
+  for (const Curve& d : draco_curves) {
+    print_bd(("gvid vs " + d.name).c_str(), d, best);
+    print_bd(("gvid high rates (QP -48..-12) vs " + d.name).c_str(), d, fine);
+  }
   return 0;
 }

@@ -68,6 +68,20 @@ Status EncoderOptions::check() const {
   if (!(buffer_seconds >= 0.1) || buffer_seconds > 100)
     return invalid_argument("buffer " + std::to_string(buffer_seconds) +
                             " s out of range (0.1..100)");
+  if (!(target_psnr_db >= 0) || target_psnr_db > 200)
+    return invalid_argument("target PSNR " + std::to_string(target_psnr_db) +
+                            " dB out of range (0 = off, else up to 200)");
+  if (!(target_rms_mm >= 0) || target_rms_mm > 1e6)
+    return invalid_argument("target RMS " + std::to_string(target_rms_mm) +
+                            " mm out of range (0 = off, else > 0)");
+  if (target_psnr_db > 0 && target_rms_mm > 0)
+    return invalid_argument("target PSNR: a target PSNR and a target RMS exclude each other");
+  if (constant_quality() && bitrate_kbps > 0)
+    return invalid_argument(std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
+                            ": constant quality and a bitrate exclude each other");
+  if (constant_quality() && bypass())
+    return invalid_argument(std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
+                            ": constant quality needs lossy coding (not lossless or max error)");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

@@ -28,6 +28,9 @@ Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
                             " mm is below the quantization error at " +
                             std::to_string(info.bit_depth) + " bits; raise the bit depth");
   if (options.bitrate_kbps > 0) w->rate_ = std::make_unique<RateController>(options, info.fps);
+  if (options.constant_quality()) {
+    GVKIT_ASSIGN_OR_RETURN(w->quality_, QualityController::create(options, info));
+  }
   w->out_.open(w->temp_path_, std::ios::binary | std::ios::trunc);
   if (!w->out_) return io_error(path.string() + ": cannot create " + w->temp_path_.string());
   const std::string header = format::write_file_header(info);
@@ -51,8 +54,9 @@ Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
   const auto number = static_cast<uint32_t>(index_.size());
   const bool intra = options_.is_intra(number);
   int qp = 0;
-  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_sequence_frame(frame, info_, options_, number,
-                                                                     reference_, rate_.get(), &qp));
+  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
+                         encode_sequence_frame(frame, info_, options_, number, reference_,
+                                               rate_.get(), &qp, quality_.get()));
   frame_qp_.push_back(qp);
   frame_stats_.push_back({intra, encoded.plane_stats});
   reference_ = std::move(encoded.planes);
@@ -86,9 +90,11 @@ Status GvidWriter::finish() {
 Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
                                            const EncoderOptions& options, uint32_t number,
                                            const std::vector<SamplePlane>& reference,
-                                           RateController* rate, int* qp_used) {
+                                           RateController* rate, int* qp_used,
+                                           QualityController* quality) {
   const bool intra = options.is_intra(number);
   const std::vector<SamplePlane>* ref = intra ? nullptr : &reference;
+  if (quality) return quality->encode(frame, info, options, number, ref, qp_used);
   EncoderOptions o = options;
   if (rate) {
     o.qp = rate->next_qp(intra);
@@ -118,11 +124,15 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
   std::vector<SamplePlane> reference;
   std::unique_ptr<RateController> rate;
   if (options.bitrate_kbps > 0) rate = std::make_unique<RateController>(options, info.fps);
+  std::unique_ptr<QualityController> quality;
+  if (options.constant_quality()) {
+    GVKIT_ASSIGN_OR_RETURN(quality, QualityController::create(options, info));
+  }
   for (size_t i = 0; i < frames.size(); ++i) {
     const bool intra = options.is_intra(static_cast<int64_t>(i));
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
                            encode_sequence_frame(frames[i], info, options, static_cast<uint32_t>(i),
-                                                 reference, rate.get()));
+                                                 reference, rate.get(), nullptr, quality.get()));
     reference = std::move(encoded.planes);
     if (frame_stats) frame_stats->push_back({intra, encoded.plane_stats});
     format::IndexEntry entry;

@@ -65,6 +65,12 @@ struct EncoderOptions {
   // buffer of buffer_seconds; qp is the starting QP. 0 = constant QP.
   double bitrate_kbps = 0;
   double buffer_seconds = 1.0;
+  // Constant quality (codec/quality_controller.hpp): > 0 gives each frame the coarsest QP whose
+  // reconstruction meets this geometry PSNR (dB, peak = the sequence's box diagonal) or this RMS
+  // point error (mm), over domain pixels; qp is the first frame's starting QP. 0 = off; at most
+  // one of the two, and neither with a bitrate, lossless or a max error.
+  double target_psnr_db = 0;
+  double target_rms_mm = 0;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -75,6 +81,8 @@ struct EncoderOptions {
   bool is_intra(int64_t frame_number) const {
     return intra_only || intra_period <= 1 || frame_number % intra_period == 0;
   }
+  // Constant-quality rate control (a target PSNR or RMS error).
+  bool constant_quality() const { return target_psnr_db > 0 || target_rms_mm > 0; }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

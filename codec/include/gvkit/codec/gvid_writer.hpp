@@ -13,6 +13,7 @@
 #include "gvkit/codec/encoder_options.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/quality_controller.hpp"
 #include "gvkit/codec/rate_controller.hpp"
 #include "gvkit/codec/sequence_info.hpp"
 #include "gvkit/core/geometry_image.hpp"
@@ -45,6 +46,8 @@ class GvidWriter {
   const std::vector<FrameCodingStats>& frame_stats() const { return frame_stats_; }
   // The rate controller when options.bitrate_kbps > 0, else null.
   const RateController* rate_controller() const { return rate_.get(); }
+  // The constant-quality search when options.constant_quality(), else null.
+  const QualityController* quality_controller() const { return quality_.get(); }
 
  private:
   GvidWriter() = default;
@@ -58,17 +61,20 @@ class GvidWriter {
   std::vector<int> frame_qp_;
   std::vector<FrameCodingStats> frame_stats_;
   std::unique_ptr<RateController> rate_;
+  std::unique_ptr<QualityController> quality_;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;
   bool finished_ = false;
 };
 
 // Encodes frame `number` (intra or P from `reference` as options.is_intra says) at options.qp, or
-// with rate control when `rate` is given (the QP used is in *qp_used).
+// with rate control when `rate` is given, or at constant quality when `quality` is given (the
+// QP used is in *qp_used).
 Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
                                            const EncoderOptions& options, uint32_t number,
                                            const std::vector<SamplePlane>& reference,
-                                           RateController* rate, int* qp_used = nullptr);
+                                           RateController* rate, int* qp_used = nullptr,
+                                           QualityController* quality = nullptr);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;
 // frame_stats (optional) receives each frame's bit accounting.
