@@ -90,6 +90,7 @@ Result<DracoFrameResult> draco_round_trip(const GeometryImage& frame,
                              static_cast<float>(info.box_min_mm[2])};
     double range = 0;
     for (int a = 0; a < 3; ++a) range = std::max(range, info.box_max_mm[a] - info.box_min_mm[a]);
+    range *= 1 + 1e-6;  // float rounding must not put the box's far face outside Draco's range
     encoder.SetAttributeExplicitQuantization(draco::GeometryAttribute::POSITION,
                                              options.quantization_bits, 3, origin,
                                              static_cast<float>(range));
