@@ -179,6 +179,7 @@ void run_encode(const EncodeArgs& args) {
         {"buffer_seconds", options.buffer_seconds},
         {"target_psnr_db", options.target_psnr_db},
         {"target_rms_mm", options.target_rms_mm},
+        {"intra_target_offset_db", options.intra_target_offset_db},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -281,6 +282,9 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--target-rms-mm", args->options.target_rms_mm,
                   "Constant quality: each frame at the coarsest QP whose RMS point error (mm) "
                   "meets this; 0 = off");
+  cmd->add_option("--intra-target-offset", args->options.intra_target_offset_db,
+                  "Constant quality: I frames aim this many dB above the target (a finer "
+                  "reference for the P frames), 0..20");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });

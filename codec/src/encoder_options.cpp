@@ -74,6 +74,9 @@ Status EncoderOptions::check() const {
   if (!(target_rms_mm >= 0) || target_rms_mm > 1e6)
     return invalid_argument("target RMS " + std::to_string(target_rms_mm) +
                             " mm out of range (0 = off, else > 0)");
+  if (!(intra_target_offset_db >= 0) || intra_target_offset_db > 20)
+    return invalid_argument("intra target offset " + std::to_string(intra_target_offset_db) +
+                            " dB out of range (0..20)");
   if (target_psnr_db > 0 && target_rms_mm > 0)
     return invalid_argument("target PSNR: a target PSNR and a target RMS exclude each other");
   if (constant_quality() && bitrate_kbps > 0)

@@ -18,9 +18,10 @@ Result<std::unique_ptr<QualityController>> QualityController::create(const Encod
   q->target_rms_mm_ = options.target_psnr_db > 0
                           ? q->peak_mm_ * std::pow(10.0, -options.target_psnr_db / 20.0)
                           : options.target_rms_mm;
+  q->intra_offset_db_ = options.intra_target_offset_db;
   q->qp_min_ = -6 * (options.bit_depth - 8);
   const double step_mm = info.step_mm();
-  if (q->target_rms_mm_ < step_mm) {
+  if (q->target_rms(true) < step_mm) {
     const std::string what = options.target_psnr_db > 0
                                  ? "target PSNR " + std::to_string(options.target_psnr_db) +
                                        " dB (RMS " + std::to_string(q->target_rms_mm_) + " mm)"
@@ -32,18 +33,29 @@ Result<std::unique_ptr<QualityController>> QualityController::create(const Encod
   return q;
 }
 
-bool QualityController::meets(const GeometryError& error) const {
+double QualityController::target_rms(bool intra) const {
+  return intra ? target_rms_mm_ * std::pow(10.0, -intra_offset_db_ / 20.0) : target_rms_mm_;
+}
+
+bool QualityController::meets(const GeometryError& error, bool intra) const {
   // Compare in the target's own terms, so that a frame reported at the target PSNR meets it.
-  if (target_psnr_db_ > 0) return error.psnr_db(peak_mm_) >= target_psnr_db_;
-  return error.rms_mm <= target_rms_mm_;
+  if (target_psnr_db_ > 0)
+    return error.psnr_db(peak_mm_) >= target_psnr_db_ + (intra ? intra_offset_db_ : 0.0);
+  return error.rms_mm <= target_rms(intra);
 }
 
 Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const SequenceInfo& info,
                                                const EncoderOptions& options, uint32_t number,
                                                const std::vector<SamplePlane>* reference,
                                                int* qp_used) {
-  const int type = reference ? 1 : 0;
-  int start = have_last_[type] ? last_qp_[type] : have_last_[0] ? last_qp_[0] : options.qp;
+  const bool intra = reference == nullptr;
+  const int type = intra ? 0 : 1;
+  // The first P frame starts from the I frame's QP, less what the I frame's higher target took
+  // (1 QP is about 1 dB).
+  const int offset_qp = static_cast<int>(std::lround(intra_offset_db_));
+  int start = have_last_[type] ? last_qp_[type]
+              : have_last_[0]  ? last_qp_[0] + offset_qp
+                               : options.qp;
   start = std::clamp(start, qp_min_, 51);
   EncoderOptions o = options;
   o.p_qp_offset = 0;  // the search sets each frame's QP itself
@@ -57,7 +69,7 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info, o, number, reference));
     const GeometryError error = geometry_error(frame, encoded.reconstruction);
     last_rms_mm = error.rms_mm;
-    if (meets(error)) {
+    if (meets(error, intra)) {
       if (!best || qp > best_qp) {
         best = std::move(encoded);
         best_qp = qp;
@@ -72,15 +84,40 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
   };
 
   GVKIT_ASSIGN_OR_RETURN(const bool start_meets, try_qp(start));
-  if (start_meets) {
+  if (start_meets && have_last_[type]) {
     for (int qp = start + 1; qp <= std::min(51, start + kMaxCoarser); ++qp) {
       GVKIT_ASSIGN_OR_RETURN(const bool coarser_meets, try_qp(qp));
       if (!coarser_meets) break;
     }
+  } else if (start_meets) {
+    // The first frame of its type: no previous QP to stay near, so coarser without a bracket, by
+    // the model's step (doubled while the frame meets), then bisect (pass, miss).
+    const double ratio = target_rms(intra) / std::max(last_rms_mm, 1e-12);
+    int step = std::clamp(static_cast<int>(std::floor(6.0 * std::log2(ratio))), 1, 51 - qp_min_);
+    int pass = start;
+    std::optional<int> miss;
+    while (pass < 51) {
+      const int qp = std::min(51, pass + step);
+      GVKIT_ASSIGN_OR_RETURN(const bool coarser_meets, try_qp(qp));
+      if (!coarser_meets) {
+        miss = qp;
+        break;
+      }
+      pass = qp;
+      step *= 2;
+    }
+    while (miss && pass + 1 < *miss) {
+      const int mid = pass + (*miss - pass) / 2;
+      GVKIT_ASSIGN_OR_RETURN(const bool mid_meets, try_qp(mid));
+      if (mid_meets)
+        pass = mid;
+      else
+        miss = mid;
+    }
   } else {
     // Finer: the step the model RMS ~ 2^(QP / 6) predicts, doubled while the frame still misses.
     int step =
-        std::max(1, static_cast<int>(std::ceil(6.0 * std::log2(last_rms_mm / target_rms_mm_))));
+        std::max(1, static_cast<int>(std::ceil(6.0 * std::log2(last_rms_mm / target_rms(intra)))));
     int miss = start;
     std::optional<int> pass;
     while (miss > qp_min_) {

@@ -96,6 +96,19 @@ TEST_F(ConstantQuality, EveryFrameMeetsTheTargetPsnrInFewerBitsThanConstantQp) {
   }
 }
 
+TEST_F(ConstantQuality, AnIntraTargetOffsetRaisesTheIFramesOnly) {
+  const double peak = info_.box_diagonal_mm();
+  EncoderOptions cq = base_;
+  cq.target_psnr_db = 66;
+  cq.intra_target_offset_db = 4;
+  const Decoded q = encode_and_decode(frames_, info_, cq);
+  ASSERT_EQ(q.errors.size(), frames_.size());
+  for (size_t f = 0; f < q.errors.size(); ++f) {
+    const bool intra = cq.is_intra(static_cast<int64_t>(f));
+    EXPECT_GE(q.errors[f].psnr_db(peak), intra ? 70.0 : 66.0) << "frame " << f;
+  }
+}
+
 TEST_F(ConstantQuality, TargetRmsHoldsOnEveryFrameAndTheQpIsTheCoarsestWithinTheBracket) {
   EncoderOptions cq = base_;
   cq.target_rms_mm = 0.05;

@@ -156,6 +156,36 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
       << lossless_rate.output;
 }
 
+TEST(CliCodec, TargetPsnrMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string in = (dir / "in").string(), gvid = (dir / "cq.gvid").string();
+  auto enc = run_gvkit("encode " + in + " -o " + gvid +
+                       " --target-psnr 66 --intra-target-offset 2 --preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["target_psnr_db"], 66.0);
+  EXPECT_EQ((*stats)["options"]["intra_target_offset_db"], 2.0);
+  EXPECT_EQ((*stats)["summary"]["frames_missing_target"], 0);
+  EXPECT_GE((*stats)["summary"]["encodes_per_frame"].get<double>(), 1.0);
+  ASSERT_EQ((*stats)["frames"].size(), 3u);
+  for (const auto& f : (*stats)["frames"]) {
+    const double target = f["frame"] == 0 ? 68.0 : 66.0;  // the I frame aims 2 dB higher
+    EXPECT_GE(f["psnr_db"].get<double>(), target) << f.dump();
+    EXPECT_TRUE(f.contains("qp") && f.contains("encodes")) << f.dump();
+  }
+  auto both = run_gvkit("encode " + in + " -o " + gvid + " --target-psnr 66 --bitrate 500");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_TRUE(
+      contains(both.output, "target PSNR: constant quality and a bitrate exclude each other"))
+      << both.output;
+  auto lossless = run_gvkit("encode " + in + " -o " + gvid + " --target-rms-mm 0.1 --lossless");
+  EXPECT_NE(lossless.exit_code, 0);
+  EXPECT_TRUE(contains(lossless.output, "target RMS: constant quality needs lossy coding"))
+      << lossless.output;
+}
+
 TEST(CliCodec, BadOptionsAndInputsFailWithAMessage) {
   TempDir dir;
   write_frames(dir / "in", 1);

@@ -71,6 +71,8 @@ struct EncoderOptions {
   // one of the two, and neither with a bitrate, lossless or a max error.
   double target_psnr_db = 0;
   double target_rms_mm = 0;
+  // Constant quality: I frames aim this many dB above the target (0..20).
+  double intra_target_offset_db = 0;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

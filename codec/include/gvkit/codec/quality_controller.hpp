@@ -2,14 +2,17 @@
 // Constant-quality rate control (encoder only; the stream carries each frame's QP): each frame
 // gets the coarsest QP whose reconstruction meets a geometry target, options.target_psnr_db (dB,
 // peak = the sequence's box diagonal) or options.target_rms_mm (RMS point error, mm), measured
-// with geometry_error() over the domain pixels of exactly what the decoder will output.
+// with geometry_error() over the domain pixels of exactly what the decoder will output. With
+// options.intra_target_offset_db > 0, I frames aim that much higher (a finer reference for the P
+// frames that follow, as p_qp_offset does at constant QP).
 //
 // The search, per frame type (I or P), starts at that type's QP of the previous frame (the first
-// I frame at options.qp, the first P frame at the I frame's QP), and re-encodes the whole frame
-// at each QP it tries:
+// I frame at options.qp, the first P frame at the I frame's QP plus the intra offset in dB as
+// QP steps), and re-encodes the whole frame at each QP it tries:
 // - the frame meets the target there: try up to kMaxCoarser = 2 coarser QPs, one at a time, while
 //   they meet it (the QP rises by at most 2 per frame; a slowly easing sequence climbs over a few
-//   frames): 2 or 3 encodes;
+//   frames): 2 or 3 encodes; the first frame of each type has no such bracket and searches
+//   coarser like the next case searches finer;
 // - it misses: step finer by the QP change that the error model RMS ~ 2^(QP / 6) predicts (at
 //   least 1), doubling the step while the frame still misses, then bisect between the finest miss
 //   and the coarsest meet: 1 + d + b encodes, d doubling steps and b = ceil(log2(gap)) bisection
@@ -47,8 +50,10 @@ class QualityController {
                               const EncoderOptions& options, uint32_t number,
                               const std::vector<SamplePlane>* reference, int* qp_used = nullptr);
 
-  // Whether a frame's error meets the target.
-  bool meets(const GeometryError& error) const;
+  // Whether a frame's error meets the target (of an I frame when intra).
+  bool meets(const GeometryError& error, bool intra) const;
+  // The RMS error (mm) a frame must not exceed.
+  double target_rms(bool intra) const;
 
   // Encodes spent on each frame so far (1 = no re-encode).
   const std::vector<int>& frame_encodes() const { return frame_encodes_; }
@@ -57,7 +62,7 @@ class QualityController {
 
  private:
   QualityController() = default;
-  double target_psnr_db_ = 0, target_rms_mm_ = 0, peak_mm_ = 0;
+  double target_psnr_db_ = 0, target_rms_mm_ = 0, peak_mm_ = 0, intra_offset_db_ = 0;
   int qp_min_ = 0;
   int last_qp_[2] = {0, 0};  // per type: 0 intra, 1 predicted
   bool have_last_[2] = {false, false};
