@@ -20,8 +20,8 @@ NearestPointGrid::NearestPointGrid(std::vector<cv::Vec3f> points, double cell_mm
       hi[a] = std::max(hi[a], static_cast<double>(p[a]));
     }
   origin_ = lo;
-  for (int a = 0; a < 3; ++a)
-    max_shell_ = std::max(max_shell_, static_cast<int64_t>((hi[a] - lo[a]) / cell_mm_) + 2);
+  hi_cell_ = cell_of(
+      cv::Vec3f(static_cast<float>(hi[0]), static_cast<float>(hi[1]), static_cast<float>(hi[2])));
   std::vector<uint64_t> keys(points_.size());
   for (size_t i = 0; i < points_.size(); ++i) {
     const Cell c = cell_of(points_[i]);
@@ -70,19 +70,31 @@ int64_t NearestPointGrid::nearest(const cv::Vec3f& p) const {
       }
     }
   };
-  // Shells of cells around p's cell, until no unvisited cell can hold a nearer point (or every
-  // cell of the box has been visited: a query far outside it).
-  for (int64_t r = 0;; ++r) {
-    for (int64_t dz = -r; dz <= r; ++dz)
-      for (int64_t dy = -r; dy <= r; ++dy) {
-        const bool face = std::abs(dz) == r || std::abs(dy) == r;
-        for (int64_t dx = -r; dx <= r; dx += face ? 1 : 2 * std::max<int64_t>(r, 1))
-          visit(c.x + dx, c.y + dy, c.z + dz);
+  // Cube shells of cells around p's cell, clipped to the cells of the points' box [0, hi_cell_],
+  // from the first shell that reaches the box until no unvisited cell can hold a nearer point.
+  const int64_t cq[3] = {c.x, c.y, c.z}, hq[3] = {hi_cell_.x, hi_cell_.y, hi_cell_.z};
+  int64_t first = 0, last = 0;
+  for (int a = 0; a < 3; ++a) {
+    first = std::max({first, -cq[a], cq[a] - hq[a]});
+    last = std::max({last, std::abs(cq[a]), std::abs(cq[a] - hq[a])});
+  }
+  for (int64_t r = first; r <= last; ++r) {
+    int64_t lo[3], hi[3];  // offsets from p's cell within both the shell's cube and the box
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max(-r, -cq[a]);
+      hi[a] = std::min(r, hq[a] - cq[a]);
+    }
+    for (int64_t dz = lo[2]; dz <= hi[2]; ++dz)
+      for (int64_t dy = lo[1]; dy <= hi[1]; ++dy) {
+        if (std::abs(dz) == r || std::abs(dy) == r) {
+          for (int64_t dx = lo[0]; dx <= hi[0]; ++dx) visit(c.x + dx, c.y + dy, c.z + dz);
+        } else {  // inside the cube's faces in z and y: only the two x faces are on the shell
+          if (-r >= lo[0]) visit(c.x - r, c.y + dy, c.z + dz);
+          if (r > 0 && r <= hi[0]) visit(c.x + r, c.y + dy, c.z + dz);
+        }
       }
     // Every point in shell r + 1 or beyond is at least r cells away from p.
     if (best >= 0 && std::sqrt(best_d2) <= r * cell_mm_) break;
-    const int64_t reach = std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}) + max_shell_;
-    if (r > reach) break;
   }
   return best;
 }

@@ -1,9 +1,9 @@
 #pragma once
 // Exact nearest-point queries over a 3D point set in a uniform hash grid (bench only: matches
 // the points a peer decodes, in the peer's own order, back to the pixels of a geometry image).
-// Build O(n log n); a query visits cube shells of cells around its own cell until no unvisited
-// cell can hold a nearer point, so it costs a few cells when the cell size is about the point
-// spacing.
+// Build O(n log n); a query visits cube shells of cells around its own cell (clipped to the
+// points' box) until no unvisited cell can hold a nearer point, so it costs a few cells when the
+// cell size is about the point spacing and the query lies near a point, as a decoded point does.
 
 #include <cstdint>
 #include <unordered_map>
@@ -35,7 +35,7 @@ class NearestPointGrid {
   std::unordered_map<uint64_t, std::pair<int32_t, int32_t>> cells_;  // key -> range in order_
   cv::Vec3d origin_{0, 0, 0};
   double cell_mm_ = 1;
-  int64_t max_shell_ = 0;  // a shell this far out covers the whole point set's box
+  Cell hi_cell_{0, 0, 0};  // the cell of the box's far corner (the near corner is cell 0, 0, 0)
 };
 
 }  // namespace gvkit::bench

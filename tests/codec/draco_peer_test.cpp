@@ -1,16 +1,20 @@
 // The Draco peer of the rate-distortion bench (bench/codec/draco_peer.cpp): a small analytic
 // geometry image through Draco's mesh and point-cloud coders comes back matched to its pixels
 // with every point within the quantization bound, more bits buy less error, and bad options are
-// rejected naming the option.
+// rejected naming the option; the nearest-point grid that matches Draco's points back to the
+// pixels equals a brute-force search.
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "draco_peer.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
+#include "nearest_point_grid.hpp"
 
 namespace gvkit::bench {
 namespace {
@@ -49,6 +53,34 @@ TEST(DracoPeer, DecodedPointsLieWithinTheQuantizationStepBound) {
       previous_bytes = r->bytes;
     }
   }
+}
+
+TEST(NearestPointGrid, EqualsABruteForceSearch) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-50.0f, 50.0f);
+  std::vector<cv::Vec3f> points(2000);
+  for (auto& p : points) p = {u(rng), u(rng), 0.1f * u(rng)};  // a flat slab, like a surface
+  points.push_back(points[10]);                                // a duplicate: the lower index wins
+  for (const double cell : {0.5, 3.0, 40.0}) {
+    const NearestPointGrid grid(points, cell);
+    for (int q = 0; q < 300; ++q) {
+      // Queries inside, near and far outside the points' box.
+      const float scale = q < 250 ? 1.0f : 2.0f;
+      const cv::Vec3f p(scale * u(rng), scale * u(rng), scale * u(rng));
+      int64_t best = -1;
+      double best_d2 = INFINITY;
+      for (size_t i = 0; i < points.size(); ++i) {
+        const cv::Vec3d d = cv::Vec3d(points[i]) - cv::Vec3d(p);
+        if (d.dot(d) < best_d2) {
+          best_d2 = d.dot(d);
+          best = static_cast<int64_t>(i);
+        }
+      }
+      EXPECT_EQ(grid.nearest(p), best) << "cell " << cell << ", query " << q;
+    }
+    EXPECT_EQ(grid.nearest(points[10]), 10);
+  }
+  EXPECT_EQ(NearestPointGrid({}, 1.0).nearest({0, 0, 0}), -1);
 }
 
 TEST(DracoPeer, BadOptionsFailNamingTheOption) {
