@@ -16,7 +16,9 @@
 // - it misses: step finer by the QP change that the error model RMS ~ 2^(QP / 6) predicts (at
 //   least 1), doubling the step while the frame still misses, then bisect between the finest miss
 //   and the coarsest meet: 1 + d + b encodes, d doubling steps and b = ceil(log2(gap)) bisection
-//   steps; the typical case is 3 or 4, the worst case (a jump across the whole QP range) 15.
+//   steps; the typical case is 3 or 4. The worst case, a jump across the whole QP range (99
+//   steps at 16 bits: steps 1, 2, ..., 64, then 6 bisection steps), is 1 + 7 + 6 = 14 encodes;
+//   the first frame's coarser search has the same bound.
 // So constant quality costs 2-4 encodes per frame, i.e. 2-4x the encode time of constant QP.
 // A frame that misses the target even at the finest QP keeps that QP and is counted in
 // frames_missed() (create() rejects targets below the error of the sample quantization itself).
