@@ -40,7 +40,8 @@ class GvidWriter {
   // Size of each frame's packet (header + payload) in bytes.
   const std::vector<int64_t>& frame_bytes() const { return frame_bytes_; }
   int64_t header_bytes() const { return header_bytes_; }
-  // QP of each frame written (0 for bypass frames): options.qp, or the rate controller's.
+  // QP of each frame written (0 for bypass frames): options.qp (+ p_qp_offset in P frames), the
+  // rate controller's, or the constant-quality search's.
   const std::vector<int>& frame_qp() const { return frame_qp_; }
   // Where each frame's bits went, per plane and syntax element group.
   const std::vector<FrameCodingStats>& frame_stats() const { return frame_stats_; }
