@@ -40,6 +40,7 @@ struct PlaneCodingStats {
 // One coded frame's accounting.
 struct FrameCodingStats {
   bool intra = true;
+  bool bidirectional = false;            // a B frame (format 1.5; intra is false)
   std::vector<PlaneCodingStats> planes;  // X, Y, Z (, T)
 };
 
