@@ -183,7 +183,8 @@ void report_bit_accounting(const Material& m, const EncoderOptions& base,
       if (!any) continue;
       for (int p = 0; p <= 3; ++p) {
         const PlaneCodingStats& s = p < 3 ? planes[p] : all;
-        std::printf("| %d | %s | %s | %.4f |", qp, (const char*[]){"I", "P", "B"}[type],
+        static const char* const kTypes[3] = {"I", "P", "B"};
+        std::printf("| %d | %s | %s | %.4f |", qp, kTypes[type],
                     p < 3 ? (const char*[]){"X", "Y", "Z"}[p] : "all", s.total_bits() * per);
         for (int g = 0; g < kSyntaxGroupCount; ++g)
           std::printf(" %.4f (%.0f %%) |", s.bits[g] * per,

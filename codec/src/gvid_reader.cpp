@@ -110,7 +110,7 @@ Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* re
 }
 
 Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
-    int64_t index, const std::string& where) {
+    int64_t index, int64_t requested, const std::string& where) {
   const auto cached = [&](int64_t j) -> std::shared_ptr<const Decoded> {
     for (const auto& d : anchors_)
       if (d->index == j) return d;
@@ -134,7 +134,7 @@ Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
     const bool intra = entry(j).type == format::FrameType::kIntra;
     auto frame = decode_packet(j, intra ? nullptr : base.get(), nullptr, &d->planes);
     if (!frame.is_ok()) {
-      if (j == index) return frame.status().with_context(where);
+      if (j == requested) return frame.status().with_context(where);
       return frame.status().with_context(where + ": reference frame " + std::to_string(j));
     }
     d->image = std::move(frame).value();
@@ -151,7 +151,8 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
     return invalid_argument(where + ": out of range (" + std::to_string(frame_count()) +
                             " frames)");
   if (is_anchor(index)) {
-    GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> d, decode_anchor(index, where));
+    GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> d,
+                           decode_anchor(index, index, where));
     return deep_copy(d->image);
   }
   if (last_b_ && last_b_->index == index) return deep_copy(last_b_->image);
@@ -160,8 +161,10 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   if (before < 0) return corrupt_data(where + ": B frame without an anchor frame before it");
   if (after < 0) return corrupt_data(where + ": B frame without an anchor frame after it");
   // The later anchor first: decoding it from the earlier one keeps both in the cache.
-  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref1, decode_anchor(after, where));
-  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref0, decode_anchor(before, where));
+  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref1,
+                         decode_anchor(after, index, where));
+  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref0,
+                         decode_anchor(before, index, where));
   auto d = std::make_shared<Decoded>();
   d->index = index;
   auto frame = decode_packet(index, ref0.get(), ref1.get(), nullptr);

@@ -179,7 +179,7 @@ class MacroblockReader {
     } else if (mb.type == kMbI8x8) {
       for (int q = 0; q < 4; ++q) {
         const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
-        int mode;
+        int mode = 0;
         GVKIT_RETURN_IF_ERROR(read_mode(most_probable_mode(st_, gx, gy, true), 9, "8x8", mode));
         mb.modes[q] = static_cast<int8_t>(mode);
         for (int i = 0; i < 4; ++i) st_.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
@@ -249,7 +249,7 @@ class MacroblockReader {
   Status read_4x4_modes(int gx0, int gy0, MacroblockData& mb) {
     for (int b = 0; b < 16; ++b) {
       const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
-      int mode;
+      int mode = 0;
       GVKIT_RETURN_IF_ERROR(
           read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
       mb.modes[b] = static_cast<int8_t>(mode);

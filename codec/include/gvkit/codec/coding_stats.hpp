@@ -40,8 +40,8 @@ struct PlaneCodingStats {
 // One coded frame's accounting.
 struct FrameCodingStats {
   bool intra = true;
-  bool bidirectional = false;            // a B frame (format 1.5; intra is false)
   std::vector<PlaneCodingStats> planes;  // X, Y, Z (, T)
+  bool bidirectional = false;            // a B frame (format 1.5; intra is false)
 };
 
 }  // namespace gvkit::codec

@@ -66,8 +66,10 @@ class GvidReader {
     GeometryImage image;
   };
   // The decoded anchor `index` (I or P frame) and the chain of anchors it needs; `where` names
-  // the frame asked for in messages.
-  Result<std::shared_ptr<const Decoded>> decode_anchor(int64_t index, const std::string& where);
+  // frame `requested` (the one asked for) in messages, which name any other failing frame as a
+  // reference frame.
+  Result<std::shared_ptr<const Decoded>> decode_anchor(int64_t index, int64_t requested,
+                                                       const std::string& where);
   // The anchor before (direction -1) or after (+1) frame `index`, or -1; fails when a frame
   // between them is missing (a packet lost from a rebuilt index).
   Result<int64_t> neighbour_anchor(int64_t index, int direction, const std::string& where) const;
