@@ -178,7 +178,7 @@ void run_encode(const EncodeArgs& args) {
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
         {"p_qp_offset", options.p_qp_offset},
-        {"bframes", options.bframes},
+        {"bframes", options.b_frames()},
         {"b_qp_offset", options.b_qp_offset},
         {"bitrate_kbps", options.bitrate_kbps},
         {"buffer_seconds", options.buffer_seconds},
@@ -271,7 +271,8 @@ void add_encode_command(CLI::App& app) {
                   "Added to --qp in P frames, 0..12 (ignored under --bitrate)");
   cmd->add_option("--bframes", args->options.bframes,
                   "Consecutive B frames between two anchors (I or P frames), 0..3 (format 1.5; 0 "
-                  "writes a 1.4 stream)");
+                  "writes a 1.4 stream); default 1 in lossy, 0 in lossless and --max-error-mm "
+                  "streams");
   cmd->add_option("--b-qp-offset", args->options.b_qp_offset,
                   "Added to the P frames' QP in B frames, 0..12 (under --bitrate: to the last P "
                   "frame's)");

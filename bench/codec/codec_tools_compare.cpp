@@ -226,14 +226,23 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
                                        (b ? " --b-qp-offset " + std::to_string(o.b_qp_offset) : ""),
                                    qps));
     }
-  const int offsets[3] = {0, 4, 6};
+  // (preset, offset) pairs; the default offset (2) is in the curves above.
+  const std::pair<Preset, int> offsets[5] = {{Preset::kFast, 0},
+                                             {Preset::kFast, 4},
+                                             {Preset::kFast, 6},
+                                             {Preset::kSlow, 0},
+                                             {Preset::kSlow, 4}};
   std::vector<std::vector<RdPoint>> offset_curves;
-  for (int off : offsets) {
+  const auto offset_name = [&](int i) {
+    return std::string(preset_name(offsets[i].first)) + ", --bframes 1 --b-qp-offset " +
+           std::to_string(offsets[i].second);
+  };
+  for (int i = 0; i < 5; ++i) {
     EncoderOptions o = base;
+    o.preset = offsets[i].first;
     o.bframes = 1;
-    o.b_qp_offset = off;
-    offset_curves.push_back(
-        qp_curve(m, o, "fast, --bframes 1 --b-qp-offset " + std::to_string(off), qps));
+    o.b_qp_offset = offsets[i].second;
+    offset_curves.push_back(qp_curve(m, o, offset_name(i), qps));
   }
   for (int b = 0; b <= 3; ++b) {
     EncoderOptions o = base;
@@ -246,18 +255,16 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
     for (int b = 1; b <= 3; ++b)
       print_bd(std::string(preset_name(presets[p])) + ", --bframes " + std::to_string(b) + " vs 0",
                curves[p][0], curves[p][b]);
-  for (int i = 0; i < 3; ++i)
-    print_bd("fast, --bframes 1, --b-qp-offset " + std::to_string(offsets[i]) + " vs 0 B frames",
-             curves[0][0], offset_curves[i]);
+  for (int i = 0; i < 5; ++i)
+    print_bd(offset_name(i) + " vs 0 B frames", curves[offsets[i].first == Preset::kSlow][0],
+             offset_curves[i]);
   for (int p = 0; p < 2; ++p)
     for (int b = 0; b <= 3; ++b)
       print_bd(std::string(preset_name(presets[p])) + ", --bframes " + std::to_string(b) +
                    " vs x265 12-bit (" + source + " points)",
                x265, curves[p][b]);
-  for (int i = 0; i < 3; ++i)
-    print_bd("fast, --bframes 1, --b-qp-offset " + std::to_string(offsets[i]) + " vs x265 (" +
-                 source + " points)",
-             x265, offset_curves[i]);
+  for (int i = 0; i < 5; ++i)
+    print_bd(offset_name(i) + " vs x265 (" + source + " points)", x265, offset_curves[i]);
 }
 
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
@@ -417,7 +424,7 @@ int main(int argc, char** argv) {
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false;
-  int gop = 30, bframes = 0;
+  int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
   for (int i = 1; i < argc; ++i) {
@@ -483,14 +490,15 @@ int main(int argc, char** argv) {
   m.peak = m.info.box_diagonal_mm();
   std::printf(
       "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm, 16-bit step "
-      "%.5f mm; gvid: I frame every %d, P frames between, fast preset\n",
+      "%.5f mm; gvid: I frame every %d, P (and B) frames between, fast preset\n",
       gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
       m.frames.size(), m.vertices, m.peak, m.info.step_mm(), gop);
 
   EncoderOptions base;
   base.preset = Preset::kFast;
   base.intra_period = gop;
-  base.bframes = bframes;  // the B frames of every row but those of --bframes-only
+  // The B frames of every row but those of --bframes-only (default: the encoder's, -1).
+  base.bframes = bframes;
   const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
 
   if (rate_only) {

@@ -167,7 +167,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
-  return options.bframes > 0 && !options.intra_only && options.intra_period >= 2
+  return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
              ? format::kMinorVersion
              : format::kMinorVersionWithoutBFrames;
 }

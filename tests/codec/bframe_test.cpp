@@ -395,8 +395,8 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   slow.preset = Preset::kSlow;
   const std::pair<const char*, EncoderOptions> cases[] = {
       {"encoder_v1_4_fast_qp0_ippi_48.gvid", fast}, {"encoder_v1_4_slow_qp6_ippp_48.gvid", slow}};
-  for (const auto& [file, o] : cases) {
-    ASSERT_EQ(o.bframes, 0);
+  for (auto [file, o] : cases) {
+    o.bframes = 0;
     auto bytes = encode_gvid(frames, info, o);
     ASSERT_TRUE(bytes.is_ok());
     auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / file);
@@ -455,8 +455,18 @@ TEST(BFrames, OptionsOutOfRangeAreRejectedByName) {
   EncoderOptions o;
   o.bframes = 4;
   EXPECT_NE(o.check().message().find("B frames 4 out of range (0..3"), std::string::npos);
-  o.bframes = -1;
+  o.bframes = -2;
   EXPECT_FALSE(o.check().is_ok());
+  // Automatic: one B frame in lossy streams, none in lossless and near-lossless ones.
+  o.bframes = -1;
+  EXPECT_TRUE(o.check().is_ok());
+  EXPECT_EQ(o.b_frames(), 1);
+  o.lossless = true;
+  EXPECT_EQ(o.b_frames(), 0);
+  o.lossless = false;
+  o.max_error_mm = 0.1;
+  EXPECT_EQ(o.b_frames(), 0);
+  o.max_error_mm = 0;
   o.bframes = 1;
   EXPECT_TRUE(o.check().is_ok());
   o.b_qp_offset = 13;

@@ -151,7 +151,7 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
 
   auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--subpel 2 --preset fast --no-decimation");
+                        "--subpel 2 --preset fast --no-decimation --bframes 0");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
