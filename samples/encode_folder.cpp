@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   if (!writer.is_ok()) return fail(writer.status());
   for (const auto& frame : frames)
     if (auto decoded = (*writer)->write(frame); !decoded.is_ok()) return fail(decoded.status());
-  if (gvkit::Status s = (*writer)->finish(); !s.is_ok()) return fail(s);
+  if (auto rest = (*writer)->finish(); !rest.is_ok()) return fail(rest.status());
   int64_t bytes = (*writer)->header_bytes();
   for (int64_t b : (*writer)->frame_bytes()) bytes += b;
   std::printf("%zu frames %dx%d -> %s, %lld bytes\n", frames.size(), info->width, info->height,

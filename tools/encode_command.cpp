@@ -46,21 +46,20 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   return j;
 }
 
-// Bits per syntax element group, summed per frame type and plane ("I" / "P" -> "X" / "Y" / ...),
+// Bits per syntax element group, summed per frame type and plane ("I" / "P" / "B" -> "X" / ...),
 // in JSON and (with --verbose) as a table on the log.
 nlohmann::json bit_accounting(const std::vector<codec::FrameCodingStats>& frames, double vertices) {
   nlohmann::json out = nlohmann::json::object();
-  for (const bool intra : {true, false}) {
+  for (const char* type : {"I", "P", "B"}) {
     std::vector<codec::PlaneCodingStats> sum;
     int count = 0;
     for (const auto& f : frames) {
-      if (f.intra != intra) continue;
+      if (*(f.intra ? "I" : (f.bidirectional ? "B" : "P")) != *type) continue;
       ++count;
       sum.resize(std::max(sum.size(), f.planes.size()));
       for (size_t p = 0; p < f.planes.size(); ++p) sum[p] += f.planes[p];
     }
     if (!count) continue;
-    const char* type = intra ? "I" : "P";
     nlohmann::json j = {{"frames", count}};
     codec::PlaneCodingStats all;
     for (size_t p = 0; p < sum.size(); ++p) {
@@ -119,8 +118,11 @@ void run_encode(const EncodeArgs& args) {
   Progress progress("encoding", static_cast<int64_t>(frames.size()));
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const GeometryImage recon = value_or_throw(writer->write(frames[i]));
+  // The writer returns the reconstructions of the frames it completes, in display order (with B
+  // frames, a frame waits for the anchor after it; finish() codes the rest).
+  size_t reported = 0;
+  const auto report = [&](const GeometryImage& recon) {
+    const size_t i = reported++;
     const codec::GeometryError e = codec::geometry_error(frames[i], recon);
     codec::accumulate(total, e);
     const int64_t bytes = writer->frame_bytes()[i];
@@ -131,7 +133,8 @@ void run_encode(const EncodeArgs& args) {
                          {"psnr_db", e.psnr_db(peak)},
                          {"rms_mm", e.rms_mm},
                          {"max_mm", e.max_mm},
-                         {"qp", writer->frame_qp()[i]}});
+                         {"qp", writer->frame_qp()[i]},
+                         {"type", codec::format::frame_type_name(writer->frame_types()[i])}});
     if (const auto* q = writer->quality_controller())
       per_frame.back()["encodes"] = q->frame_encodes()[i];
     nlohmann::json syntax_bits;
@@ -140,13 +143,15 @@ void run_encode(const EncodeArgs& args) {
       syntax_bits[kPlaneNames[p]] = plane_stats_json(fs.planes[p]);
     per_frame.back()["syntax_bits"] = syntax_bits;
     progress.advance();
-  }
+  };
+  for (const GeometryImage& frame : frames)
+    for (const GeometryImage& recon : value_or_throw(writer->write(frame))) report(recon);
+  for (const GeometryImage& recon : value_or_throw(writer->finish())) report(recon);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Process CPU time (all threads) of the encoding loop: comparable on a loaded machine.
   const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   progress.finish();
-  throw_if_error(writer->finish());
   int64_t total_bytes = writer->header_bytes();
   for (int64_t b : writer->frame_bytes()) total_bytes += b;
   const double n = static_cast<double>(frames.size());
@@ -175,6 +180,8 @@ void run_encode(const EncodeArgs& args) {
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
         {"p_qp_offset", options.p_qp_offset},
+        {"bframes", options.b_frames()},
+        {"b_qp_offset", options.b_qp_offset},
         {"bitrate_kbps", options.bitrate_kbps},
         {"buffer_seconds", options.buffer_seconds},
         {"target_psnr_db", options.target_psnr_db},
@@ -271,6 +278,13 @@ void add_encode_command(CLI::App& app) {
       ->expected(3);
   cmd->add_option("--p-qp-offset", args->options.p_qp_offset,
                   "Added to --qp in P frames, 0..12 (ignored under --bitrate)");
+  cmd->add_option("--bframes", args->options.bframes,
+                  "Consecutive B frames between two anchors (I or P frames), 0..3 (format 1.5; 0 "
+                  "writes a 1.4 stream); default 1 in lossy, 0 in lossless and --max-error-mm "
+                  "streams");
+  cmd->add_option("--b-qp-offset", args->options.b_qp_offset,
+                  "Added to the P frames' QP in B frames, 0..12 (under --bitrate: to the last P "
+                  "frame's)");
   cmd->add_option("--bitrate", args->options.bitrate_kbps,
                   "Target bitrate in kbit/s (rate control; --qp is the starting QP); 0 = constant "
                   "QP");

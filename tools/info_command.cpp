@@ -151,14 +151,22 @@ void describe_gvid(const fs::path& path) {
   std::printf("  header          %lld bytes\n", static_cast<long long>(reader->header_bytes()));
   std::printf("  frames          %lld%s\n", static_cast<long long>(reader->frame_count()),
               reader->index_rebuilt() ? " (index missing or damaged: found by a scan)" : "");
-  int64_t total = 0;
+  int64_t total = 0, count[3] = {0, 0, 0};
+  for (int64_t i = 0; i < reader->frame_count(); ++i) {
+    const auto type = static_cast<size_t>(reader->frame_type(i));
+    if (type < 3) ++count[type];
+  }
+  std::printf("  frame types     %lld I, %lld P, %lld B\n", static_cast<long long>(count[0]),
+              static_cast<long long>(count[1]), static_cast<long long>(count[2]));
   const double vertices = static_cast<double>(std::max<int64_t>(1, info.domain_pixels()));
+  // Display order; packets are in decode order (a B frame after the anchor that follows it).
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const int64_t bits = reader->frame_bits(i);
     total += bits;
-    std::printf("  frame %6lld    %c  %9lld bytes  %8.4f bits/vertex\n", static_cast<long long>(i),
-                reader->frame_type(i) == codec::format::FrameType::kIntra ? 'I' : 'P',
-                static_cast<long long>(bits / 8), bits / vertices);
+    std::printf("  frame %6lld    %s  %9lld bytes  %8.4f bits/vertex  (packet %lld)\n",
+                static_cast<long long>(i), codec::format::frame_type_name(reader->frame_type(i)),
+                static_cast<long long>(bits / 8), bits / vertices,
+                static_cast<long long>(reader->decode_position(i)));
   }
   if (reader->frame_count() > 0)
     std::printf("  mean            %.4f bits/vertex/frame, %.1f kbit/s\n",

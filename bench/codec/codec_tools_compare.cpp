@@ -9,12 +9,14 @@
 //   - threads: encode wall time and bytes identical to one thread
 //   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
-// Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N]
+// Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
-//                            [--bits-only] [--motion-only]
+//                            [--bits-only] [--motion-only] [--bframes-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
-// 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face)
+// 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
+// --bframes-only: format 1.5, 0..3 B frames in both presets, B-frame QP offsets, lossless, and
+// the BD-rates against 0 B frames and x265 (logged points with --no-peers))
 #include <time.h>
 
 #include <chrono>
@@ -166,19 +168,24 @@ void report_bit_accounting(const Material& m, const EncoderOptions& base,
     std::vector<FrameCodingStats> stats;
     const Run r = run_ours(m, o, &stats);
     const double per = 1.0 / (m.vertices * static_cast<double>(m.frames.size()));
-    for (const bool intra : {true, false}) {
+    for (const int type : {0, 1, 2}) {
       PlaneCodingStats all;
       std::vector<PlaneCodingStats> planes(3);
+      bool any = false;
       for (const auto& f : stats)
-        if (f.intra == intra)
+        if ((f.intra ? 0 : (f.bidirectional ? 2 : 1)) == type) {
+          any = true;
           for (size_t p = 0; p < 3 && p < f.planes.size(); ++p) {
             planes[p] += f.planes[p];
             all += f.planes[p];
           }
+        }
+      if (!any) continue;
       for (int p = 0; p <= 3; ++p) {
         const PlaneCodingStats& s = p < 3 ? planes[p] : all;
-        std::printf("| %d | %s | %s | %.4f |", qp, intra ? "I" : "P",
-                    p < 3 ? (const char*[]){"X", "Y", "Z"}[p] : "all", s.total_bits() * per);
+        static const char* const kTypes[3] = {"I", "P", "B"};
+        static const char* const kPlanes[4] = {"X", "Y", "Z", "all"};
+        std::printf("| %d | %s | %s | %.4f |", qp, kTypes[type], kPlanes[p], s.total_bits() * per);
         for (int g = 0; g < kSyntaxGroupCount; ++g)
           std::printf(" %.4f (%.0f %%) |", s.bits[g] * per,
                       100.0 * s.bits[g] / std::max(1.0, s.total_bits()));
@@ -199,6 +206,88 @@ void report_bit_accounting(const Material& m, const EncoderOptions& base,
 const std::vector<RdPoint> kLoggedX265Ict = {{0.0772, 68.07}, {0.0546, 66.62}, {0.0411, 64.41},
                                              {0.0320, 61.91}, {0.0252, 59.21}, {0.0204, 57.17},
                                              {0.0168, 54.32}};
+
+// Format 1.5: 0..3 B frames between anchors in the fast and the slow preset, B-frame QP offsets
+// (fast, one B frame) and lossless; BD-rates against 0 B frames (the 1.4 stream) of the same
+// preset and against x265.
+void report_bframes(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                    const std::vector<RdPoint>& x265, const std::string& source) {
+  print_header();
+  std::vector<std::vector<RdPoint>> curves[2];
+  const Preset presets[2] = {Preset::kFast, Preset::kSlow};
+  for (int p = 0; p < 2; ++p)
+    for (int b = 0; b <= 3; ++b) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.bframes = b;
+      curves[p].push_back(qp_curve(m, o,
+                                   std::string(preset_name(presets[p])) + ", --bframes " +
+                                       std::to_string(b) +
+                                       (b ? " --b-qp-offset " + std::to_string(o.b_qp_offset) : ""),
+                                   qps));
+    }
+  // (preset, offset) pairs; the default offset (2) is in the curves above.
+  const std::pair<Preset, int> offsets[5] = {{Preset::kFast, 0},
+                                             {Preset::kFast, 4},
+                                             {Preset::kFast, 6},
+                                             {Preset::kSlow, 0},
+                                             {Preset::kSlow, 4}};
+  std::vector<std::vector<RdPoint>> offset_curves;
+  const auto offset_name = [&](int i) {
+    return std::string(preset_name(offsets[i].first)) + ", --bframes 1 --b-qp-offset " +
+           std::to_string(offsets[i].second);
+  };
+  for (int i = 0; i < 5; ++i) {
+    EncoderOptions o = base;
+    o.preset = offsets[i].first;
+    o.bframes = 1;
+    o.b_qp_offset = offsets[i].second;
+    offset_curves.push_back(qp_curve(m, o, offset_name(i), qps));
+  }
+  for (int b = 0; b <= 3; ++b) {
+    EncoderOptions o = base;
+    o.bframes = b;
+    o.lossless = true;
+    print_row("lossless, fast, --bframes " + std::to_string(b), "-", run_ours(m, o));
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int p = 0; p < 2; ++p)
+    for (int b = 1; b <= 3; ++b)
+      print_bd(std::string(preset_name(presets[p])) + ", --bframes " + std::to_string(b) + " vs 0",
+               curves[p][0], curves[p][b]);
+  for (int i = 0; i < 5; ++i)
+    print_bd(offset_name(i) + " vs 0 B frames", curves[offsets[i].first == Preset::kSlow][0],
+             offset_curves[i]);
+  for (int p = 0; p < 2; ++p)
+    for (int b = 0; b <= 3; ++b)
+      print_bd(std::string(preset_name(presets[p])) + ", --bframes " + std::to_string(b) +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[p][b]);
+  for (int i = 0; i < 5; ++i)
+    print_bd(offset_name(i) + " vs x265 (" + source + " points)", x265, offset_curves[i]);
+}
+
+std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
+
+// x265 12-bit 4:4:4 with the GOP, one B frame and 5 references at --peer-preset, QP 0 .. 24.
+std::vector<RdPoint> run_x265(const Material& m, int gop, const std::string& peer_preset) {
+  print_header();
+  std::vector<RdPoint> points;
+  PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
+  x265.gop = gop;
+  x265.bframes = 1;
+  for (int qp : {0, 4, 8, 12, 16, 20, 24}) {
+    PeerConfig c = x265;
+    c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
+                                            ":bframes=1:ref=5:qp=" + std::to_string(qp)});
+    auto r = run_peer_config(m, c);
+    if (!r) break;
+    print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
+              "qp " + std::to_string(qp), *r);
+    points.push_back(r->point);
+  }
+  return points;
+}
 
 // Format 1.4 tools: shared motion (syntax) and inter decimation (encoder only), each on and off
 // against the 1.3 encoder configuration, then variants; returns the curves and (names) their
@@ -333,8 +422,9 @@ int main(int argc, char** argv) {
   using namespace gvkit;
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
-  bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false;
-  int gop = 30;
+  bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
+       bframes_only = false;
+  int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
   for (int i = 1; i < argc; ++i) {
@@ -357,15 +447,20 @@ int main(int argc, char** argv) {
       bits_only = true;
     else if (a == "--motion-only")
       motion_only = true;
+    else if (a == "--bframes-only")
+      bframes_only = true;
+    else if (a == "--bframes" && i + 1 < argc)
+      bframes = std::atoi(argv[++i]);
     else if (a == "--no-peers")
       peers = false;
     else if (a == "--peer-preset" && i + 1 < argc)
       peer_preset = argv[++i];
     else {
-      std::fprintf(stderr,
-                   "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
-                   "[--gop N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-                   "[--bits-only] [--motion-only]\n");
+      std::fprintf(
+          stderr,
+          "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
+          "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
+          "[--bits-only] [--motion-only] [--bframes-only]\n");
       return 2;
     }
   }
@@ -395,13 +490,15 @@ int main(int argc, char** argv) {
   m.peak = m.info.box_diagonal_mm();
   std::printf(
       "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm, 16-bit step "
-      "%.5f mm; gvid: I frame every %d, P frames between, fast preset\n",
+      "%.5f mm; gvid: I frame every %d, P (and B) frames between, fast preset\n",
       gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
       m.frames.size(), m.vertices, m.peak, m.info.step_mm(), gop);
 
   EncoderOptions base;
   base.preset = Preset::kFast;
   base.intra_period = gop;
+  // The B frames of every row but those of --bframes-only (default: the encoder's, -1).
+  base.bframes = bframes;
   const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
 
   if (rate_only) {
@@ -410,6 +507,11 @@ int main(int argc, char** argv) {
   }
   if (bits_only) {
     report_bit_accounting(m, base, {-6, 0, 6, 12});
+    return 0;
+  }
+  if (bframes_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_bframes(m, base, qps, x265, peers ? "this run" : "logged");
     return 0;
   }
   if (motion_only) {

@@ -60,6 +60,12 @@ Status EncoderOptions::check() const {
   if (p_qp_offset < 0 || p_qp_offset > 12)
     return invalid_argument("P-frame QP offset " + std::to_string(p_qp_offset) +
                             " out of range (0..12)");
+  if (bframes < -1 || bframes > 3)
+    return invalid_argument("B frames " + std::to_string(bframes) +
+                            " out of range (0..3 consecutive B frames, -1 automatic)");
+  if (b_qp_offset < 0 || b_qp_offset > 12)
+    return invalid_argument("B-frame QP offset " + std::to_string(b_qp_offset) +
+                            " out of range (0..12)");
   if (!(bitrate_kbps >= 0) || bitrate_kbps > 1e7)
     return invalid_argument("bitrate " + std::to_string(bitrate_kbps) +
                             " kbit/s out of range (0 = constant QP)");

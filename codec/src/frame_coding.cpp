@@ -88,7 +88,8 @@ int near_lossless_delta(const SequenceInfo& info, double max_error_mm) {
 
 Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
                                   const EncoderOptions& options, uint32_t frame_number,
-                                  const std::vector<SamplePlane>* reference) {
+                                  const std::vector<SamplePlane>* reference,
+                                  const std::vector<SamplePlane>* reference1) {
   const std::string name = "frame " + std::to_string(frame_number);
   if (image.xyz_mm.rows != info.height || image.xyz_mm.cols != info.width)
     return invalid_argument(name + ": size differs from the sequence's");
@@ -103,8 +104,14 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
         std::to_string(std::sqrt(3.0) * 0.5 * info.step_mm()) + " mm); raise --bit-depth");
   const std::vector<SamplePlane> planes = quantize_geometry(image, info);
   format::PacketHeader header;
-  header.type = reference ? format::FrameType::kPredicted : format::FrameType::kIntra;
+  const bool bidirectional = reference1 != nullptr;
+  header.type = bidirectional
+                    ? format::FrameType::kBidirectional
+                    : (reference ? format::FrameType::kPredicted : format::FrameType::kIntra);
   GVKIT_CHECK(!reference || reference->size() == planes.size());
+  GVKIT_CHECK(!reference1 || (reference && reference1->size() == planes.size()));
+  // P-frame tools B frames do not have: TD prediction, value prediction, shared motion.
+  const bool p_frame = reference && !bidirectional;
   const bool bypass = options.bypass();
   FrameSyntax syntax;
   syntax.near_lossless = delta;
@@ -112,18 +119,19 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       static_cast<uint8_t>((bypass ? format::kFrameLossless | format::kFrameAdaptiveLevels : 0) |
                            (options.geometry_modes ? format::kFrameGeometryModes : 0) |
                            (delta > 0 ? format::kFrameNearLossless : 0) |
-                           (reference && options.td_prediction ? format::kFrameTdPrediction : 0) |
+                           (p_frame && options.td_prediction ? format::kFrameTdPrediction : 0) |
                            (reference && options.subpel ? format::kFrameQuarterPel : 0));
-  if (reference && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
+  if (p_frame && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
   header.qp = bypass ? 0
-                     : std::clamp(options.qp + (reference ? options.p_qp_offset : 0),
+                     : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
+                                      (bidirectional ? options.b_qp_offset : 0),
                                   -6 * (info.bit_depth - 8), 51);
   header.frame_number = frame_number;
   // Value-domain prediction: fit and apply the transform; signalled only when not the identity.
   std::vector<SamplePlane> transformed;
   const std::vector<SamplePlane>* prediction_ref = reference;
   bool try_without_transform = false;
-  if (reference && options.value_prediction != ValuePrediction::kNone) {
+  if (p_frame && options.value_prediction != ValuePrediction::kNone) {
     syntax.value_transform = fit_value_transform(planes, *reference, info.domain_mask,
                                                  options.value_prediction, info.bit_depth);
     if (!syntax.value_transform.is_identity()) {
@@ -162,7 +170,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
           joint.sources.push_back(&planes[j]);
           joint.references.push_back(&(*ref)[j]);
         }
-      coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint);
+      if (bidirectional)
+        coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i]);
+      else
+        coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint);
     };
     if (!shared_motion) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
@@ -228,18 +239,31 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
 Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
                                           int64_t frame_number,
                                           const std::vector<SamplePlane>* reference,
-                                          std::vector<SamplePlane>* planes_out) {
+                                          std::vector<SamplePlane>* planes_out,
+                                          const std::vector<SamplePlane>* reference1) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
   if (packet.size() - format::kPacketHeaderSize < header.payload_size)
     return corrupt_data("payload truncated");
   const std::string_view payload = packet.substr(format::kPacketHeaderSize, header.payload_size);
   if (crc32(payload.data(), payload.size()) != header.payload_crc)
     return corrupt_data("payload CRC mismatch");
-  if (header.type != format::FrameType::kIntra && header.type != format::FrameType::kPredicted)
+  if (header.type != format::FrameType::kIntra && header.type != format::FrameType::kPredicted &&
+      header.type != format::FrameType::kBidirectional)
     return corrupt_data("frame type " + std::to_string(static_cast<int>(header.type)));
-  const bool predicted = header.type == format::FrameType::kPredicted;
-  if (predicted && (!reference || reference->size() != (info.has_texture ? 4u : 3u)))
-    return corrupt_data("P frame without a reference frame");
+  const bool bidirectional = header.type == format::FrameType::kBidirectional;
+  const bool predicted = header.type == format::FrameType::kPredicted || bidirectional;
+  const size_t expected_planes = info.has_texture ? 4u : 3u;
+  if (predicted && (!reference || reference->size() != expected_planes))
+    return corrupt_data(bidirectional ? "B frame without the anchor frame before it"
+                                      : "P frame without a reference frame");
+  if (bidirectional && (!reference1 || reference1->size() != expected_planes))
+    return corrupt_data("B frame without the anchor frame after it");
+  if (bidirectional &&
+      ((header.flags & (format::kFrameValuePrediction | format::kFrameTdPrediction)) ||
+       header.flags2 != 0))
+    return corrupt_data(
+        "frame flags: P-frame tools (value, TD prediction or shared motion) in a "
+        "B frame");
   const bool lossless = (header.flags & format::kFrameLossless) != 0;
   if ((header.flags & format::kFrameNearLossless) && !lossless)
     return corrupt_data("frame flags: near-lossless without transform bypass");
@@ -288,6 +312,13 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
         return corrupt_data("plane QP offset missing or out of range (-12..12)");
     }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
+  for (int l = 0; l < 2 && predicted; ++l) {
+    const std::vector<SamplePlane>* refs = l ? reference1 : reference;
+    if (!refs) continue;
+    for (const SamplePlane& plane : *refs)
+      if (plane.width != pw || plane.height != ph)
+        return corrupt_data("reference frame size differs");
+  }
   std::vector<SamplePlane> planes;
   MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
   for (size_t i = 0; i < plane_count; ++i) {
@@ -295,11 +326,14 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
     const uint32_t size = r.u32();
     const std::string_view bytes = r.bytes(size);
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
-    auto plane = decode_plane(
-        bytes, pw, ph, plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax),
-        prediction_ref ? &(*prediction_ref)[i] : nullptr,
-        shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
-        shared_motion && i == 0 ? &x_motion : nullptr);
+    const PlaneCodingParams params =
+        plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
+    auto plane =
+        bidirectional
+            ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i])
+            : decode_plane(bytes, pw, ph, params, prediction_ref ? &(*prediction_ref)[i] : nullptr,
+                           shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
+                           shared_motion && i == 0 ? &x_motion : nullptr);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
   }

@@ -17,12 +17,24 @@ bool magic_is(std::string_view bytes, const char (&magic)[4]) {
 
 }  // namespace
 
-std::string write_file_header(const SequenceInfo& info) {
+const char* frame_type_name(FrameType type) {
+  switch (type) {
+    case FrameType::kIntra:
+      return "I";
+    case FrameType::kPredicted:
+      return "P";
+    case FrameType::kBidirectional:
+      return "B";
+  }
+  return "?";
+}
+
+std::string write_file_header(const SequenceInfo& info, uint8_t minor_version) {
   const std::string mask = encode_mask(info.domain_mask);
   ByteWriter w;
   w.bytes(std::string_view(kFileMagic, 4));
   w.u8(kMajorVersion);
-  w.u8(kMinorVersion);
+  w.u8(minor_version);
   w.u16(0);
   w.u32(static_cast<uint32_t>(kFixedHeaderSize + mask.size() + 4));
   w.u32(static_cast<uint32_t>(info.width));

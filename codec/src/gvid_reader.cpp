@@ -1,5 +1,6 @@
 #include "gvkit/codec/gvid_reader.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "gvkit/core/atomic_file.hpp"
@@ -31,6 +32,7 @@ Result<std::unique_ptr<GvidReader>> GvidReader::open_memory(std::string bytes, s
     r->index_rebuilt_ = true;
     r->scan_packets(r->bytes_.size());
   }
+  r->sort_display_order();
   return r;
 }
 
@@ -63,58 +65,118 @@ void GvidReader::scan_packets(size_t end) {
   }
 }
 
+void GvidReader::sort_display_order() {
+  order_.resize(index_.size());
+  for (size_t i = 0; i < order_.size(); ++i) order_[i] = i;
+  std::stable_sort(order_.begin(), order_.end(), [&](size_t a, size_t b) {
+    return index_[a].frame_number < index_[b].frame_number;
+  });
+}
+
+namespace {
+
+GeometryImage deep_copy(const GeometryImage& image) {
+  GeometryImage copy = image;
+  copy.xyz_mm = image.xyz_mm.clone();
+  if (!image.texture.empty()) copy.texture = image.texture.clone();
+  return copy;
+}
+
+}  // namespace
+
+Result<int64_t> GvidReader::neighbour_anchor(int64_t index, int direction,
+                                             const std::string& where) const {
+  for (int64_t j = index + direction; j >= 0 && j < frame_count(); j += direction) {
+    // The frames between a frame and its anchor have consecutive frame numbers: a packet lost
+    // from a rebuilt index must not silently shift the references.
+    const int64_t a = std::min(j, j - direction), b = std::max(j, j - direction);
+    if (entry(a).frame_number + 1 != entry(b).frame_number)
+      return corrupt_data(where + ": reference frame of frame " + std::to_string(index) +
+                          " is missing");
+    if (is_anchor(j)) return j;
+  }
+  return int64_t{-1};
+}
+
+Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* ref0,
+                                                const Decoded* ref1,
+                                                std::vector<SamplePlane>* planes) const {
+  const format::IndexEntry& e = entry(index);
+  const std::string_view packet = std::string_view(bytes_).substr(
+      e.offset,
+      std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
+  return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
+                             ref1 ? &ref1->planes : nullptr);
+}
+
+Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
+    int64_t index, int64_t requested, const std::string& where) {
+  const auto cached = [&](int64_t j) -> std::shared_ptr<const Decoded> {
+    for (const auto& d : anchors_)
+      if (d->index == j) return d;
+    return nullptr;
+  };
+  // Back along the chain of references to a decoded anchor or an intra frame.
+  std::vector<int64_t> chain;
+  std::shared_ptr<const Decoded> base;
+  for (int64_t j = index;;) {
+    if ((base = cached(j))) break;
+    chain.push_back(j);
+    if (entry(j).type == format::FrameType::kIntra) break;
+    GVKIT_ASSIGN_OR_RETURN(const int64_t before, neighbour_anchor(j, -1, where));
+    if (before < 0) return corrupt_data(where + ": no intra frame before it");
+    j = before;
+  }
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    const int64_t j = *it;
+    auto d = std::make_shared<Decoded>();
+    d->index = j;
+    const bool intra = entry(j).type == format::FrameType::kIntra;
+    auto frame = decode_packet(j, intra ? nullptr : base.get(), nullptr, &d->planes);
+    if (!frame.is_ok()) {
+      if (j == requested) return frame.status().with_context(where);
+      return frame.status().with_context(where + ": reference frame " + std::to_string(j));
+    }
+    d->image = std::move(frame).value();
+    anchors_.push_back(d);
+    if (anchors_.size() > kCachedAnchors) anchors_.pop_front();
+    base = std::move(d);
+  }
+  return base;
+}
+
 Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   const std::string where = name_ + ": frame " + std::to_string(index);
   if (index < 0 || index >= frame_count())
     return invalid_argument(where + ": out of range (" + std::to_string(frame_count()) +
                             " frames)");
-  if (index == cached_index_) {
-    GeometryImage copy = cached_image_;
-    copy.xyz_mm = cached_image_.xyz_mm.clone();
-    if (!cached_image_.texture.empty()) copy.texture = cached_image_.texture.clone();
-    return copy;
+  if (is_anchor(index)) {
+    GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> d,
+                           decode_anchor(index, index, where));
+    return deep_copy(d->image);
   }
-  int64_t first = index;
-  while (first > 0 && index_[static_cast<size_t>(first)].type != format::FrameType::kIntra) {
-    // A P frame's reference is the packet with the previous frame number: a packet lost from
-    // a rebuilt index must not silently shift the chain.
-    if (index_[static_cast<size_t>(first) - 1].frame_number + 1 !=
-        index_[static_cast<size_t>(first)].frame_number)
-      return corrupt_data(where + ": reference frame of frame " + std::to_string(first) +
-                          " is missing");
-    --first;
-  }
-  if (index_[static_cast<size_t>(first)].type != format::FrameType::kIntra)
-    return corrupt_data(where + ": no intra frame before it");
-  int64_t start = first;
-  if (cached_index_ >= first && cached_index_ < index) start = cached_index_ + 1;
-  for (int64_t j = start; j <= index; ++j) {
-    const format::IndexEntry& e = index_[static_cast<size_t>(j)];
-    const std::string_view packet = std::string_view(bytes_).substr(
-        e.offset,
-        std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
-    std::vector<SamplePlane> planes;
-    auto frame =
-        decode_frame_packet(packet, info_, j, j == first ? nullptr : &cached_planes_, &planes);
-    if (!frame.is_ok()) {
-      cached_index_ = -1;
-      if (j == index) return frame.status().with_context(where);
-      return frame.status().with_context(where + ": reference frame " + std::to_string(j));
-    }
-    cached_planes_ = std::move(planes);
-    cached_index_ = j;
-    if (j == index) {
-      cached_image_ = *frame;
-      cached_image_.xyz_mm = frame->xyz_mm.clone();
-      return frame;
-    }
-  }
-  return corrupt_data(where + ": not decoded");
+  if (last_b_ && last_b_->index == index) return deep_copy(last_b_->image);
+  GVKIT_ASSIGN_OR_RETURN(const int64_t before, neighbour_anchor(index, -1, where));
+  GVKIT_ASSIGN_OR_RETURN(const int64_t after, neighbour_anchor(index, 1, where));
+  if (before < 0) return corrupt_data(where + ": B frame without an anchor frame before it");
+  if (after < 0) return corrupt_data(where + ": B frame without an anchor frame after it");
+  // The later anchor first: decoding it from the earlier one keeps both in the cache.
+  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref1,
+                         decode_anchor(after, index, where));
+  GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> ref0,
+                         decode_anchor(before, index, where));
+  auto d = std::make_shared<Decoded>();
+  d->index = index;
+  auto frame = decode_packet(index, ref0.get(), ref1.get(), nullptr);
+  if (!frame.is_ok()) return frame.status().with_context(where);
+  d->image = std::move(frame).value();
+  last_b_ = d;
+  return deep_copy(d->image);
 }
 
 int64_t GvidReader::frame_bits(int64_t index) const {
   if (index < 0 || index >= frame_count()) return 0;
-  return (static_cast<int64_t>(index_[static_cast<size_t>(index)].payload_size) +
+  return (static_cast<int64_t>(entry(index).payload_size) +
           static_cast<int64_t>(format::kPacketHeaderSize)) *
          8;
 }

@@ -27,13 +27,10 @@ Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
     return invalid_argument("max error " + std::to_string(options.max_error_mm) +
                             " mm is below the quantization error at " +
                             std::to_string(info.bit_depth) + " bits; raise the bit depth");
-  if (options.bitrate_kbps > 0) w->rate_ = std::make_unique<RateController>(options, info.fps);
-  if (options.constant_quality()) {
-    GVKIT_ASSIGN_OR_RETURN(w->quality_, QualityController::create(options, info));
-  }
+  GVKIT_ASSIGN_OR_RETURN(w->encoder_, SequenceEncoder::create(info, options));
   w->out_.open(w->temp_path_, std::ios::binary | std::ios::trunc);
   if (!w->out_) return io_error(path.string() + ": cannot create " + w->temp_path_.string());
-  const std::string header = format::write_file_header(info);
+  const std::string header = format::write_file_header(info, stream_minor_version(options));
   w->out_.write(header.data(), static_cast<std::streamsize>(header.size()));
   w->offset_ = header.size();
   w->header_bytes_ = static_cast<int64_t>(header.size());
@@ -49,32 +46,48 @@ GvidWriter::~GvidWriter() {
   }
 }
 
-Result<GeometryImage> GvidWriter::write(const GeometryImage& frame) {
-  GVKIT_CHECK(!finished_, "write after finish");
-  const auto number = static_cast<uint32_t>(index_.size());
-  const bool intra = options_.is_intra(number);
-  int qp = 0;
-  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                         encode_sequence_frame(frame, info_, options_, number, reference_,
-                                               rate_.get(), &qp, quality_.get()));
-  frame_qp_.push_back(qp);
-  frame_stats_.push_back({intra, encoded.plane_stats});
-  reference_ = std::move(encoded.planes);
-  out_.write(encoded.packet.data(), static_cast<std::streamsize>(encoded.packet.size()));
-  if (!out_) return io_error(path_.string() + ": write failed at frame " + std::to_string(number));
-  format::IndexEntry entry;
-  entry.offset = offset_;
-  entry.frame_number = number;
-  entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);
-  entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
-  index_.push_back(entry);
-  frame_bytes_.push_back(static_cast<int64_t>(encoded.packet.size()));
-  offset_ += encoded.packet.size();
-  return std::move(encoded.reconstruction);
+Result<std::vector<GeometryImage>> GvidWriter::append(std::vector<SequenceFrame> coded) {
+  std::vector<GeometryImage> done;
+  for (SequenceFrame& f : coded) {
+    out_.write(f.packet.data(), static_cast<std::streamsize>(f.packet.size()));
+    if (!out_)
+      return io_error(path_.string() + ": write failed at frame " + std::to_string(f.number));
+    format::IndexEntry entry;
+    entry.offset = offset_;
+    entry.frame_number = f.number;
+    entry.payload_size = static_cast<uint32_t>(f.packet.size() - format::kPacketHeaderSize);
+    entry.type = f.type;
+    index_.push_back(entry);
+    offset_ += f.packet.size();
+    const size_t n = f.number;
+    if (frame_bytes_.size() <= n) {
+      frame_bytes_.resize(n + 1, 0);
+      frame_qp_.resize(n + 1, 0);
+      frame_stats_.resize(n + 1);
+      frame_types_.resize(n + 1, format::FrameType::kIntra);
+    }
+    frame_bytes_[n] = static_cast<int64_t>(f.packet.size());
+    frame_qp_[n] = f.qp;
+    frame_stats_[n] = std::move(f.stats);
+    frame_types_[n] = f.type;
+  }
+  // Display order: the coded frames are the next ones after those returned before.
+  std::sort(coded.begin(), coded.end(),
+            [](const SequenceFrame& a, const SequenceFrame& b) { return a.number < b.number; });
+  for (SequenceFrame& f : coded) done.push_back(std::move(f.reconstruction));
+  return done;
 }
 
-Status GvidWriter::finish() {
+Result<std::vector<GeometryImage>> GvidWriter::write(const GeometryImage& frame) {
+  GVKIT_CHECK(!finished_, "write after finish");
+  GVKIT_ASSIGN_OR_RETURN(std::vector<SequenceFrame> coded, encoder_->push(frame));
+  return append(std::move(coded));
+}
+
+Result<std::vector<GeometryImage>> GvidWriter::finish() {
   GVKIT_CHECK(!finished_, "finish twice");
+  GVKIT_ASSIGN_OR_RETURN(std::vector<SequenceFrame> coded, encoder_->flush());
+  GVKIT_ASSIGN_OR_RETURN(std::vector<GeometryImage> done, append(std::move(coded)));
   const std::string index = format::write_index(index_, offset_);
   out_.write(index.data(), static_cast<std::streamsize>(index.size()));
   out_.flush();
@@ -84,29 +97,43 @@ Status GvidWriter::finish() {
   fs::rename(temp_path_, path_, ec);
   if (ec) return io_error(path_.string() + ": cannot rename into place: " + ec.message());
   finished_ = true;
-  return Status::ok();
+  return done;
+}
+
+const RateController* GvidWriter::rate_controller() const { return encoder_->rate_controller(); }
+
+const QualityController* GvidWriter::quality_controller() const {
+  return encoder_->quality_controller();
 }
 
 Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
                                            const EncoderOptions& options, uint32_t number,
                                            const std::vector<SamplePlane>& reference,
                                            RateController* rate, int* qp_used,
+                                           const std::vector<SamplePlane>* reference1,
                                            QualityController* quality) {
   const bool intra = options.is_intra(number);
+  GVKIT_CHECK(!intra || !reference1, "a B frame at an intra frame's position");
+  const format::FrameType type =
+      intra ? format::FrameType::kIntra
+            : (reference1 ? format::FrameType::kBidirectional : format::FrameType::kPredicted);
   const std::vector<SamplePlane>* ref = intra ? nullptr : &reference;
-  if (quality) return quality->encode(frame, info, options, number, ref, qp_used);
+  if (quality) return quality->encode(frame, info, options, number, ref, reference1, qp_used);
   EncoderOptions o = options;
   if (rate) {
-    o.qp = rate->next_qp(intra);
+    o.qp = rate->next_qp(type);
     o.p_qp_offset = 0;  // the controller sets each frame type's QP itself
+    o.b_qp_offset = 0;
   }
-  if (qp_used) *qp_used = o.bypass() ? 0 : std::min(51, o.qp + (intra ? 0 : o.p_qp_offset));
+  const int offset = intra ? 0 : o.p_qp_offset + (reference1 ? o.b_qp_offset : 0);
+  if (qp_used) *qp_used = o.bypass() ? 0 : std::min(51, o.qp + offset);
   for (;;) {
-    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info, o, number, ref));
+    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
+                           encode_frame(frame, info, o, number, ref, reference1));
     if (!rate) return encoded;
     const auto bits = static_cast<int64_t>(encoded.packet.size()) * 8;
     if (!rate->overflows(bits) || o.qp >= 51) {
-      rate->update(intra, o.qp, bits);
+      rate->update(type, o.qp, bits);
       if (qp_used) *qp_used = o.qp;
       return encoded;
     }
@@ -119,32 +146,37 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
                                 std::vector<FrameCodingStats>* frame_stats) {
   GVKIT_RETURN_IF_ERROR(options.check());
   GVKIT_RETURN_IF_ERROR(info.check());
-  std::string out = format::write_file_header(info);
+  std::string out = format::write_file_header(info, stream_minor_version(options));
   std::vector<format::IndexEntry> index;
-  std::vector<SamplePlane> reference;
-  std::unique_ptr<RateController> rate;
-  if (options.bitrate_kbps > 0) rate = std::make_unique<RateController>(options, info.fps);
-  std::unique_ptr<QualityController> quality;
-  if (options.constant_quality()) {
-    GVKIT_ASSIGN_OR_RETURN(quality, QualityController::create(options, info));
+  GVKIT_ASSIGN_OR_RETURN(std::unique_ptr<SequenceEncoder> encoder,
+                         SequenceEncoder::create(info, options));
+  if (frame_stats) frame_stats->assign(frames.size(), {});
+  const auto append = [&](std::vector<SequenceFrame> coded) {
+    for (SequenceFrame& f : coded) {
+      if (frame_stats) (*frame_stats)[f.number] = std::move(f.stats);
+      format::IndexEntry entry;
+      entry.type = f.type;
+      entry.offset = out.size();
+      entry.frame_number = f.number;
+      entry.payload_size = static_cast<uint32_t>(f.packet.size() - format::kPacketHeaderSize);
+      index.push_back(entry);
+      out += f.packet;
+    }
+  };
+  for (const GeometryImage& frame : frames) {
+    GVKIT_ASSIGN_OR_RETURN(std::vector<SequenceFrame> coded, encoder->push(frame));
+    append(std::move(coded));
   }
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const bool intra = options.is_intra(static_cast<int64_t>(i));
-    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_sequence_frame(frames[i], info, options, static_cast<uint32_t>(i),
-                                                 reference, rate.get(), nullptr, quality.get()));
-    reference = std::move(encoded.planes);
-    if (frame_stats) frame_stats->push_back({intra, encoded.plane_stats});
-    format::IndexEntry entry;
-    entry.type = intra ? format::FrameType::kIntra : format::FrameType::kPredicted;
-    entry.offset = out.size();
-    entry.frame_number = static_cast<uint32_t>(i);
-    entry.payload_size = static_cast<uint32_t>(encoded.packet.size() - format::kPacketHeaderSize);
-    index.push_back(entry);
-    out += encoded.packet;
-  }
+  GVKIT_ASSIGN_OR_RETURN(std::vector<SequenceFrame> rest, encoder->flush());
+  append(std::move(rest));
   out += format::write_index(index, out.size());
   return out;
+}
+
+uint8_t stream_minor_version(const EncoderOptions& options) {
+  return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
+             ? format::kMinorVersion
+             : format::kMinorVersionWithoutBFrames;
 }
 
 }  // namespace gvkit::codec

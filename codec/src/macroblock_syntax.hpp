@@ -45,6 +45,8 @@ struct ContextSet {
   CabacContext td_flag[3];
   CabacContext shared_mv[3];    // format 1.4: take the co-located first-plane vector
   CabacContext shared_skip[2];  // ... then skip, by whether the co-located MB is a skip
+  // Format 1.5, B planes: direct (bin 0), else bi (bin 1), else L1 (bin 2).
+  CabacContext b_pred[3];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -109,6 +111,11 @@ struct PlaneState {
   std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
+  // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
+  // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
+  bool bidirectional = false;
+  std::vector<uint8_t> lists;         // per macroblock: bit 0 uses list 0, bit 1 list 1
+  std::vector<int16_t> mv_x1, mv_y1;  // per macroblock: list 1 vectors
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -121,7 +128,10 @@ struct PlaneState {
         mv_x(mb_type.size()),
         mv_y(mb_type.size()),
         td(mb_type.size()),
-        shared(mb_type.size()) {}
+        shared(mb_type.size()),
+        lists(mb_type.size()),
+        mv_x1(mb_type.size()),
+        mv_y1(mb_type.size()) {}
   // Whether macroblock i may take over the co-located first-plane vector.
   bool can_share(size_t i) const { return colocated && colocated->inter[i]; }
   // Records the macroblock's motion into a MotionField (P planes).
@@ -151,12 +161,34 @@ struct PlaneState {
       *py = mv_y[i];
     }
   }
+  // B planes: the predictor of the list's vector, the left macroblock's if it uses the list,
+  // else the top one's if it does, else zero.
+  void mv_predictor_list(int list, int mb_x, int mb_y, int* px, int* py) const {
+    *px = *py = 0;
+    const auto uses = [&](int x, int y) {
+      return x >= 0 && y >= 0 && (lists[static_cast<size_t>(y) * mbs_x + x] >> list) & 1;
+    };
+    size_t i;
+    if (uses(mb_x - 1, mb_y))
+      i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
+    else if (uses(mb_x, mb_y - 1))
+      i = static_cast<size_t>(mb_y - 1) * mbs_x + mb_x;
+    else
+      return;
+    *px = list ? mv_x1[i] : mv_x[i];
+    *py = list ? mv_y1[i] : mv_y[i];
+  }
   int w4() const { return mbs_x * 4; }
   int w8() const { return mbs_x * 2; }
   int8_t& mode_at(int gx, int gy) { return mode4[static_cast<size_t>(gy) * w4() + gx]; }
   uint8_t& cbf_at(int gx, int gy) { return cbf4[static_cast<size_t>(gy) * w4() + gx]; }
   uint8_t& cbp_at(int gx, int gy) { return cbp8[static_cast<size_t>(gy) * w8() + gx]; }
 };
+
+// Prediction of an inter macroblock of a B plane (format 1.5): list 0, list 1, their rounded
+// average (bi) or direct (bi with both lists' predicted vectors, no vector difference coded).
+enum BPred : uint8_t { kBL0 = 0, kBL1 = 1, kBBi = 2, kBDirect = 3 };
+inline int b_pred_lists(BPred p) { return p == kBL0 ? 1 : (p == kBL1 ? 2 : 3); }
 
 // One macroblock's decisions: type, modes and quantized levels (raster order within each block).
 struct MacroblockData {
@@ -170,6 +202,10 @@ struct MacroblockData {
   bool td = false;              // inter: temporal-difference prediction with modes[0..15]
   bool shared = false;          // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;       // inter: motion vector (samples, or quarter samples)
+  // B planes: the prediction of an inter macroblock and its list 1 vector (mv_x, mv_y being
+  // the list 0 one). Skip is a direct macroblock without residual.
+  BPred b_pred = kBDirect;
+  int mv_x1 = 0, mv_y1 = 0;
 };
 
 inline int mode_count4(const PlaneCodingParams& p) {
@@ -309,16 +345,121 @@ void write_mvd(Coder& coder, ContextSet& ctx, int component, int value) {
   write_exp_golomb0(coder, static_cast<uint32_t>(std::abs(value) - 1));
 }
 
-// Writes one macroblock at (mb_x, mb_y) and records its state for later contexts.
+// The intra part of a macroblock (type, modes, residuals), after the inter syntax of P and B
+// planes.
 template <class Coder>
-void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
-                      const MacroblockData& mb, const PlaneCodingParams& params) {
-  const int mb_index = mb_y * st.mbs_x + mb_x;
+void write_intra_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                            const MacroblockData& mb, const PlaneCodingParams& params) {
   const auto neighbour_type = [&](int dx, int dy, MbType t) {
     const int x = mb_x + dx, y = mb_y + dy;
     if (x < 0 || y < 0) return 0;
     return st.mb_type[static_cast<size_t>(y) * st.mbs_x + x] == t ? 1 : 0;
   };
+  set_group(coder, kSyntaxMbType);
+  const int mb_index = mb_y * st.mbs_x + mb_x;
+  const int is_i16 = mb.type == kMbI16x16;
+  coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)],
+               is_i16);
+  if (!is_i16)
+    coder.encode(ctx.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)],
+                 mb.type == kMbI8x8);
+  st.mb_type[mb_index] = mb.type;
+  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+  if (mb.type == kMbI16x16) {
+    set_group(coder, kSyntaxModes);
+    coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
+    coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
+    for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+  } else if (mb.type == kMbI8x8) {
+    for (int q = 0; q < 4; ++q) {
+      const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
+      write_mode(coder, ctx, mb.modes[q], most_probable_mode(st, gx, gy, true), 9);
+      for (int i = 0; i < 4; ++i) st.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
+    }
+  } else {
+    for (int b = 0; b < 16; ++b) {
+      const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
+      write_mode(coder, ctx, mb.modes[b], most_probable_mode(st, gx, gy, false),
+                 mode_count4(params));
+      st.mode_at(gx, gy) = mb.modes[b];
+    }
+  }
+  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+}
+
+// Writes one macroblock of a B plane (format 1.5): skip (direct, no residual), else is_inter;
+// an inter macroblock then codes direct / bi / L0 / L1, the vector differences of the lists it
+// uses (not for direct) and its residual.
+template <class Coder>
+void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                        const MacroblockData& mb, const PlaneCodingParams& params) {
+  const int mb_index = mb_y * st.mbs_x + mb_x;
+  const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
+    int n = 0;
+    if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
+    if (mb_y > 0 && pred(v[mb_index - st.mbs_x])) ++n;
+    return n;
+  };
+  set_group(coder, kSyntaxMbType);
+  const bool inter = mb.type == kMbInter;
+  const bool skip = inter && mb.skip;
+  coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], skip);
+  st.skip[mb_index] = skip;
+  st.td[mb_index] = 0;
+  if (!skip)
+    coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
+                 inter);
+  if (!inter) {
+    st.lists[mb_index] = 0;
+    write_intra_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+    return;
+  }
+  st.mb_type[mb_index] = kMbInter;
+  const BPred pred = skip ? kBDirect : mb.b_pred;
+  int p0x, p0y, p1x, p1y;
+  st.mv_predictor_list(0, mb_x, mb_y, &p0x, &p0y);
+  st.mv_predictor_list(1, mb_x, mb_y, &p1x, &p1y);
+  if (!skip) {
+    coder.encode(ctx.b_pred[0], pred == kBDirect);
+    if (pred != kBDirect) {
+      coder.encode(ctx.b_pred[1], pred == kBBi);
+      if (pred != kBBi) coder.encode(ctx.b_pred[2], pred == kBL1);
+    }
+  }
+  const int lists = b_pred_lists(pred);
+  const bool direct = pred == kBDirect;
+  if (!direct && (lists & 1)) {
+    write_mvd(coder, ctx, 0, mb.mv_x - p0x);
+    write_mvd(coder, ctx, 1, mb.mv_y - p0y);
+  }
+  if (!direct && (lists & 2)) {
+    write_mvd(coder, ctx, 0, mb.mv_x1 - p1x);
+    write_mvd(coder, ctx, 1, mb.mv_y1 - p1y);
+  }
+  st.lists[mb_index] = static_cast<uint8_t>(lists);
+  st.mv_x[mb_index] = static_cast<int16_t>(direct ? p0x : (lists & 1 ? mb.mv_x : 0));
+  st.mv_y[mb_index] = static_cast<int16_t>(direct ? p0y : (lists & 1 ? mb.mv_y : 0));
+  st.mv_x1[mb_index] = static_cast<int16_t>(direct ? p1x : (lists & 2 ? mb.mv_x1 : 0));
+  st.mv_y1[mb_index] = static_cast<int16_t>(direct ? p1y : (lists & 2 ? mb.mv_y1 : 0));
+  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+  for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+  if (skip) {
+    for (int i = 0; i < 16; ++i) st.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+    for (int q = 0; q < 4; ++q) st.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+    return;
+  }
+  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+}
+
+// Writes one macroblock at (mb_x, mb_y) and records its state for later contexts.
+template <class Coder>
+void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                      const MacroblockData& mb, const PlaneCodingParams& params) {
+  if (st.bidirectional) {
+    write_b_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+    return;
+  }
+  const int mb_index = mb_y * st.mbs_x + mb_x;
   const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
     int n = 0;
     if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
@@ -382,34 +523,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
     st.skip[mb_index] = 0;
     st.td[mb_index] = 0;
   }
-  const int is_i16 = mb.type == kMbI16x16;
-  coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)],
-               is_i16);
-  if (!is_i16)
-    coder.encode(ctx.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)],
-                 mb.type == kMbI8x8);
-  st.mb_type[mb_index] = mb.type;
-  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
-  if (mb.type == kMbI16x16) {
-    set_group(coder, kSyntaxModes);
-    coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
-    coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
-    for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
-  } else if (mb.type == kMbI8x8) {
-    for (int q = 0; q < 4; ++q) {
-      const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
-      write_mode(coder, ctx, mb.modes[q], most_probable_mode(st, gx, gy, true), 9);
-      for (int i = 0; i < 4; ++i) st.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
-    }
-  } else {
-    for (int b = 0; b < 16; ++b) {
-      const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
-      write_mode(coder, ctx, mb.modes[b], most_probable_mode(st, gx, gy, false),
-                 mode_count4(params));
-      st.mode_at(gx, gy) = mb.modes[b];
-    }
-  }
-  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+  write_intra_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
 }
 
 // Whether the sample at (px, py) is reconstructed before the block whose z-order index (in 4x4
@@ -458,6 +572,27 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
 inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int mv_y,
                           bool quarter_pel, int bit_depth, int32_t* pred) {
   predict_motion_block(ref, x0, y0, 16, 16, mv_x, mv_y, quarter_pel, bit_depth, pred);
+}
+
+// Inter prediction of a B macroblock at (x0, y0) from list 0 (ref0) and list 1 (ref1): one
+// list's motion-compensated block, or for bi and direct the average (p0 + p1 + 1) >> 1 of both
+// (H.264's default weighted prediction). Direct uses the vectors given (the predictors).
+inline void predict_b_inter(const SamplePlane& ref0, const SamplePlane& ref1, int x0, int y0,
+                            BPred pred_kind, int mv_x0, int mv_y0, int mv_x1, int mv_y1,
+                            bool quarter_pel, int bit_depth, int32_t* pred) {
+  const int lists = b_pred_lists(pred_kind);
+  if (lists == 1) {
+    predict_motion_block(ref0, x0, y0, 16, 16, mv_x0, mv_y0, quarter_pel, bit_depth, pred);
+    return;
+  }
+  if (lists == 2) {
+    predict_motion_block(ref1, x0, y0, 16, 16, mv_x1, mv_y1, quarter_pel, bit_depth, pred);
+    return;
+  }
+  int32_t p1[256];
+  predict_motion_block(ref0, x0, y0, 16, 16, mv_x0, mv_y0, quarter_pel, bit_depth, pred);
+  predict_motion_block(ref1, x0, y0, 16, 16, mv_x1, mv_y1, quarter_pel, bit_depth, p1);
+  for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + p1[i] + 1) >> 1;
 }
 
 // Temporal-difference prediction: the neighbours of the 4x4 block at (x0, y0) (z-order index

@@ -17,6 +17,7 @@ class MacroblockReader {
       : dec_(dec), ctx_(ctx), st_(st), p_(p) {}
 
   Status read(int mb_x, int mb_y, MacroblockData& mb) {
+    if (st_.bidirectional) return read_b(mb_x, mb_y, mb);
     const int mb_index = mb_y * st_.mbs_x + mb_x;
     if (st_.predicted) {
       const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
@@ -81,6 +82,79 @@ class MacroblockReader {
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
     }
+    return read_intra(mb_x, mb_y, mb);
+  }
+
+ private:
+  // B planes (format 1.5): the mirror of write_b_macroblock.
+  Status read_b(int mb_x, int mb_y, MacroblockData& mb) {
+    const int mb_index = mb_y * st_.mbs_x + mb_x;
+    const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
+      int n = 0;
+      if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
+      if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
+      return n;
+    };
+    mb.td = false;
+    mb.shared = false;
+    mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
+    st_.skip[mb_index] = mb.skip;
+    st_.td[mb_index] = 0;
+    if (!mb.skip &&
+        !dec_.decode(
+            ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
+      st_.lists[mb_index] = 0;
+      return read_intra(mb_x, mb_y, mb);
+    }
+    mb.type = kMbInter;
+    st_.mb_type[mb_index] = kMbInter;
+    BPred pred = kBDirect;
+    if (!mb.skip && !dec_.decode(ctx_.b_pred[0]))
+      pred = dec_.decode(ctx_.b_pred[1]) ? kBBi : (dec_.decode(ctx_.b_pred[2]) ? kBL1 : kBL0);
+    mb.b_pred = pred;
+    int p0x, p0y, p1x, p1y;
+    st_.mv_predictor_list(0, mb_x, mb_y, &p0x, &p0y);
+    st_.mv_predictor_list(1, mb_x, mb_y, &p1x, &p1y);
+    const int lists = b_pred_lists(pred);
+    mb.mv_x = mb.mv_y = mb.mv_x1 = mb.mv_y1 = 0;
+    if (pred == kBDirect) {
+      mb.mv_x = p0x;
+      mb.mv_y = p0y;
+      mb.mv_x1 = p1x;
+      mb.mv_y1 = p1y;
+    }
+    const int max_motion = p_.subpel ? 4 * kMaxMotion : kMaxMotion;
+    for (int list = 0; list < 2 && pred != kBDirect; ++list) {
+      if (!((lists >> list) & 1)) continue;
+      int dx, dy;
+      GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
+      GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
+      const int mx = (list ? p1x : p0x) + dx, my = (list ? p1y : p0y) + dy;
+      if (std::abs(mx) > max_motion || std::abs(my) > max_motion)
+        return corrupt_data(std::string("motion vector out of range (list ") + (list ? "1" : "0") +
+                            ")");
+      (list ? mb.mv_x1 : mb.mv_x) = mx;
+      (list ? mb.mv_y1 : mb.mv_y) = my;
+    }
+    st_.lists[mb_index] = static_cast<uint8_t>(lists);
+    st_.mv_x[mb_index] = static_cast<int16_t>(mb.mv_x);
+    st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
+    st_.mv_x1[mb_index] = static_cast<int16_t>(mb.mv_x1);
+    st_.mv_y1[mb_index] = static_cast<int16_t>(mb.mv_y1);
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+    for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+    if (mb.skip) {
+      mb.cbp = 0;
+      for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+      for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+      for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+      return Status::ok();
+    }
+    return read_cbp_and_residuals(mb_x, mb_y, mb);
+  }
+
+  Status read_intra(int mb_x, int mb_y, MacroblockData& mb) {
+    const int mb_index = mb_y * st_.mbs_x + mb_x;
     mb.td = false;
     mb.shared = false;
     const auto neighbour_type = [&](int dx, int dy, MbType t) {
@@ -105,7 +179,7 @@ class MacroblockReader {
     } else if (mb.type == kMbI8x8) {
       for (int q = 0; q < 4; ++q) {
         const int gx = gx0 + (q & 1) * 2, gy = gy0 + (q >> 1) * 2;
-        int mode;
+        int mode = 0;
         GVKIT_RETURN_IF_ERROR(read_mode(most_probable_mode(st_, gx, gy, true), 9, "8x8", mode));
         mb.modes[q] = static_cast<int8_t>(mode);
         for (int i = 0; i < 4; ++i) st_.mode_at(gx + (i & 1), gy + (i >> 1)) = mb.modes[q];
@@ -116,7 +190,6 @@ class MacroblockReader {
     return read_cbp_and_residuals(mb_x, mb_y, mb);
   }
 
- private:
   Status read_mvd(int component, int& value) {
     value = 0;
     if (!dec_.decode(ctx_.mvd_zero[component])) return Status::ok();
@@ -176,7 +249,7 @@ class MacroblockReader {
   Status read_4x4_modes(int gx0, int gy0, MacroblockData& mb) {
     for (int b = 0; b < 16; ++b) {
       const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
-      int mode;
+      int mode = 0;
       GVKIT_RETURN_IF_ERROR(
           read_mode(most_probable_mode(st_, gx, gy, false), mode_count4(p_), "4x4", mode));
       mb.modes[b] = static_cast<int8_t>(mode);
@@ -265,10 +338,22 @@ class MacroblockReader {
 };
 
 void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
-                            const PlaneCodingParams& p, const SamplePlane* reference) {
+                            const PlaneCodingParams& p, const SamplePlane* reference,
+                            const SamplePlane* reference1) {
   const int max_value = (1 << p.bit_depth) - 1;
   int32_t pred[256];
-  if (mb.type == kMbInter && mb.td) {
+  if (mb.type == kMbInter && reference1) {
+    predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
+                    mb.mv_x1, mb.mv_y1, p.subpel != 0, p.bit_depth, pred);
+    for (int b = 0; b < 16; ++b) {
+      const int bx = block_x(b) * 4, by = block_y(b) * 4;
+      int32_t sub[16];
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
+      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
+                        mb_y * 16 + by);
+    }
+  } else if (mb.type == kMbInter && mb.td) {
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
       predict_td(plane, *reference, mb.mv_x, mb.mv_y, p.subpel != 0, x0, y0, mb_x, mb_y, b,
@@ -311,17 +396,23 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
 
 }  // namespace
 
-Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
-                                 const PlaneCodingParams& params, const SamplePlane* reference,
-                                 const MotionField* shared, MotionField* motion_out) {
+namespace {
+
+Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int height,
+                                      const PlaneCodingParams& params, const SamplePlane* reference,
+                                      const MotionField* shared, MotionField* motion_out,
+                                      const SamplePlane* reference1) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
   GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
+  GVKIT_CHECK(!reference1 ||
+              (reference && reference1->width == width && reference1->height == height && !shared));
   SamplePlane plane;
   plane.width = width;
   plane.height = height;
   plane.samples.assign(static_cast<size_t>(width) * height, 0);
   PlaneState st(width, height);
   st.predicted = reference != nullptr;
+  st.bidirectional = reference1 != nullptr;
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");
@@ -340,12 +431,27 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
       const Status status = reader.read(mb_x, mb_y, mb);
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
-      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference);
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1);
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
   if (reference && motion_out) st.export_motion(*motion_out);
   return plane;
+}
+
+}  // namespace
+
+Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
+                                 const PlaneCodingParams& params, const SamplePlane* reference,
+                                 const MotionField* shared, MotionField* motion_out) {
+  return decode_plane_impl(bytes, width, height, params, reference, shared, motion_out, nullptr);
+}
+
+Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
+                                   const PlaneCodingParams& params, const SamplePlane& reference0,
+                                   const SamplePlane& reference1) {
+  return decode_plane_impl(bytes, width, height, params, &reference0, nullptr, nullptr,
+                           &reference1);
 }
 
 }  // namespace gvkit::codec

@@ -31,7 +31,7 @@ class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
-                    const JointSearchPlanes* joint)
+                    const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr)
       : src_(source),
         recon_(recon),
         st_(st),
@@ -41,6 +41,7 @@ class MacroblockEncoder {
     // Half-sample planes over the search area (the predictor's vector may reach further: the
     // interpolation then falls back to the plain block-wise path).
     if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 4);
+    if (reference1) interp1_.emplace(*reference1, p.bit_depth, p.search_range + 4);
     if (reference && joint) {
       joint_interp_.reserve(joint->references.size());
       for (size_t j = 0; j < joint->references.size(); ++j) {
@@ -119,7 +120,126 @@ class MacroblockEncoder {
     return best.mb;
   }
 
+  // A macroblock of a B plane: direct (taken at once by the fast preset when it needs no
+  // residual, i.e. is a skip), then list 0, list 1 and bi with each list's searched vector,
+  // then the intra types; the cheapest wins (the same costs as in P planes).
+  MacroblockData encode_b(int mb_x, int mb_y, const ContextSet& ctx) {
+    mb_x_ = mb_x;
+    mb_y_ = mb_y;
+    struct Candidate {
+      MacroblockData mb;
+      double cost;
+      std::array<uint16_t, 256> recon;
+    };
+    Candidate best;
+    best.cost = std::numeric_limits<double>::infinity();
+    const auto consider = [&](const auto& try_candidate) {
+      Candidate c;
+      ContextSet trial = ctx;
+      bound_ = best.cost;
+      c.cost = try_candidate(c.mb, trial);
+      if (c.cost < best.cost) {
+        for (int y = 0; y < 16; ++y)
+          for (int x = 0; x < 16; ++x)
+            c.recon[y * 16 + x] = recon_.at(mb_x * 16 + x, mb_y * 16 + y);
+        best = c;
+      }
+    };
+    int p0x, p0y, p1x, p1y;
+    st_.mv_predictor_list(0, mb_x, mb_y, &p0x, &p0y);
+    st_.mv_predictor_list(1, mb_x, mb_y, &p1x, &p1y);
+    consider([&](MacroblockData& mb, ContextSet& trial) {
+      return try_b_inter(mb, trial, kBDirect, p0x, p0y, p1x, p1y);
+    });
+    if (p_.rdo || !best.mb.skip) {
+      const MotionSearchResult f0 = search_list(*interp_, p0x, p0y);
+      const MotionSearchResult f1 = search_list(*interp1_, p1x, p1y);
+      consider([&](MacroblockData& mb, ContextSet& trial) {
+        return try_b_inter(mb, trial, kBL0, f0.mv_x, f0.mv_y, 0, 0);
+      });
+      consider([&](MacroblockData& mb, ContextSet& trial) {
+        return try_b_inter(mb, trial, kBL1, 0, 0, f1.mv_x, f1.mv_y);
+      });
+      consider([&](MacroblockData& mb, ContextSet& trial) {
+        return try_b_inter(mb, trial, kBBi, f0.mv_x, f0.mv_y, f1.mv_x, f1.mv_y);
+      });
+      consider([&](MacroblockData& mb, ContextSet& trial) {
+        mb.type = kMbI16x16;
+        return try_i16(mb, trial);
+      });
+      if (p_.allow_8x8)
+        consider([&](MacroblockData& mb, ContextSet& trial) {
+          mb.type = kMbI8x8;
+          return try_i8(mb, trial);
+        });
+      consider([&](MacroblockData& mb, ContextSet& trial) {
+        mb.type = kMbI4x4;
+        return try_i4(mb, trial);
+      });
+    }
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
+    return best.mb;
+  }
+
  private:
+  // B planes: the motion search of one list around its predictor (px, py).
+  MotionSearchResult search_list(const InterpolatedReference& ref, int px, int py) const {
+    MotionSearchParams search;
+    search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
+    search.range = p_.search_range;
+    search.subpel = p_.subpel;
+    search.lossless = p_.lossless;
+    search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
+    search.max_abs_mv = 4 * kMaxMotion;
+    return search_motion_16x16(src_, ref, mb_x_ * 16, mb_y_ * 16, px, py, search);
+  }
+
+  // B planes: an inter candidate of prediction `kind` with the list 0 vector (m0x, m0y) and the
+  // list 1 vector (m1x, m1y) (direct: the predictors); the residual is coded as in P planes. A
+  // direct candidate without residual becomes a skip.
+  double try_b_inter(MacroblockData& mb, ContextSet& trial, BPred kind, int m0x, int m0y, int m1x,
+                     int m1y) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool qpel = p_.subpel != 0;
+    mb.type = kMbInter;
+    mb.b_pred = kind;
+    mb.mv_x = m0x;
+    mb.mv_y = m0y;
+    mb.mv_x1 = m1x;
+    mb.mv_y1 = m1y;
+    const int lists = b_pred_lists(kind);
+    int32_t pred[256], pred1[256];
+    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
+    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
+    if (lists == 3)
+      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+    // Side information: skip, is_inter and prediction flags, then the vector differences.
+    double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
+    if (kind != kBDirect) {
+      int px, py;
+      if (lists & 1) {
+        st_.mv_predictor_list(0, mb_x_, mb_y_, &px, &py);
+        side_bits += signed_exp_golomb_bits(m0x - px) + signed_exp_golomb_bits(m0y - py);
+      }
+      if (lists & 2) {
+        st_.mv_predictor_list(1, mb_x_, mb_y_, &px, &py);
+        side_bits += signed_exp_golomb_bits(m1x - px) + signed_exp_golomb_bits(m1y - py);
+      }
+    }
+    double cost;
+    if (p_.rdo) {
+      cost = code_i16_residual(mb, pred, trial, true) + lambda_ * side_bits;
+    } else {
+      cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
+      code_i16_residual(mb, pred, trial, true);
+    }
+    mb.skip = kind == kBDirect && mb.cbp == 0;
+    // A skip codes one flag: no prediction flags, no coded block pattern.
+    if (mb.skip) cost -= p_.rdo ? lambda_ * (side_bits + 2) : lambda_sad_ * (side_bits - 1);
+    return cost;
+  }
+
   // Motion bits of vector (mx, my): the flag and nothing else for the co-located first-plane
   // vector (shared motion), else the two differences to the predictor (px, py).
   double motion_bits(int mx, int my, int px, int py) const {
@@ -491,7 +611,8 @@ class MacroblockEncoder {
   PlaneState& st_;
   const PlaneCodingParams& p_;
   const SamplePlane* ref_;
-  std::optional<InterpolatedReference> interp_;  // of ref_, for P planes
+  std::optional<InterpolatedReference> interp_;   // of ref_, for P planes (list 0 of B planes)
+  std::optional<InterpolatedReference> interp1_;  // B planes: list 1
   // Joint motion search: the other planes' interpolated references (reserved once, so the
   // pointers in joint_planes_ stay valid) and the planes the search adds up.
   std::vector<InterpolatedReference> joint_interp_;
@@ -510,9 +631,11 @@ class MacroblockEncoder {
 
 }  // namespace
 
-PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                               const SamplePlane* reference, const MotionField* shared,
-                               const JointSearchPlanes* joint) {
+namespace {
+
+PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingParams& params,
+                                    const SamplePlane* reference, const MotionField* shared,
+                                    const JointSearchPlanes* joint, const SamplePlane* reference1) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -524,6 +647,9 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   GVKIT_CHECK(!reference || (reference->width == plane.width && reference->height == plane.height));
   PlaneState st(plane.width, plane.height);
   st.predicted = reference != nullptr;
+  st.bidirectional = reference1 != nullptr;
+  GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
+                              reference1->height == plane.height));
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");
@@ -535,10 +661,11 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
-                               reference ? joint : nullptr);
+                               reference && !reference1 ? joint : nullptr, reference1);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
-      const MacroblockData mb = mb_encoder.encode(mb_x, mb_y, ctx);
+      const MacroblockData mb =
+          reference1 ? mb_encoder.encode_b(mb_x, mb_y, ctx) : mb_encoder.encode(mb_x, mb_y, ctx);
       write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
       if (mb.type != kMbInter)
         ++result.stats.intra_mbs;
@@ -551,8 +678,23 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
     }
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
-  if (reference) st.export_motion(result.motion);
+  if (reference && !reference1) st.export_motion(result.motion);
   return result;
+}
+
+}  // namespace
+
+PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                               const SamplePlane* reference, const MotionField* shared,
+                               const JointSearchPlanes* joint) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr);
+}
+
+PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                                 const SamplePlane& reference0, const SamplePlane& reference1) {
+  PlaneCodingParams p = params;
+  p.td_prediction = false;
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1);
 }
 
 }  // namespace gvkit::codec

@@ -47,18 +47,22 @@ bool QualityController::meets(const GeometryError& error, bool intra) const {
 Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const SequenceInfo& info,
                                                const EncoderOptions& options, uint32_t number,
                                                const std::vector<SamplePlane>* reference,
+                                               const std::vector<SamplePlane>* reference1,
                                                int* qp_used) {
   const bool intra = reference == nullptr;
-  const int type = intra ? 0 : 1;
+  GVKIT_CHECK(!intra || !reference1, "a B frame needs both references");
+  const int type = intra ? 0 : (reference1 ? 2 : 1);
   // The first P frame starts from the I frame's QP, less what the I frame's higher target took
-  // (1 QP is about 1 dB).
+  // (1 QP is about 1 dB); the first B frame from the P frames' QP.
   const int offset_qp = static_cast<int>(std::lround(intra_offset_db_));
-  int start = have_last_[type] ? last_qp_[type]
-              : have_last_[0]  ? last_qp_[0] + offset_qp
-                               : options.qp;
+  int start = have_last_[type]             ? last_qp_[type]
+              : type == 2 && have_last_[1] ? last_qp_[1]
+              : have_last_[0]              ? last_qp_[0] + offset_qp
+                                           : options.qp;
   start = std::clamp(start, qp_min_, 51);
   EncoderOptions o = options;
   o.p_qp_offset = 0;  // the search sets each frame's QP itself
+  o.b_qp_offset = 0;
   int encodes = 0;
   std::optional<EncodedFrame> best, finest_miss;  // the coarsest QP that meets; the finest miss
   int best_qp = 0, finest_miss_qp = 52;
@@ -66,7 +70,8 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
   auto try_qp = [&](int qp) -> Result<bool> {
     o.qp = qp;
     ++encodes;
-    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info, o, number, reference));
+    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
+                           encode_frame(frame, info, o, number, reference, reference1));
     const GeometryError error = geometry_error(frame, encoded.reconstruction);
     last_rms_mm = error.rms_mm;
     if (meets(error, intra)) {
@@ -141,7 +146,8 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
     }
   }
 
-  frame_encodes_.push_back(encodes);
+  if (frame_encodes_.size() <= number) frame_encodes_.resize(number + 1, 0);
+  frame_encodes_[number] = encodes;
   total_encodes_ += encodes;
   int qp = best_qp;
   EncodedFrame out;

@@ -118,7 +118,7 @@ TEST_F(ConstantQuality, TargetRmsHoldsOnEveryFrameAndTheQpIsTheCoarsestWithinThe
   for (size_t i = 0; i < frames_.size(); ++i) {
     int qp = 99;
     auto encoded = encode_sequence_frame(frames_[i], info_, cq, static_cast<uint32_t>(i), reference,
-                                         nullptr, &qp, controller->get());
+                                         nullptr, &qp, nullptr, controller->get());
     ASSERT_TRUE(encoded.is_ok()) << encoded.status().message();
     EXPECT_LE(geometry_error(frames_[i], encoded->reconstruction).rms_mm, 0.05) << "frame " << i;
     // One QP coarser misses the target (unless the bracket stopped the climb at +2).

@@ -32,7 +32,14 @@ struct GoldenCase {
 
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
-      plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless;
+      plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
+      bframes_lossless;
+  bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
+  bframes_fast.preset = Preset::kFast;
+  bframes_fast.bframes = 1;
+  bframes_lossless.lossless = true;  // version 1.5: two B frames, the last frame a trailing P
+  bframes_lossless.preset = Preset::kSlow;
+  bframes_lossless.bframes = 2;
   shared_fast.qp = 0;  // version 1.4: shared motion, inter decimation, fast preset
   shared_fast.preset = Preset::kFast;
   shared_fast.intra_period = 3;
@@ -78,7 +85,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_qpel_td_ippi_v1_3_48.gvid", 48, 4, qpel_td, 0.75},
           {"analytic_hpel_lossless_ipp_v1_3_48.gvid", 48, 3, hpel_lossless, 0.5},
           {"analytic_shared_qp0_ippi_v1_4_48.gvid", 48, 4, shared_fast, 0.75},
-          {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5}};
+          {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5},
+          {"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 48, 5, bframes_fast, 0.75},
+          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

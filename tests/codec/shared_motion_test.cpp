@@ -121,6 +121,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
+  o.bframes = 0;  // shared motion is a P-frame tool
   std::string one;
   for (int threads : {1, 3}) {
     o.threads = threads;

@@ -1,6 +1,6 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
-// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra or P), decoded
+// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P or B), decoded
 //    directly, so that mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
@@ -41,8 +41,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     reference.samples.resize(static_cast<size_t>(width) * height);
     for (size_t i = 0; i < reference.samples.size(); ++i)
       reference.samples[i] = static_cast<uint16_t>((i * 37) & ((1u << params.bit_depth) - 1));
-    (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
-                       (data[2] & 0x80) ? &reference : nullptr);
+    // Bit 7 of byte 0 with bit 7 of byte 2: a B plane (format 1.5), list 1 a second ramp.
+    if ((data[0] & 0x80) && (data[2] & 0x80)) {
+      SamplePlane reference1 = reference;
+      for (size_t i = 0; i < reference1.samples.size(); ++i)
+        reference1.samples[i] =
+            static_cast<uint16_t>((i * 11 + 5) & ((1u << params.bit_depth) - 1));
+      (void)decode_b_plane(std::string_view(bytes).substr(4), width, height, params, reference,
+                           reference1);
+    } else {
+      (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
+                         (data[2] & 0x80) ? &reference : nullptr);
+    }
   }
   return 0;
 }

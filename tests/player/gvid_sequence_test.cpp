@@ -1,5 +1,6 @@
 // A .gvid stream opened through the player's FrameSequence: frames, fps and bits come from the
-// codec, lossless frames come back bit-exact, and a damaged frame fails alone.
+// codec, lossless frames come back bit-exact (with and without B frames, in display order), and a
+// damaged frame fails alone.
 #include "gvkit/player/gvid_sequence.hpp"
 
 #include <gtest/gtest.h>
@@ -29,13 +30,15 @@ std::vector<GeometryImage> wave_frames(int count) {
   return frames;
 }
 
-TEST(GvidSequence, PlaysALosslessStreamBitExactly) {
+void PlaysLosslessStream(int bframes) {
+  SCOPED_TRACE("bframes " + std::to_string(bframes));
   TempDir dir;
   const auto frames = wave_frames(4);
   auto info = codec::make_sequence_info(frames, 16, 25.0);
   ASSERT_TRUE(info.is_ok()) << info.status().message();
   codec::EncoderOptions options;
   options.lossless = true;
+  options.bframes = bframes;  // 2: I B B P, packets I P B B
   auto bytes = codec::encode_gvid(frames, *info, options);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   ASSERT_TRUE(write_file_atomically(dir / "wave.gvid", *bytes).is_ok());
@@ -47,7 +50,7 @@ TEST(GvidSequence, PlaysALosslessStreamBitExactly) {
   ASSERT_TRUE((*seq)->frame_bits(2).has_value());
   EXPECT_GT(*(*seq)->frame_bits(2), 0);
   // Lossless: decoded positions equal the input up to the 16-bit quantization step of the box.
-  for (int k : {3, 0, 2}) {
+  for (int k : {3, 0, 2, 1}) {
     auto frame = (*seq)->frame(k);
     ASSERT_TRUE(frame.is_ok()) << frame.status().message();
     EXPECT_EQ(frame->index, k);
@@ -60,6 +63,10 @@ TEST(GvidSequence, PlaysALosslessStreamBitExactly) {
                                                    frames[k].xyz_mm.at<cv::Vec3f>(y, x)));
     EXPECT_LT(max_error, 0.01) << "frame " << k;
   }
+}
+
+TEST(GvidSequence, PlaysALosslessStreamBitExactly) {
+  for (const int bframes : {0, 2}) PlaysLosslessStream(bframes);
 }
 
 TEST(GvidSequence, GarbageIsRejectedNamingTheFile) {

@@ -65,6 +65,44 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
+TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
+  TempDir dir;
+  write_frames(dir / "in", 5);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --lossless --preset fast --bframes 2 --b-qp-offset 3");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["bframes"], 2);
+  EXPECT_EQ((*stats)["options"]["b_qp_offset"], 3);
+  ASSERT_EQ((*stats)["frames"].size(), 5u);
+  // I B B P, then a last frame without a following anchor: P.
+  const char* types[] = {"I", "B", "B", "P", "P"};
+  for (int f = 0; f < 5; ++f) EXPECT_EQ((*stats)["frames"][f]["type"], types[f]) << f;
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "frame types     1 I, 2 P, 2 B")) << info.output;
+  EXPECT_TRUE(contains(info.output, "B  ")) << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  for (int f = 0; f < 5; ++f) {
+    auto a = read_geometry_image_exr(frame_path(dir / "in", f, ".exr"));
+    auto b = read_geometry_image_exr(frame_path(dir / "out", f, ".exr"));
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    double worst = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        if (a->domain_mask.at<uint8_t>(y, x))
+          worst = std::max(worst,
+                           cv::norm(a->xyz_mm.at<cv::Vec3f>(y, x) - b->xyz_mm.at<cv::Vec3f>(y, x)));
+    EXPECT_LT(worst, 0.01) << "frame " << f;  // lossless: the frame itself, in display order
+  }
+  auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --bframes 4");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "B frames 4 out of range")) << bad.output;
+}
+
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
   TempDir dir;
   write_frames(dir / "in", 3);
@@ -113,7 +151,7 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
 
   auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
                         " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--subpel 2 --preset fast --no-decimation");
+                        "--subpel 2 --preset fast --no-decimation --bframes 0");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());

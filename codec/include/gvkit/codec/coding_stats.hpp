@@ -41,6 +41,7 @@ struct PlaneCodingStats {
 struct FrameCodingStats {
   bool intra = true;
   std::vector<PlaneCodingStats> planes;  // X, Y, Z (, T)
+  bool bidirectional = false;            // a B frame (format 1.5; intra is false)
 };
 
 }  // namespace gvkit::codec

@@ -58,9 +58,16 @@ struct EncoderOptions {
   // P frames: try the predicted vector before the motion search and, in the fast preset, take a
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
   bool skip_check = false;
-  int plane_qp_offset[3] = {0, 0, 0};
+  int plane_qp_offset[3] = {0, 0, 0};  // added to qp for X, Y, Z (lossy frames), -12..12
   int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
-                        // added to qp for X, Y, Z (lossy frames), -12..12
+  // B frames (format 1.5): up to this many consecutive frames between two anchors (I or P
+  // frames) are coded as B frames, predicted from the anchor before and the anchor after them
+  // and coded after the latter; 0..3, or -1 = automatic: 1 in lossy streams (-17 to -19 %
+  // BD-rate on the ICT face, docs/benchmarks.md), 0 in lossless and near-lossless ones (where
+  // one B frame costs 3 % more rate). 0 writes a format 1.4 stream (I and P frames only).
+  int bframes = -1;
+  // Added to the P frames' QP in B frames (no frame predicts from a B frame), 0..12.
+  int b_qp_offset = 2;
   // Rate control: > 0 sets the frame QP to meet this rate (kbit/s at the stream's fps) with a
   // buffer of buffer_seconds; qp is the starting QP. 0 = constant QP.
   double bitrate_kbps = 0;
@@ -85,6 +92,16 @@ struct EncoderOptions {
   }
   // Constant-quality rate control (a target PSNR or RMS error).
   bool constant_quality() const { return target_psnr_db > 0 || target_rms_mm > 0; }
+  // The consecutive B frames the encoder codes: bframes, or its automatic value.
+  int b_frames() const { return bframes >= 0 ? bframes : (bypass() ? 0 : 1); }
+  // Whether frame `frame_number` is an anchor (I or P frame; without B frames every frame):
+  // the I frames and every (b_frames() + 1)-th frame after each. The frames between two anchors
+  // are B frames, but those after the last anchor of a sequence are coded as P frames.
+  bool is_anchor(int64_t frame_number) const {
+    const int b = b_frames();
+    if (is_intra(frame_number) || b <= 0) return true;
+    return frame_number % intra_period % (b + 1) == 0;
+  }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

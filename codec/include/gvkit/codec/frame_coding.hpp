@@ -21,12 +21,14 @@ struct EncodedFrame {
   std::vector<PlaneCodingStats> plane_stats;  // per coded plane: where its bits went
 };
 
-// Encodes an intra frame, or a P frame predicted from `reference` (the previous frame's
-// reconstructed planes) when given. Fails (naming the frame) when its size differs from the
-// header's.
+// Encodes an intra frame, a P frame predicted from `reference` (the previous anchor's
+// reconstructed planes) when given, or with `reference1` too (the next anchor's planes) a B
+// frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). Fails (naming the frame) when its size
+// differs from the header's.
 Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
                                   const EncoderOptions& options, uint32_t frame_number,
-                                  const std::vector<SamplePlane>* reference = nullptr);
+                                  const std::vector<SamplePlane>* reference = nullptr,
+                                  const std::vector<SamplePlane>* reference1 = nullptr);
 
 // Near-lossless residual bound (samples) that keeps the point error within max_error_mm at the
 // sequence's quantization step: 0 when off (or when only exact coding fits), -1 when even the
@@ -40,11 +42,14 @@ struct DecoderLimits {
 
 // Decodes a complete packet (header + payload). Fails naming the field on any inconsistency:
 // "packet header CRC mismatch", "payload CRC mismatch", "plane Y: macroblock (3, 1): ...".
-// A P packet needs `reference` (the previous frame's decoded planes); planes_out (optional)
-// receives this frame's decoded planes, the reference of the next.
+// A P packet needs `reference` (the previous anchor's decoded planes), a B packet `reference`
+// and `reference1` (the anchors before and after it in display order; "B frame without the
+// anchor frame after it" otherwise); planes_out (optional) receives this frame's decoded planes,
+// the reference of the next.
 Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
                                           int64_t frame_number,
                                           const std::vector<SamplePlane>* reference = nullptr,
-                                          std::vector<SamplePlane>* planes_out = nullptr);
+                                          std::vector<SamplePlane>* planes_out = nullptr,
+                                          const std::vector<SamplePlane>* reference1 = nullptr);
 
 }  // namespace gvkit::codec

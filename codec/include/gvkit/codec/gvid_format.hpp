@@ -18,7 +18,9 @@ inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
-inline constexpr uint8_t kMinorVersion = 4;
+inline constexpr uint8_t kMinorVersion = 5;
+// A stream without B frames is written as version 1.4 (it uses no 1.5 syntax).
+inline constexpr uint8_t kMinorVersionWithoutBFrames = 4;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -26,7 +28,11 @@ inline constexpr size_t kTrailerSize = 12;
 inline constexpr int kMaxDimension = 16384;
 
 enum PlaneFlag : uint8_t { kPlaneX = 1, kPlaneY = 2, kPlaneZ = 4, kPlaneTexture = 8 };
-enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1 };
+// Packets are in decode order: a B frame (1.5) follows the anchor (I or P frame) after it in
+// display order; frame_number is the display index.
+enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1, kBidirectional = 2 };
+// "I", "P" or "B" ("?" for other values).
+const char* frame_type_name(FrameType type);
 enum FrameFlag : uint8_t {
   kFrameLossless = 1,
   kFrameGeometryModes = 2,
@@ -60,8 +66,8 @@ struct IndexEntry {
   FrameType type = FrameType::kIntra;
 };
 
-// File header: magic, version, sequence fields, domain mask, CRC.
-std::string write_file_header(const SequenceInfo& info);
+// File header: magic, version (1.minor_version), sequence fields, domain mask, CRC.
+std::string write_file_header(const SequenceInfo& info, uint8_t minor_version = kMinorVersion);
 // Parses the header at the start of bytes; on success *header_size is its length in bytes.
 // Fails naming the field that is missing, out of range or inconsistent.
 Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_size);

@@ -5,6 +5,7 @@
 // naming the file, the frame and the field; other frames still decode.
 
 #include <cstdint>
+#include <deque>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -29,14 +30,19 @@ class GvidReader {
 
   const SequenceInfo& info() const { return info_; }
   int64_t frame_count() const { return static_cast<int64_t>(index_.size()); }
-  // Decodes frame `index` (0-based): a P frame is decoded from the previous intra frame on
-  // (reusing the last decoded frame when it lies on that chain, so sequential reading decodes
-  // each frame once). A damaged frame fails this frame and the P frames after it up to the next
-  // intra frame.
+  // Decodes frame `index` (0-based, display order; the packets are in decode order). A P frame
+  // needs the anchors (I and P frames) from the previous intra frame on, a B frame also the
+  // anchor after it; the last few decoded anchors are kept, so that reading in display order
+  // decodes each frame once. A damaged frame fails this frame and the frames that depend on it
+  // (the P frames after it up to the next intra frame, the B frames around them), whose
+  // messages name it ("frame 3: reference frame 4: payload CRC mismatch").
   Result<GeometryImage> decode_frame(int64_t index);
   // Bits of the frame's packet (header + payload); 0 for an index out of range.
   int64_t frame_bits(int64_t index) const;
-  format::FrameType frame_type(int64_t index) const { return index_.at(index).type; }
+  // Type of frame `index` (display order; contract: 0 <= index < frame_count()).
+  format::FrameType frame_type(int64_t index) const { return entry(index).type; }
+  // Position of frame `index` (display order) in the stream's decode order.
+  int64_t decode_position(int64_t index) const { return static_cast<int64_t>(order_.at(index)); }
   // True when the seek index was missing or damaged and the packets were found by a scan.
   bool index_rebuilt() const { return index_rebuilt_; }
   int64_t file_bytes() const { return static_cast<int64_t>(bytes_.size()); }
@@ -46,16 +52,40 @@ class GvidReader {
  private:
   GvidReader() = default;
   void scan_packets(size_t end);
+  // Sorts the packets into display order (order_).
+  void sort_display_order();
+  const format::IndexEntry& entry(int64_t index) const {
+    return index_[order_.at(static_cast<size_t>(index))];
+  }
+  bool is_anchor(int64_t index) const {
+    return entry(index).type != format::FrameType::kBidirectional;
+  }
+  struct Decoded {
+    int64_t index = -1;  // display order
+    std::vector<SamplePlane> planes;
+    GeometryImage image;
+  };
+  // The decoded anchor `index` (I or P frame) and the chain of anchors it needs; `where` names
+  // frame `requested` (the one asked for) in messages, which name any other failing frame as a
+  // reference frame.
+  Result<std::shared_ptr<const Decoded>> decode_anchor(int64_t index, int64_t requested,
+                                                       const std::string& where);
+  // The anchor before (direction -1) or after (+1) frame `index`, or -1; fails when a frame
+  // between them is missing (a packet lost from a rebuilt index).
+  Result<int64_t> neighbour_anchor(int64_t index, int direction, const std::string& where) const;
+  Result<GeometryImage> decode_packet(int64_t index, const Decoded* ref0, const Decoded* ref1,
+                                      std::vector<SamplePlane>* planes) const;
 
   std::string bytes_, name_;
   SequenceInfo info_;
   size_t header_size_ = 0;
-  std::vector<format::IndexEntry> index_;
+  std::vector<format::IndexEntry> index_;  // decode order
+  std::vector<size_t> order_;              // display order -> position in index_
   bool index_rebuilt_ = false;
-  // The last frame decoded and its planes: the reference for decoding the next P frame.
-  int64_t cached_index_ = -1;
-  std::vector<SamplePlane> cached_planes_;
-  GeometryImage cached_image_;
+  // The anchors decoded last (at most kCachedAnchors, oldest first) and the last B frame.
+  static constexpr size_t kCachedAnchors = 3;
+  std::deque<std::shared_ptr<const Decoded>> anchors_;
+  std::shared_ptr<const Decoded> last_b_;
 };
 
 }  // namespace gvkit::codec

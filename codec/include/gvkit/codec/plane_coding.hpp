@@ -94,4 +94,16 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const MotionField* shared = nullptr,
                                  MotionField* motion_out = nullptr);
 
+// B planes (format 1.5): each macroblock is intra, skip (direct without residual) or inter from
+// reference0 (list 0: the anchor before in display order), reference1 (list 1: the anchor
+// after) or the rounded average of both (bi), with a quarter- or whole-sample vector per list
+// (direct: the predicted vectors). params.td_prediction is ignored (no TD in B planes); both
+// references have the plane's size.
+PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
+                                 const SamplePlane& reference0, const SamplePlane& reference1);
+// Decodes a segment made by encode_b_plane; fails naming the macroblock and the field.
+Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
+                                   const PlaneCodingParams& params, const SamplePlane& reference0,
+                                   const SamplePlane& reference1);
+
 }  // namespace gvkit::codec

@@ -46,18 +46,23 @@ class QualityController {
   static Result<std::unique_ptr<QualityController>> create(const EncoderOptions& options,
                                                            const SequenceInfo& info);
 
-  // Encodes frame `number` (intra when reference is null, else P from it) at the coarsest QP that
-  // meets the target within the search above; *qp_used gets the QP. Fails as encode_frame fails.
+  // Encodes frame `number` (intra when reference is null, P from it, or B from reference and
+  // reference1 when both are given) at the coarsest QP that meets the target within the search
+  // above; each frame type (I, P, B) keeps its own previous QP. *qp_used gets the QP. Fails as
+  // encode_frame fails.
   Result<EncodedFrame> encode(const GeometryImage& frame, const SequenceInfo& info,
                               const EncoderOptions& options, uint32_t number,
-                              const std::vector<SamplePlane>* reference, int* qp_used = nullptr);
+                              const std::vector<SamplePlane>* reference,
+                              const std::vector<SamplePlane>* reference1 = nullptr,
+                              int* qp_used = nullptr);
 
   // Whether a frame's error meets the target (of an I frame when intra).
   bool meets(const GeometryError& error, bool intra) const;
   // The RMS error (mm) a frame must not exceed.
   double target_rms(bool intra) const;
 
-  // Encodes spent on each frame so far (1 = no re-encode).
+  // Encodes spent on each frame so far, indexed by frame number (1 = no re-encode; 0 for a
+  // frame not coded yet).
   const std::vector<int>& frame_encodes() const { return frame_encodes_; }
   int64_t total_encodes() const { return total_encodes_; }
   int64_t frames_missed() const { return frames_missed_; }
@@ -66,8 +71,8 @@ class QualityController {
   QualityController() = default;
   double target_psnr_db_ = 0, target_rms_mm_ = 0, peak_mm_ = 0, intra_offset_db_ = 0;
   int qp_min_ = 0;
-  int last_qp_[2] = {0, 0};  // per type: 0 intra, 1 predicted
-  bool have_last_[2] = {false, false};
+  int last_qp_[3] = {0, 0, 0};  // per type: 0 intra, 1 predicted, 2 bidirectional
+  bool have_last_[3] = {false, false, false};
   std::vector<int> frame_encodes_;
   int64_t total_encodes_ = 0, frames_missed_ = 0;
 };
