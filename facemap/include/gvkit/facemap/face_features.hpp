@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "gvkit/core/face_landmarks.hpp"
+#include "gvkit/core/mesh.hpp"
 #include "gvkit/core/range_scan.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -48,6 +49,23 @@ Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double ma
 // Returns valid with those pixels cleared (a new matrix) and their count in *removed.
 cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmarks& landmarks,
                                         double min_inside_px = 0.5, int* removed = nullptr);
+
+// A hole of a mesh inside an eye or mouth opening (the part of the face the mask removes): one
+// of its boundary halfedges and its feature, 0 right eye, 1 left eye, 2 mouth.
+struct FeatureHole {
+  Mesh::HalfedgeHandle halfedge;
+  int feature = 0;
+};
+
+// The boundary loops of a scan's mesh that lie inside an eye contour (36-41, 42-47) or the inner
+// lip contour (60-67) of landmarks.points_px: every vertex's pixel (`vertex_pixel`, by vertex
+// index) at most max_outside_px outside the contour polygon. These are the openings that
+// valid_without_feature_interiors cut (or scan gaps within them); a loop that reaches farther
+// out (an opening merged with a gap of the scan) is not one. One entry per loop.
+std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
+                                                const std::vector<cv::Point>& vertex_pixel,
+                                                const FaceLandmarks& landmarks,
+                                                double max_outside_px = 2.0);
 
 // Centroid (mm) of the given landmarks' points_mm.
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end);
