@@ -111,7 +111,8 @@ cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmar
 std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
                                                 const std::vector<cv::Point>& vertex_pixel,
                                                 const FaceLandmarks& landmarks,
-                                                double max_outside_px) {
+                                                double max_outside_px,
+                                                double max_outside_fraction) {
   GVKIT_CHECK(vertex_pixel.size() == mesh.n_vertices(), "feature holes: one pixel per vertex");
   std::vector<FeatureHole> out;
   if (static_cast<int>(landmarks.points_px.size()) != FaceLandmarks::kCount) return out;
@@ -128,6 +129,12 @@ std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
     }
     boxes[k] = cv::Rect2f(lo, hi);
   }
+  // An eye's or lip's rim is a curve through its landmarks that bulges out of their polygon
+  // between them (for six points on an ellipse, by up to 0.13 of its half-width).
+  double tolerance[3];
+  for (int k = 0; k < 3; ++k)
+    tolerance[k] =
+        max_outside_px + max_outside_fraction * 0.5 * std::max(boxes[k].width, boxes[k].height);
   std::vector<char> visited(mesh.n_halfedges(), 0);
   std::vector<cv::Point2f> loop;
   for (auto h : mesh.halfedges()) {
@@ -142,12 +149,13 @@ std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
     for (int k = 0; k < 3; ++k) {
       // The bounding box, grown by the tolerance, rejects the rim and far loops cheaply.
       const cv::Rect2f& b = boxes[k];
+      const float t = static_cast<float>(tolerance[k]);
       bool inside = true;
       for (const auto& p : loop)
-        inside = inside && p.x >= b.x - max_outside_px && p.y >= b.y - max_outside_px &&
-                 p.x <= b.x + b.width + max_outside_px && p.y <= b.y + b.height + max_outside_px;
+        inside = inside && p.x >= b.x - t && p.y >= b.y - t && p.x <= b.x + b.width + t &&
+                 p.y <= b.y + b.height + t;
       for (size_t i = 0; i < loop.size() && inside; ++i)
-        inside = cv::pointPolygonTest(contours[k], loop[i], true) >= -max_outside_px;
+        inside = cv::pointPolygonTest(contours[k], loop[i], true) >= -tolerance[k];
       if (inside) {
         out.push_back({h, k});
         break;

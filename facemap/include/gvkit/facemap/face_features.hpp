@@ -59,13 +59,17 @@ struct FeatureHole {
 
 // The boundary loops of a scan's mesh that lie inside an eye contour (36-41, 42-47) or the inner
 // lip contour (60-67) of landmarks.points_px: every vertex's pixel (`vertex_pixel`, by vertex
-// index) at most max_outside_px outside the contour polygon. These are the openings that
-// valid_without_feature_interiors cut (or scan gaps within them); a loop that reaches farther
-// out (an opening merged with a gap of the scan) is not one. One entry per loop.
+// index) at most max_outside_px + max_outside_fraction x half the contour's larger bounding-box
+// side outside the contour polygon (the lids and lips are curves that bulge out of the polygon
+// of their landmarks). These are the openings that valid_without_feature_interiors cut or that
+// the scan leaves there (an eye seen as a gap); a loop that reaches farther out (an opening
+// merged with a gap of the scan) is not one. One entry per loop. The face mask checks that its
+// contour path encloses each of them.
 std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
                                                 const std::vector<cv::Point>& vertex_pixel,
                                                 const FaceLandmarks& landmarks,
-                                                double max_outside_px = 2.0);
+                                                double max_outside_px = 2.0,
+                                                double max_outside_fraction = 0.25);
 
 // Centroid (mm) of the given landmarks' points_mm.
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end);
