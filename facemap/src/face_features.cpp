@@ -111,8 +111,8 @@ cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmar
 std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
                                                 const std::vector<cv::Point>& vertex_pixel,
                                                 const FaceLandmarks& landmarks,
-                                                double max_outside_px,
-                                                double max_outside_fraction) {
+                                                double max_outside_px, double max_outside_fraction,
+                                                int min_edges) {
   GVKIT_CHECK(vertex_pixel.size() == mesh.n_vertices(), "feature holes: one pixel per vertex");
   std::vector<FeatureHole> out;
   if (static_cast<int>(landmarks.points_px.size()) != FaceLandmarks::kCount) return out;
@@ -146,6 +146,9 @@ std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
       loop.push_back(vertex_pixel[mesh.to_vertex_handle(l).idx()]);
       l = mesh.next_halfedge_handle(l);
     } while (l != h);
+    // Small gaps (a missing pixel, a dropped triangle) cost the fill next to nothing, but one
+    // outside its contour's path would cost the mask a second run: they are filled.
+    if (static_cast<int>(loop.size()) < min_edges) continue;
     for (int k = 0; k < 3; ++k) {
       // The bounding box, grown by the tolerance, rejects the rim and far loops cheaply.
       const cv::Rect2f& b = boxes[k];

@@ -63,13 +63,12 @@ struct FeatureHole {
 // side outside the contour polygon (the lids and lips are curves that bulge out of the polygon
 // of their landmarks). These are the openings that valid_without_feature_interiors cut or that
 // the scan leaves there (an eye seen as a gap); a loop that reaches farther out (an opening
-// merged with a gap of the scan) is not one. One entry per loop. The face mask checks that its
-// contour path encloses each of them.
-std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
-                                                const std::vector<cv::Point>& vertex_pixel,
-                                                const FaceLandmarks& landmarks,
-                                                double max_outside_px = 2.0,
-                                                double max_outside_fraction = 0.25);
+// merged with a gap of the scan) is not one, nor one of fewer than min_edges edges (a missing
+// pixel: its fill is free). One entry per loop. The face mask checks that its contour path
+// encloses each of them.
+std::vector<FeatureHole> feature_interior_holes(
+    const Mesh& mesh, const std::vector<cv::Point>& vertex_pixel, const FaceLandmarks& landmarks,
+    double max_outside_px = 2.0, double max_outside_fraction = 0.25, int min_edges = 12);
 
 // Centroid (mm) of the given landmarks' points_mm.
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end);
