@@ -31,9 +31,12 @@ struct CleanOptions {
   bool cut_feature_interiors = true;
   // Scans, fast marching: the openings inside the eye and mouth contours (feature_interior_holes)
   // are not filled: the mask removes them with the eye and mouth regions, which enclose them, so
-  // a fill would be cut away again (and every distance outside the regions is the same without
-  // it). A frame where an opening is not cut away is filled and masked again. true: fill them
-  // like every other hole (the reference).
+  // a fill would be cut away again. The distances outside the regions are those of the filled
+  // mesh except where a contour path would have cut across the fill: the eye and mouth
+  // boundaries then lie the margin outside the scanned opening instead of partly on the fill.
+  // An opening its contour does not enclose is filled, and a frame the mask refuses with
+  // openings open is filled completely and masked again. true: fill them like every other hole
+  // (the reference).
   bool fill_feature_holes = false;
   // Scans: a landmark on no pixel of the kept mesh (eye contours border the eye holes; an open
   // mouth's inner lip lies over the mouth opening) takes the nearest pixel of the kept mesh up to
