@@ -66,6 +66,7 @@ nlohmann::json options_json(const CleanArgs& a) {
           {"landmark_max_gap_px", o.landmark_max_gap_px},
           {"landmark_max_snap_mm", o.landmark_max_snap_mm},
           {"cut_feature_interiors", o.cut_feature_interiors},
+          {"fill_feature_holes", o.fill_feature_holes},
           {"first_landmarks", a.first_landmarks.string()},
           {"same_vertices", a.same_vertices},
           {"threads", a.threads}};
@@ -89,6 +90,7 @@ nlohmann::json frame_json(const Frame& f) {
                             {"max_mm", s.landmark_max_snap_mm}};
   j["holes_filled"] = s.holes_filled;
   j["stray_holes_filled"] = s.stray_holes_filled;
+  j["feature_holes_open"] = s.feature_holes_open;
   j["vertices_added"] = s.vertices_added;
   j["output_vertices"] = s.output_vertices;
   j["output_faces"] = s.output_faces;
@@ -348,6 +350,9 @@ void add_facemap_clean_command(CLI::App& facemap) {
       ->capture_default_str();
   cmd->add_flag("!--keep-feature-interiors", args->options.cut_feature_interiors,
                 "Scans: keep what is seen inside the mouth and eye contours in the mesh");
+  cmd->add_flag("--fill-feature-holes", args->options.fill_feature_holes,
+                "Scans: fill the eye and mouth openings before masking like every other hole "
+                "(the reference; the mask cuts them away either way)");
   cmd->add_option("--max-edge-factor", args->options.scan.max_edge_factor,
                   "Depth-discontinuity threshold in pixel footprints")
       ->capture_default_str();

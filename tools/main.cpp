@@ -5,10 +5,13 @@
 #include <CLI/CLI.hpp>
 
 #include "command.hpp"
+#include "gvkit/core/allocator_tuning.hpp"
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/version.hpp"
 
 int main(int argc, char** argv) {
+  // Frame after frame the stages allocate the same large arrays: keep freed memory for reuse.
+  gvkit::tune_allocator_for_frames();
   CLI::App app{"gvkit: structured-light face capture to compact, playable geometry videos"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("gvkit ") + gvkit::version_string());

@@ -11,9 +11,11 @@
 #include <filesystem>
 #include <limits>
 
+#include "gvkit/core/allocator_tuning.hpp"
 #include "gvkit/core/ict_face_model.hpp"
 #include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/facemap/face_cleaning.hpp"
+#include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
 #include "gvkit/facemap/surface_distance.hpp"
@@ -21,6 +23,9 @@
 
 namespace gvkit::facemap {
 namespace {
+
+// The heap settings of the gvkit program (tools/main.cpp), so the times are those of its frames.
+const bool kAllocatorTuned = tune_allocator_for_frames();
 
 const IctFaceModel* ict() {
   static const IctFaceModel* model = [] {
@@ -66,6 +71,7 @@ void BM_CleanScan(benchmark::State& state) {
   state.counters["vertices_added"] = stats.vertices_added;
   state.counters["total_ms"] = stats.total_ms;
   state.counters["mask_ms"] = stats.mask_ms;
+  state.counters["allocator_tuned"] = kAllocatorTuned;
 }
 // Args: image size (px; the face keeps its size in the image), geodesics (0: fast marching,
 // 1: heat). 512 px gives about 148K vertices, 672 px about 255K.
@@ -105,6 +111,28 @@ BENCHMARK(BM_HeatGeodesics)
     ->Args({200, 1})
     ->Args({200, 0})
     ->Unit(benchmark::kMillisecond);
+
+// Fast marching from one corner over an n x n grid (the whole of it): the heap with keys (the
+// default) and its plain reference.
+void BM_FastMarching(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) v.push_back(mesh.add_vertex(Mesh::Point(x, y, 0.002 * x * y)));
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      mesh.add_face(v[y * n + x], v[y * n + x + 1], v[(y + 1) * n + x + 1]);
+      mesh.add_face(v[y * n + x], v[(y + 1) * n + x + 1], v[(y + 1) * n + x]);
+    }
+  const FastMarching marching(mesh);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(state.range(1) ? marching.distance_reference({v[0]})
+                                            : marching.distance({v[0]}));
+  state.SetLabel(state.range(1) ? "reference" : "heap with keys");
+  state.counters["vertices"] = n * n;
+}
+BENCHMARK(BM_FastMarching)->Args({500, 0})->Args({500, 1})->Unit(benchmark::kMillisecond);
 
 // Rim points mapped to the neutral face through the closest point on the frame's ICT face.
 std::vector<Mesh::Point> rim_in_neutral(const Mesh& cleaned, const Mesh& frame_face,

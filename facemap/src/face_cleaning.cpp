@@ -61,14 +61,19 @@ Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const Clea
 }
 
 // Fill and mask, shared by scans and meshes; `mesh` is filled in place, the result written to
-// face->mesh.
-Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options) {
+// face->mesh. The holes in `open_holes` (eye and mouth openings) are left open for the mask to
+// cut away; those the mask finds outside their contour are filled and the mask runs again, and
+// on any other failure with holes open all are filled (the mask of the fully filled mesh).
+Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options,
+                     std::vector<FeatureHole> open_holes = {}) {
   auto t = std::chrono::steady_clock::now();
   // Pinches of the scan's outer rim lie outside the face mask almost always; the mask step
   // checks the topology of what it keeps, so they are left open here.
   HoleFillingOptions hole_options = options.holes;
   hole_options.fail_on_rim_touching_holes = false;
-  auto filled = fill_holes(mesh, hole_options);
+  std::vector<Mesh::HalfedgeHandle> left_open;
+  for (const FeatureHole& hole : open_holes) left_open.push_back(hole.halfedge);
+  auto filled = fill_holes(mesh, hole_options, left_open);
   if (!filled.is_ok()) return filled.status().with_context("hole filling");
   face->stats.holes_filled = filled->holes_filled;
   face->stats.vertices_added = filled->vertices_added;
@@ -76,8 +81,39 @@ Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options)
   GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(*mesh, face, options));
   t = std::chrono::steady_clock::now();
   FaceMask mask;
-  GVKIT_RETURN_IF_ERROR(
-      geodesic_face_mask(*mesh, face->landmarks, options.mask, &mask, &face->mesh));
+  Status masked =
+      geodesic_face_mask(*mesh, face->landmarks, options.mask, open_holes, &mask, &face->mesh);
+  // Fills append vertices and faces, so the halfedges of the holes not yet filled stay valid.
+  HoleFillingReport report;
+  auto fill = [&](const FeatureHole& hole) {
+    return fill_hole(mesh, hole.halfedge, hole_options, &report).with_context("hole filling");
+  };
+  if (!masked.is_ok() && !mask.open_holes_not_enclosed.empty()) {
+    // Openings their contour does not enclose (a closed mouth's slit beside a degenerate
+    // contour): fill those, keep the others open.
+    std::vector<FeatureHole> still_open;
+    std::vector<char> not_enclosed(open_holes.size(), 0);
+    for (int i : mask.open_holes_not_enclosed) not_enclosed[i] = 1;
+    for (size_t i = 0; i < open_holes.size(); ++i) {
+      if (not_enclosed[i])
+        GVKIT_RETURN_IF_ERROR(fill(open_holes[i]));
+      else
+        still_open.push_back(open_holes[i]);
+    }
+    open_holes = std::move(still_open);
+    masked =
+        geodesic_face_mask(*mesh, face->landmarks, options.mask, open_holes, &mask, &face->mesh);
+  }
+  if (!masked.is_ok() && !open_holes.empty()) {
+    // Any other failure with holes open: every hole filled, as without open holes.
+    for (const FeatureHole& hole : open_holes) GVKIT_RETURN_IF_ERROR(fill(hole));
+    open_holes.clear();
+    masked = geodesic_face_mask(*mesh, face->landmarks, options.mask, &mask, &face->mesh);
+  }
+  face->stats.holes_filled += report.holes_filled;
+  face->stats.vertices_added += report.vertices_added;
+  GVKIT_RETURN_IF_ERROR(masked);
+  face->stats.feature_holes_open = static_cast<int>(open_holes.size());
   face->stats.mask_ms = ms_since(t);
   face->stats.radius_mm = mask.radius_mm;
   face->stats.stray_holes_filled = mask.stray_holes_filled;
@@ -118,7 +154,12 @@ Status clean_scan_into(const RangeScan& scan, FaceLandmarks landmarks, const Cle
   face.stats.input_vertices = static_cast<int>(scan_mesh.mesh.n_vertices());
   face.stats.input_faces = static_cast<int>(scan_mesh.mesh.n_faces());
   face.stats.repair = scan_mesh.repair.summary();
-  GVKIT_RETURN_IF_ERROR(fill_and_mask(&scan_mesh.mesh, &face, options).with_context(frame));
+  std::vector<FeatureHole> open_holes;
+  if (!options.fill_feature_holes && options.mask.method == GeodesicMethod::kFastMarching &&
+      options.mask.eye_margin_mm > 0 && options.mask.mouth_margin_mm > 0)
+    open_holes = feature_interior_holes(scan_mesh.mesh, scan_mesh.vertex_pixel, face.landmarks);
+  GVKIT_RETURN_IF_ERROR(
+      fill_and_mask(&scan_mesh.mesh, &face, options, std::move(open_holes)).with_context(frame));
   face.stats.total_ms = ms_since(start);
   return Status::ok();
 }

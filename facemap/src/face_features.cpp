@@ -108,6 +108,66 @@ cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmar
   return valid;
 }
 
+std::vector<FeatureHole> feature_interior_holes(const Mesh& mesh,
+                                                const std::vector<cv::Point>& vertex_pixel,
+                                                const FaceLandmarks& landmarks,
+                                                double max_outside_px, double max_outside_fraction,
+                                                int min_edges) {
+  GVKIT_CHECK(vertex_pixel.size() == mesh.n_vertices(), "feature holes: one pixel per vertex");
+  std::vector<FeatureHole> out;
+  if (static_cast<int>(landmarks.points_px.size()) != FaceLandmarks::kCount) return out;
+  std::vector<cv::Point2f> contours[3];
+  for (int i : kRightEyeContour) contours[0].push_back(landmarks.points_px[i]);
+  for (int i : kLeftEyeContour) contours[1].push_back(landmarks.points_px[i]);
+  for (int i : kInnerMouthContour) contours[2].push_back(landmarks.points_px[i]);
+  cv::Rect2f boxes[3];
+  for (int k = 0; k < 3; ++k) {
+    cv::Point2f lo = contours[k].front(), hi = lo;
+    for (const auto& p : contours[k]) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    boxes[k] = cv::Rect2f(lo, hi);
+  }
+  // An eye's or lip's rim is a curve through its landmarks that bulges out of their polygon
+  // between them (for six points on an ellipse, by up to 0.13 of its half-width).
+  double tolerance[3];
+  for (int k = 0; k < 3; ++k)
+    tolerance[k] =
+        max_outside_px + max_outside_fraction * 0.5 * std::max(boxes[k].width, boxes[k].height);
+  std::vector<char> visited(mesh.n_halfedges(), 0);
+  std::vector<cv::Point2f> loop;
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h) || visited[h.idx()]) continue;
+    loop.clear();
+    auto l = h;
+    do {
+      visited[l.idx()] = 1;
+      loop.push_back(vertex_pixel[mesh.to_vertex_handle(l).idx()]);
+      l = mesh.next_halfedge_handle(l);
+    } while (l != h);
+    // Small gaps (a missing pixel, a dropped triangle) cost the fill next to nothing, but one
+    // outside its contour's path would cost the mask a second run: they are filled.
+    if (static_cast<int>(loop.size()) < min_edges) continue;
+    for (int k = 0; k < 3; ++k) {
+      // The bounding box, grown by the tolerance, rejects the rim and far loops cheaply.
+      const cv::Rect2f& b = boxes[k];
+      const float t = static_cast<float>(tolerance[k]);
+      bool inside = true;
+      for (const auto& p : loop)
+        inside = inside && p.x >= b.x - t && p.y >= b.y - t && p.x <= b.x + b.width + t &&
+                 p.y <= b.y + b.height + t;
+      for (size_t i = 0; i < loop.size() && inside; ++i)
+        inside = cv::pointPolygonTest(contours[k], loop[i], true) >= -tolerance[k];
+      if (inside) {
+        out.push_back({h, k});
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end) {
   cv::Vec3d c(0, 0, 0);
   for (const int* i = begin; i != end; ++i) c += cv::Vec3d(landmarks.points_mm[*i]);

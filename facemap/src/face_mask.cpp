@@ -82,8 +82,12 @@ std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHand
 // or mouth) encloses nothing and gives the path alone. Regions cut off from the mesh boundary by
 // the path are inside, so folds under the contour (a rolled lip) are handled by connectivity, not
 // by a projection.
+// Boundary edges marked in `open_edge` (an eye or mouth opening left unfilled, inside the
+// contour) do not count as the mesh boundary: the faces around them are enclosed as those of a
+// fill would be.
 std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
-                                               const std::vector<Mesh::VertexHandle>& corners) {
+                                               const std::vector<Mesh::VertexHandle>& corners,
+                                               const std::vector<char>& open_edge = {}) {
   // Faces outside a ball around the contour cannot be enclosed by it: they count as reaching
   // the boundary, so the flood fill of the outside stops there instead of crossing the mesh.
   Point centre(0, 0, 0);
@@ -137,6 +141,7 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
       for (auto h : mesh.fh_range(g)) {
         const auto e = mesh.edge_handle(h);
         if (mesh.is_boundary(e)) {
+          if (!open_edge.empty() && open_edge[e.idx()]) continue;
           outside = true;
           break;
         }
@@ -255,13 +260,44 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
 
 Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                           const FaceMaskOptions& options, FaceMask* info, Mesh* masked) {
+  return geodesic_face_mask(mesh, landmarks, options, {}, info, masked);
+}
+
+Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                          const FaceMaskOptions& options,
+                          const std::vector<FeatureHole>& open_holes, FaceMask* info,
+                          Mesh* masked) {
   GVKIT_RETURN_IF_ERROR(options.check());
+  if (!open_holes.empty() && options.method != GeodesicMethod::kFastMarching)
+    return invalid_argument("face mask: open eye and mouth holes need fast marching geodesics");
+  if (!open_holes.empty() && !(options.eye_margin_mm > 0 && options.mouth_margin_mm > 0))
+    return invalid_argument("face mask: open eye and mouth holes need margins > 0 mm");
+  // Per open hole its boundary vertices; per feature the edges of its open holes.
+  std::vector<std::vector<Mesh::VertexHandle>> open_hole_vertices;
+  std::vector<char> open_edge[3];
+  for (const FeatureHole& hole : open_holes) {
+    GVKIT_CHECK(hole.feature >= 0 && hole.feature < 3, "face mask: open hole feature not 0..2");
+    GVKIT_CHECK(hole.halfedge.is_valid() &&
+                    hole.halfedge.idx() < static_cast<int>(mesh.n_halfedges()) &&
+                    mesh.is_boundary(hole.halfedge),
+                "face mask: open hole halfedge is not on the mesh boundary");
+    std::vector<char>& edges = open_edge[hole.feature];
+    if (edges.empty()) edges.assign(mesh.n_edges(), 0);
+    std::vector<Mesh::VertexHandle>& vertices = open_hole_vertices.emplace_back();
+    auto h = hole.halfedge;
+    do {
+      edges[mesh.edge_handle(h).idx()] = 1;
+      vertices.push_back(mesh.to_vertex_handle(h));
+      h = mesh.next_halfedge_handle(h);
+    } while (h != hole.halfedge);
+  }
   if (static_cast<int>(landmarks.points_mm.size()) != FaceLandmarks::kCount)
     return invalid_argument("face mask: expected 68 landmarks in mm, got " +
                             std::to_string(landmarks.points_mm.size()));
   FaceMask& result = *info;
   result.timing = {};
   result.stray_holes_filled = 0;
+  result.open_holes_not_enclosed.clear();
   auto step_start = std::chrono::steady_clock::now();
   auto lap = [&step_start](double* ms) {
     const auto now = std::chrono::steady_clock::now();
@@ -330,9 +366,42 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   if (cropped.n_faces() == 0) return failed_precondition("face mask: nothing within the radius");
   lap(&result.timing.crop_ms);
 
-  // The eye and mouth regions on the crop, their geodesic distances, and the distance from all
-  // three. Heat: one factorisation serves the four queries. Fast marching: the regions' queries
-  // stop a few edges past their margins; the distance from all three is their minimum.
+  // The eye and mouth regions on the crop, first: an open hole that its contour does not
+  // enclose ends the call before any distance is computed.
+  std::vector<Mesh::VertexHandle> regions[3];
+  std::vector<Mesh::VertexHandle> all_features;
+  for (int k = 0; k < 3; ++k) {
+    regions[k] = contour_region(
+        cropped, crop_mesh ? nearest_vertices(cropped, contours[k]) : corners[k], open_edge[k]);
+    all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
+  }
+  {
+    std::vector<char> in_region[3];
+    for (size_t i = 0; i < open_holes.size(); ++i) {
+      const int k = open_holes[i].feature;
+      if (in_region[k].empty()) {
+        in_region[k].assign(cropped.n_vertices(), 0);
+        for (auto v : regions[k]) in_region[k][v.idx()] = 1;
+      }
+      for (auto v : open_hole_vertices[i])
+        if (!in_region[k][v.idx()]) {
+          result.open_holes_not_enclosed.push_back(static_cast<int>(i));
+          break;
+        }
+    }
+    if (!result.open_holes_not_enclosed.empty())
+      return failed_precondition(
+          "face mask: " + std::to_string(result.open_holes_not_enclosed.size()) +
+          " open hole(s) not enclosed by their contour (first: " +
+          std::to_string(open_hole_vertices[result.open_holes_not_enclosed.front()].size()) +
+          " edges, feature " +
+          std::to_string(open_holes[result.open_holes_not_enclosed.front()].feature) + ")");
+  }
+  lap(&result.timing.regions_ms);
+
+  // Their geodesic distances, and the distance from all three. Heat: one factorisation serves
+  // the four queries. Fast marching: the regions' queries stop a few edges past their margins;
+  // the distance from all three is their minimum.
   std::unique_ptr<HeatGeodesics> heat;
   std::unique_ptr<FastMarching> marching;
   if (options.method == GeodesicMethod::kHeat)
@@ -343,15 +412,7 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   const double margins[] = {options.eye_margin_mm, options.eye_margin_mm, options.mouth_margin_mm};
   // Keep f <= 0 with f = max(d_features - R, margin_k - d_k): inside the radius and outside the
   // grown eye and mouth regions; one level-set cut gives all four boundaries.
-  std::vector<Mesh::VertexHandle> all_features;
   std::vector<double> f(cropped.n_vertices(), -std::numeric_limits<double>::infinity());
-  std::vector<Mesh::VertexHandle> regions[3];
-  for (int k = 0; k < 3; ++k) {
-    regions[k] =
-        contour_region(cropped, crop_mesh ? nearest_vertices(cropped, contours[k]) : corners[k]);
-    all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
-  }
-  lap(&result.timing.regions_ms);
   if (heat) {
     for (int k = 0; k < 3; ++k) {
       const std::vector<double> d = heat->distance(regions[k]);
@@ -374,6 +435,12 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   LevelSetClipOptions clip;
   clip.level = 0.0;
   if (!crop_mesh) clip.snap = 0.1 * mean_edge;  // the default, known already
+  // An open hole disappears with the region only when none of its boundary edges is kept.
+  for (const auto& vertices : open_hole_vertices)
+    for (auto v : vertices)
+      if (!(f[v.idx()] > clip.snap))
+        return failed_precondition("face mask: an open hole of " + std::to_string(vertices.size()) +
+                                   " edges would stay in the mask");
   clip_mesh_below(cropped, f, clip, masked);
   lap(&result.timing.clip_ms);
 

@@ -58,8 +58,8 @@ FastMarching::FastMarching(const Mesh& mesh) : mesh_(&mesh) {
   }
 }
 
-std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>& sources,
-                                           double max_distance_mm) const {
+std::vector<double> FastMarching::distance_reference(const std::vector<Mesh::VertexHandle>& sources,
+                                                     double max_distance_mm) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const int n = static_cast<int>(points_.size());
   std::vector<double> d(n, kInf);
@@ -118,6 +118,95 @@ std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>
     heap.pop_back();
     if (!heap.empty()) {
       place(0, last);
+      sift_down(0);
+    }
+    accepted[v] = 1;
+    const Point& pv = points_[v];
+    for (int k = fan_start_[v]; k < fan_start_[v + 1]; ++k) {
+      const int b = fan_[2 * k], c = fan_[2 * k + 1];
+      if (!accepted[c]) {
+        relax(c, accepted[b] ? triangle_update(pv, dv, points_[b], d[b], points_[c])
+                             : dv + (points_[c] - pv).norm());
+      }
+      if (!accepted[b]) {
+        relax(b, accepted[c] ? triangle_update(pv, dv, points_[c], d[c], points_[b])
+                             : dv + (points_[b] - pv).norm());
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    if (!accepted[i]) d[i] = kInf;
+  return d;
+}
+
+// The same computation as distance_reference with the keys in the heap: comparisons read the
+// heap's own contiguous entries instead of d[] at scattered vertex indices. The order (d, index)
+// is the same, so vertices are accepted in the same order and get the same values.
+std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>& sources,
+                                           double max_distance_mm) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int n = static_cast<int>(points_.size());
+  std::vector<double> d(n, kInf);
+  std::vector<char> accepted(n, 0);
+  struct Entry {
+    double d;
+    int v;
+  };
+  std::vector<Entry> heap;
+  std::vector<int> slot(n, -1);
+  heap.reserve(1024);
+  auto less = [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.v < b.v); };
+  auto sift_up = [&](int i) {
+    const Entry e = heap[i];
+    while (i > 0) {
+      const int parent = (i - 1) / 2;
+      if (!less(e, heap[parent])) break;
+      heap[i] = heap[parent];
+      slot[heap[i].v] = i;
+      i = parent;
+    }
+    heap[i] = e;
+    slot[e.v] = i;
+  };
+  auto sift_down = [&](int i) {
+    const int size = static_cast<int>(heap.size());
+    const Entry e = heap[i];
+    for (;;) {
+      int child = 2 * i + 1;
+      if (child >= size) break;
+      if (child + 1 < size && less(heap[child + 1], heap[child])) ++child;
+      if (!less(heap[child], e)) break;
+      heap[i] = heap[child];
+      slot[heap[i].v] = i;
+      i = child;
+    }
+    heap[i] = e;
+    slot[e.v] = i;
+  };
+  auto relax = [&](int target, double value) {
+    if (!(value < d[target])) return;
+    d[target] = value;
+    if (slot[target] < 0) {
+      heap.push_back({value, target});
+      sift_up(static_cast<int>(heap.size()) - 1);
+    } else {
+      heap[slot[target]].d = value;
+      sift_up(slot[target]);
+    }
+  };
+  for (auto v : sources) {
+    GVKIT_CHECK(v.is_valid() && v.idx() < n, "fast marching: source vertex out of range");
+    relax(v.idx(), 0.0);
+  }
+  while (!heap.empty()) {
+    const int v = heap.front().v;
+    const double dv = d[v];
+    if (dv > max_distance_mm) break;
+    slot[v] = -1;
+    const Entry last = heap.back();
+    heap.pop_back();
+    if (!heap.empty()) {
+      heap[0] = last;
       sift_down(0);
     }
     accepted[v] = 1;

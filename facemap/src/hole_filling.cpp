@@ -312,19 +312,36 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
 }
 
 Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options) {
+  return fill_holes(mesh, options, {});
+}
+
+Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options,
+                                     const std::vector<Mesh::HalfedgeHandle>& left_open) {
   GVKIT_RETURN_IF_ERROR(options.check());
+  std::vector<char> open_halfedge(mesh->n_halfedges(), 0);
+  for (auto h : left_open) {
+    GVKIT_CHECK(
+        h.is_valid() && h.idx() < static_cast<int>(mesh->n_halfedges()) && mesh->is_boundary(h),
+        "fill_holes: left_open holds a halfedge that is not on a boundary");
+    open_halfedge[h.idx()] = 1;
+  }
   // Boundary loops by their first halfedge, with their length in mm.
   std::vector<std::pair<double, Mesh::HalfedgeHandle>> loops;
-  std::vector<char> visited(mesh->n_halfedges(), 0);
+  std::vector<char> visited(mesh->n_halfedges(), 0), loop_open;
   for (auto h : mesh->halfedges()) {
     if (!mesh->is_boundary(h) || visited[h.idx()]) continue;
     double length = 0.0;
+    char open = 0;
     for (auto l : loop_halfedges(*mesh, h)) {
       visited[l.idx()] = 1;
       length += mesh->calc_edge_length(l);
+      open |= open_halfedge[l.idx()];
     }
+    // The loop's first halfedge stands for it from here on: mark it when the loop stays open.
+    if (open) open_halfedge[h.idx()] = 1;
     loops.emplace_back(length, h);
   }
+  auto is_left_open = [&](size_t i) { return open_halfedge[loops[i].second.idx()] != 0; };
   HoleFillingReport report;
   if (loops.size() <= 1) return report;
   std::sort(loops.begin(), loops.end(),
@@ -334,6 +351,7 @@ Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& optio
   {
     double new_vertices = 0.0;
     for (size_t i = 1; i < loops.size(); ++i) {
+      if (is_left_open(i)) continue;
       const auto hole = loop_halfedges(*mesh, loops[i].second);
       Point area(0, 0, 0);
       const Point& origin = mesh->point(mesh->from_vertex_handle(hole.front()));
@@ -350,6 +368,10 @@ Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& optio
   for (auto h : loop_halfedges(*mesh, loops[0].second))
     rim_vertices.insert(mesh->from_vertex_handle(h).idx());
   for (size_t i = 1; i < loops.size(); ++i) {
+    if (is_left_open(i)) {
+      ++report.holes_left_open;
+      continue;
+    }
     const auto hole = loop_halfedges(*mesh, loops[i].second);
     int touching_vertex = -1;
     for (auto h : hole)

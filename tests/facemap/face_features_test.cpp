@@ -1,9 +1,16 @@
-// Lifting landmarks to 3D through a range scan.
+// Lifting landmarks to 3D through a range scan; the eye and mouth openings of a scan's mesh.
 #include "gvkit/facemap/face_features.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "gvkit/facemap/mesh_from_scan.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -58,6 +65,55 @@ TEST(FaceFeatures, JawLandmarkOffTheScanTakesTheNearestValidPixel) {
   ASSERT_TRUE(lift_landmarks(scan, &l).is_ok());
   EXPECT_GT(std::hypot(l.points_mm[3][0] - l.points_px[3].x, l.points_mm[3][1] - l.points_px[3].y),
             7.0);
+}
+
+// Places the contour's landmarks on an ellipse around (cx, cy) px.
+template <size_t N>
+void ellipse_contour(FaceLandmarks* l, const std::array<int, N>& ids, float cx, float cy, float rx,
+                     float ry) {
+  for (size_t k = 0; k < N; ++k) {
+    const double a = 2.0 * std::numbers::pi * static_cast<double>(k) / N;
+    l->points_px[ids[k]] = cv::Point2f(cx + rx * static_cast<float>(std::cos(a)),
+                                       cy + ry * static_cast<float>(std::sin(a)));
+  }
+}
+
+TEST(FaceFeatures, FeatureInteriorHolesAreTheOpeningsInsideTheContours) {
+  RangeScan scan = plane_scan(256);
+  FaceLandmarks l = grid_landmarks();
+  ellipse_contour(&l, kRightEyeContour, 60, 60, 14, 6);
+  ellipse_contour(&l, kLeftEyeContour, 140, 60, 14, 6);
+  ellipse_contour(&l, kInnerMouthContour, 100, 150, 20, 7);
+  int removed = 0;
+  scan.valid = valid_without_feature_interiors(scan, l, 0.5, &removed);
+  ASSERT_GT(removed, 300);
+  // A scan gap away from the features, and one that merges with the left eye's opening and
+  // reaches 10 px beyond its contour: neither is an opening inside a contour.
+  scan.valid(cv::Rect(200, 200, 6, 6)).setTo(0);
+  scan.valid(cv::Rect(140, 58, 25, 5)).setTo(0);
+  auto mesh = mesh_from_scan(scan);
+  ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
+  const auto holes = feature_interior_holes(mesh->mesh, mesh->vertex_pixel, l);
+  ASSERT_EQ(holes.size(), 2u);
+  std::vector<int> features;
+  for (const auto& h : holes) {
+    EXPECT_TRUE(mesh->mesh.is_boundary(h.halfedge));
+    features.push_back(h.feature);
+    // Every vertex of the loop lies inside (or at the edge of) its contour.
+    const auto& ids = h.feature == 0
+                          ? std::vector<int>(kRightEyeContour.begin(), kRightEyeContour.end())
+                          : std::vector<int>(kInnerMouthContour.begin(), kInnerMouthContour.end());
+    std::vector<cv::Point2f> contour;
+    for (int i : ids) contour.push_back(l.points_px[i]);
+    auto e = h.halfedge;
+    do {
+      const cv::Point p = mesh->vertex_pixel[mesh->mesh.to_vertex_handle(e).idx()];
+      EXPECT_GE(cv::pointPolygonTest(contour, cv::Point2f(p), true), -2.0);
+      e = mesh->mesh.next_halfedge_handle(e);
+    } while (e != h.halfedge);
+  }
+  std::sort(features.begin(), features.end());
+  EXPECT_EQ(features, (std::vector<int>{0, 2}));
 }
 
 }  // namespace

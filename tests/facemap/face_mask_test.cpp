@@ -113,6 +113,30 @@ TEST(FaceMask, StrayHoleInsideTheMaskIsFilled) {
   ASSERT_FALSE(open.is_ok());
   EXPECT_NE(open.status().message().find("5 boundary loop(s)"), std::string::npos)
       << open.status().message();
+
+  // The same gap passed as an open eye opening: it is not inside the eye's contour, so the mask
+  // refuses it (the clean stage then fills it); the heat method takes no open holes.
+  const auto loops = boundary_loops(face.mesh);
+  ASSERT_EQ(loops.size(), 2u);
+  Mesh::HalfedgeHandle gap;
+  for (auto h : face.mesh.voh_range(loops[1].front()))
+    if (face.mesh.is_boundary(h)) gap = h;
+  ASSERT_TRUE(gap.is_valid());
+  FaceMask info;
+  Mesh masked;
+  const Status refused =
+      geodesic_face_mask(face.mesh, face.landmarks, {}, {{gap, 1}}, &info, &masked);
+  ASSERT_FALSE(refused.is_ok());
+  EXPECT_EQ(refused.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(refused.message().find("1 open hole(s) not enclosed by their contour"),
+            std::string::npos)
+      << refused.message();
+  EXPECT_EQ(info.open_holes_not_enclosed, std::vector<int>{0});
+  FaceMaskOptions heat;
+  heat.method = GeodesicMethod::kHeat;
+  const Status heat_refused =
+      geodesic_face_mask(face.mesh, face.landmarks, heat, {{gap, 1}}, &info, &masked);
+  EXPECT_EQ(heat_refused.code(), StatusCode::kInvalidArgument);
 }
 
 TEST(FaceMask, TooSmallRadiusIsAClearError) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
@@ -181,6 +182,28 @@ TEST(FastMarching, StopsAtTheBoundWithTheSameDistancesInside) {
   EXPECT_EQ(full[a.idx()], 0.0);
   EXPECT_EQ(full[b.idx()], 0.0);
   EXPECT_TRUE(FastMarching(mesh).distance({}).front() > 1e300);
+}
+
+// The heap with keys is an optimisation of the same computation: the same values to the bit, on
+// jittered and sheared grids (ties and fallbacks), several sources, with and without a bound.
+TEST(FastMarching, HeapWithKeysMatchesTheReference) {
+  const Mesh flat = plane_grid(41, 0.0, 0.0);  // many exactly equal distances: the tie order
+  const Mesh jittered = plane_grid(41, 0.3, 0.0);
+  const Mesh sheared = plane_grid(41, 0.2, 2.0);
+  const Mesh sphere = icosphere(30.0, 3);
+  for (const Mesh* mesh : {&flat, &jittered, &sheared, &sphere}) {
+    const FastMarching marching(*mesh);
+    const int n = static_cast<int>(mesh->n_vertices());
+    const std::vector<Mesh::VertexHandle> sources = {
+        mesh->vertex_handle(n / 7), mesh->vertex_handle(n / 2), mesh->vertex_handle(n - 3)};
+    for (const double bound : {std::numeric_limits<double>::infinity(), 6.0}) {
+      const auto fast = marching.distance(sources, bound);
+      const auto reference = marching.distance_reference(sources, bound);
+      ASSERT_EQ(fast.size(), reference.size());
+      for (size_t i = 0; i < fast.size(); ++i)
+        ASSERT_EQ(fast[i], reference[i]) << "vertex " << i << ", bound " << bound;
+    }
+  }
 }
 
 TEST(GeodesicDistance, MultipleSourcesGiveTheNearest) {

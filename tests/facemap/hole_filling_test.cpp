@@ -199,5 +199,42 @@ TEST(HoleFilling, DegenerateNeighbourhoodStillGivesAFiniteFillInsideTheRim) {
   }
 }
 
+// Holes named by the caller stay open (and are counted); the others are filled as before.
+TEST(HoleFilling, HolesNamedLeftOpenStayOpen) {
+  const int n = 16;
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v(n * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) v[y * n + x] = mesh.add_vertex(Mesh::Point(x, y, 0));
+  auto in_hole = [](int x, int y) {
+    return (x >= 3 && x < 5 && y >= 3 && y < 5) || (x >= 9 && x < 12 && y >= 9 && y < 12);
+  };
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      if (in_hole(x, y)) continue;
+      mesh.add_face(v[y * n + x], v[y * n + x + 1], v[(y + 1) * n + x + 1]);
+      mesh.add_face(v[y * n + x], v[(y + 1) * n + x + 1], v[(y + 1) * n + x]);
+    }
+  ASSERT_EQ(mesh_topology(mesh).boundary_loops, 3);
+  // A boundary halfedge of the second hole (its corner vertex 9, 9 lies on it).
+  Mesh::HalfedgeHandle second;
+  for (auto h : mesh.voh_range(v[9 * n + 9]))
+    if (mesh.is_boundary(h)) second = h;
+  ASSERT_TRUE(second.is_valid());
+  Mesh reference = mesh;
+  auto report = fill_holes(&mesh, {}, {second});
+  ASSERT_TRUE(report.is_ok()) << report.status().message();
+  EXPECT_EQ(report->holes_filled, 1);
+  EXPECT_EQ(report->holes_left_open, 1);
+  EXPECT_EQ(mesh_topology(mesh).boundary_loops, 2);
+  EXPECT_TRUE(mesh.is_boundary(second));
+  // Without it both holes are filled.
+  auto all = fill_holes(&reference);
+  ASSERT_TRUE(all.is_ok()) << all.status().message();
+  EXPECT_EQ(all->holes_filled, 2);
+  EXPECT_EQ(all->holes_left_open, 0);
+  EXPECT_EQ(mesh_topology(reference).boundary_loops, 1);
+}
+
 }  // namespace
 }  // namespace gvkit::facemap

@@ -29,6 +29,15 @@ struct CleanOptions {
   // contour: teeth, tongue, mouth interior, eyeballs) are left out of the mesh, so the mouth and
   // eyes are holes bounded by the lips and lids whatever the expression.
   bool cut_feature_interiors = true;
+  // Scans, fast marching: the openings inside the eye and mouth contours (feature_interior_holes)
+  // are not filled: the mask removes them with the eye and mouth regions, which enclose them, so
+  // a fill would be cut away again. The distances outside the regions are those of the filled
+  // mesh except where a contour path would have cut across the fill: the eye and mouth
+  // boundaries then lie the margin outside the scanned opening instead of partly on the fill.
+  // An opening its contour does not enclose is filled, and a frame the mask refuses with
+  // openings open is filled completely and masked again. true: fill them like every other hole
+  // (the reference).
+  bool fill_feature_holes = false;
   // Scans: a landmark on no pixel of the kept mesh (eye contours border the eye holes; an open
   // mouth's inner lip lies over the mouth opening) takes the nearest pixel of the kept mesh up to
   // this far; a required landmark farther away fails the frame.
@@ -49,6 +58,7 @@ struct CleanStats {
   int landmarks_snapped_mm = 0;  // landmarks moved onto the surface
   double landmark_max_snap_mm = 0.0;
   int holes_filled = 0, vertices_added = 0;
+  int feature_holes_open = 0;  // scans: eye and mouth openings left unfilled (the mask cuts them)
   int stray_holes_filled = 0;  // gaps inside the mask filled after masking
   int output_vertices = 0, output_faces = 0;
   double radius_mm = 0.0;

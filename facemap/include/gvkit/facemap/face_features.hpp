@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "gvkit/core/face_landmarks.hpp"
+#include "gvkit/core/mesh.hpp"
 #include "gvkit/core/range_scan.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -48,6 +49,26 @@ Status lift_landmarks(const RangeScan& scan, FaceLandmarks* landmarks, double ma
 // Returns valid with those pixels cleared (a new matrix) and their count in *removed.
 cv::Mat valid_without_feature_interiors(const RangeScan& scan, const FaceLandmarks& landmarks,
                                         double min_inside_px = 0.5, int* removed = nullptr);
+
+// A hole of a mesh inside an eye or mouth opening (the part of the face the mask removes): one
+// of its boundary halfedges and its feature, 0 right eye, 1 left eye, 2 mouth.
+struct FeatureHole {
+  Mesh::HalfedgeHandle halfedge;
+  int feature = 0;
+};
+
+// The boundary loops of a scan's mesh that lie inside an eye contour (36-41, 42-47) or the inner
+// lip contour (60-67) of landmarks.points_px: every vertex's pixel (`vertex_pixel`, by vertex
+// index) at most max_outside_px + max_outside_fraction x half the contour's larger bounding-box
+// side outside the contour polygon (the lids and lips are curves that bulge out of the polygon
+// of their landmarks). These are the openings that valid_without_feature_interiors cut or that
+// the scan leaves there (an eye seen as a gap); a loop that reaches farther out (an opening
+// merged with a gap of the scan) is not one, nor one of fewer than min_edges edges (a missing
+// pixel: its fill is free). One entry per loop. The face mask checks that its contour path
+// encloses each of them.
+std::vector<FeatureHole> feature_interior_holes(
+    const Mesh& mesh, const std::vector<cv::Point>& vertex_pixel, const FaceLandmarks& landmarks,
+    double max_outside_px = 2.0, double max_outside_fraction = 0.25, int min_edges = 12);
 
 // Centroid (mm) of the given landmarks' points_mm.
 cv::Vec3d landmark_centroid(const FaceLandmarks& landmarks, const int* begin, const int* end);

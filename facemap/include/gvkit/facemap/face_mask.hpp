@@ -58,6 +58,9 @@ struct FaceMask {
     double crop_ms = 0, factor_ms = 0, regions_ms = 0, distances_ms = 0, clip_ms = 0, check_ms = 0;
   } timing;
   MeshTopology topology;
+  // With open holes: the indices (into open_holes) of those that their contour does not enclose
+  // (the call then fails; fill them and call again).
+  std::vector<int> open_holes_not_enclosed;
 };
 
 // The eye and mouth regions are the surface enclosed by the closed shortest edge path through
@@ -73,6 +76,16 @@ Result<FaceMask> geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landm
 // The same with the masked mesh written to `masked` (info->mesh is left alone): no copy of it.
 Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                           const FaceMaskOptions& options, FaceMask* info, Mesh* masked);
+// The same on a mesh whose eye and mouth openings were left unfilled (`open_holes`; fast
+// marching only). Each open hole counts as enclosed by its feature's contour path, so the region,
+// and with it every distance outside it, is that of the mesh with the hole filled whenever the
+// path does not cross the fill. Fails (failed precondition) when an open hole is not enclosed by
+// its contour (listed in info->open_holes_not_enclosed, found before any distance is computed)
+// or would not be cut away with the region; the caller then fills those and masks again.
+// Invalid argument with the heat method or a zero margin.
+Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
+                          const FaceMaskOptions& options,
+                          const std::vector<FeatureHole>& open_holes, FaceMask* info, Mesh* masked);
 
 // The default radius for these landmarks: factor x |eyes midpoint - mouth centre| (mm).
 double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor);

@@ -30,6 +30,11 @@ class FastMarching {
   std::vector<double> distance(
       const std::vector<Mesh::VertexHandle>& sources,
       double max_distance_mm = std::numeric_limits<double>::infinity()) const;
+  // The plain reference of distance(): the heap holds vertex indices and compares their d[]
+  // (same acceptance order, same values; test FastMarching.HeapWithKeysMatchesTheReference).
+  std::vector<double> distance_reference(
+      const std::vector<Mesh::VertexHandle>& sources,
+      double max_distance_mm = std::numeric_limits<double>::infinity()) const;
 
  private:
   const Mesh* mesh_;

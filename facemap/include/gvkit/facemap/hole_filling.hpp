@@ -32,6 +32,7 @@ struct HoleFillingReport {
   int holes_filled = 0;
   int holes_skipped = 0;       // larger than max_hole_edges
   int holes_touching_rim = 0;  // left open (fail_on_rim_touching_holes = false)
+  int holes_left_open = 0;     // named by the caller (fill_holes' `left_open`)
   int vertices_added = 0;
   int faces_added = 0;
   std::vector<int> hole_rim_edges;  // per filled hole
@@ -43,6 +44,10 @@ struct HoleFillingReport {
 // cannot be triangulated; the mesh is then left with the holes filled so far. New vertices and
 // faces are appended (existing handles stay valid).
 Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options = {});
+// The same, leaving open (and counting) every hole whose boundary contains one of the boundary
+// halfedges `left_open` (e.g. the eye and mouth openings that the face mask removes anyway).
+Result<HoleFillingReport> fill_holes(Mesh* mesh, const HoleFillingOptions& options,
+                                     const std::vector<Mesh::HalfedgeHandle>& left_open);
 
 // Fills the single hole whose boundary contains the boundary halfedge `boundary_halfedge`.
 Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
