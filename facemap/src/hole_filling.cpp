@@ -312,7 +312,7 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
   std::vector<Mesh::VertexHandle> rim;
   for (auto h : loop) rim.push_back(mesh->from_vertex_handle(h));
 
-  // Mean normal of the faces along the rim orients the ear clipping and the fold-over check.
+  // Mean normal of the faces along the rim orients the ear clipping.
   Point normal(0, 0, 0);
   for (auto h : loop) {
     const auto f = mesh->face_handle(mesh->opposite_halfedge_handle(h));
@@ -367,31 +367,27 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
       lo.minimize(mesh->point(vertex_of[k]));
       hi.maximize(mesh->point(vertex_of[k]));
     }
-    const Point grow = hi - lo;
-    lo -= grow;
-    hi += grow;
-    // The rim's box in the plane of `normal`: a new vertex outside it folds over the rim.
-    const int axis =
-        std::abs(normal[0]) <= std::abs(normal[1]) && std::abs(normal[0]) <= std::abs(normal[2])
-            ? 0
-            : (std::abs(normal[1]) <= std::abs(normal[2]) ? 1 : 2);
-    Point t1(0, 0, 0);
-    t1[axis] = 1.0;
-    t1 -= (t1 | normal) * normal;
-    t1.normalize();
-    const Point t2 = normal % t1;
-    double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
-    for (auto v : rim) {
-      const Point& q = mesh->point(v);
-      lo1 = std::min(lo1, q | t1), hi1 = std::max(hi1, q | t1);
-      lo2 = std::min(lo2, q | t2), hi2 = std::max(hi2, q | t2);
-    }
+    const double grow = (hi - lo).norm();
+    lo -= Point(grow, grow, grow);
+    hi += Point(grow, grow, grow);
+    // Triangles without area among the fixed ones (a surface seen edge-on, collapsed scan
+    // triangles): their signed cotangents are +-22 whatever the shape nearby.
+    bool degenerate = false;
+    for (int k = n_new; k < n_s && !degenerate; ++k)
+      for (auto h : mesh->voh_range(s_set[k])) {
+        if (mesh->is_boundary(h)) continue;
+        const Point& p0 = mesh->point(mesh->from_vertex_handle(h));
+        const Point e1 = mesh->point(mesh->to_vertex_handle(h)) - p0;
+        const Point e2 = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(h))) - p0;
+        if (!((e1 % e2).norm() > 1e-6 * e1.norm() * e2.norm())) degenerate = true;
+      }
     // Weights, in order of preference: cotangent weights with the mixed Voronoi areas (signed,
-    // as in Liepa's and CGAL's fairing); the same with each edge's weight kept positive, when
-    // the signed solve folds over the rim or leaves the hull; uniform weights (the graph
-    // bi-Laplacian, always well posed with two fixed rings) when that still does.
+    // as in Liepa's and CGAL's fairing); the same with each edge's weight kept positive, where
+    // the two rings hold triangles without area or the signed solve leaves the hull; uniform
+    // weights (the graph bi-Laplacian, always well posed with two fixed rings) when the solve
+    // still leaves the hull or is not finite.
     enum class Weights { kSignedCotan, kPositiveCotan, kUniform };
-    Weights weights = Weights::kSignedCotan;
+    Weights weights = degenerate ? Weights::kPositiveCotan : Weights::kSignedCotan;
     for (int solve = 0; solve < options.solve_iterations; ++solve) {
       const bool uniform = weights == Weights::kUniform;
       std::vector<Eigen::Triplet<double>> l_triplets;
@@ -442,18 +438,13 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
         x = lu.solve(rhs);
       }
       bool inside = x.allFinite();
-      bool over_rim = false;
-      for (int k = 0; k < n_new && inside; ++k) {
-        const Point q(x(k, 0), x(k, 1), x(k, 2));
-        for (int c = 0; c < 3; ++c) inside = inside && q[c] >= lo[c] && q[c] <= hi[c];
-        const double u1 = q | t1, u2 = q | t2;
-        over_rim = over_rim || u1 < lo1 || u1 > hi1 || u2 < lo2 || u2 > hi2;
-      }
-      if (!inside || (over_rim && weights == Weights::kSignedCotan)) {
+      for (int k = 0; k < n_new && inside; ++k)
+        for (int c = 0; c < 3; ++c) inside = inside && x(k, c) >= lo[c] && x(k, c) <= hi[c];
+      if (!inside) {
         if (uniform)
           return failed_precondition("hole of " + std::to_string(loop.size()) +
                                      " rim edges: the fill leaves the rim's hull");
-        weights = inside ? Weights::kPositiveCotan : Weights::kUniform;
+        weights = weights == Weights::kSignedCotan ? Weights::kPositiveCotan : Weights::kUniform;
         --solve;  // the same solve again with the next weights
         continue;
       }
