@@ -6,10 +6,10 @@
 // splits while a face is larger than the local scale, circumsphere edge flips), and its new
 // vertices are placed by a bi-Laplacian (thin-plate) solve, L M^-1 L x = 0, with the rim and one
 // ring of neighbours fixed: cotangent weights L, mixed Voronoi areas M. That is the seed's
-// minimal surface with positions and gradients matching at the rim (C1). Where the cotangent
-// solve folds over the rim or leaves the rim's hull (slivers, rims seen edge-on), the solve is
-// redone with positive cotangent weights, then with uniform weights. Vertex colours (texture)
-// are filled by the same solve.
+// minimal surface with positions and gradients matching at the rim (C1). Where the two rings
+// hold triangles without area, or the cotangent solve leaves the rim's hull (slivers, rims seen
+// edge-on), the weights are kept positive, and the solve is redone with uniform weights when it
+// still leaves the hull. Vertex colours (texture) are filled by the same solve.
 
 #include <vector>
 
