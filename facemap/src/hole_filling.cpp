@@ -20,6 +20,9 @@ Status HoleFillingOptions::check() const {
   if (!(density_factor >= 0.25 && density_factor <= 8.0))
     return invalid_argument("hole filling: density_factor must be in [0.25, 8], got " +
                             std::to_string(density_factor));
+  if (max_min_weight_edges < 0)
+    return invalid_argument("hole filling: max_min_weight_edges must be >= 0, got " +
+                            std::to_string(max_min_weight_edges));
   if (solve_iterations < 1 || solve_iterations > 10)
     return invalid_argument("hole filling: solve_iterations must be in [1, 10], got " +
                             std::to_string(solve_iterations));
@@ -41,9 +44,35 @@ std::vector<Mesh::HalfedgeHandle> loop_halfedges(const Mesh& mesh, Mesh::Halfedg
   return loop;
 }
 
-double cotan(const Point& a, const Point& b) {  // cot of the angle between a and b
-  const double s = (a % b).norm();
-  return (a | b) / std::max(s, 1e-12 * a.norm() * b.norm() + 1e-300);
+// cot of the angle between a and b, with the cosine clamped to +-0.999 (|cot| <= 22.3), as
+// CGAL's fairing weights; 0 for a triangle without area (it has no angle to speak of).
+double clamped_cotan(const Point& a, const Point& b) {
+  const double norms = a.norm() * b.norm();
+  if (!((a % b).norm() > 1e-9 * norms)) return 0.0;
+  const double c = std::clamp((a | b) / norms, -0.999, 0.999);
+  return c / std::sqrt(1.0 - c * c);
+}
+
+// Mixed Voronoi area of vertex v (Meyer et al. 2003): the Voronoi region of v inside each
+// non-obtuse face, half or a quarter of an obtuse face's area.
+double mixed_voronoi_area(const Mesh& mesh, Mesh::VertexHandle v) {
+  double area = 0.0;
+  const Point& p0 = mesh.point(v);
+  for (auto h : mesh.voh_range(v)) {
+    if (mesh.is_boundary(h)) continue;
+    const Point& p1 = mesh.point(mesh.to_vertex_handle(h));
+    const Point& p2 = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+    const Point e1 = p1 - p0, e2 = p2 - p0, e12 = p2 - p1;
+    const double d0 = e1 | e2, d1 = -(e1 | e12), d2 = e2 | e12;  // cos * lengths at p0, p1, p2
+    const double twice_area = (e1 % e2).norm();
+    if (d0 < 0)
+      area += 0.25 * twice_area;
+    else if (d1 < 0 || d2 < 0)
+      area += 0.125 * twice_area;
+    else if (twice_area > 0)  // (|e2|^2 cot(p1) + |e1|^2 cot(p2)) / 8
+      area += (e2.sqrnorm() * d1 + e1.sqrnorm() * d2) / (8.0 * twice_area);
+  }
+  return area;
 }
 
 // Greedy ear clipping of the hole: repeatedly cut the ear with the smallest interior angle
@@ -78,17 +107,197 @@ bool triangulate_hole(Mesh* mesh, std::vector<Mesh::VertexHandle> poly, const Po
   return mesh->add_face(poly[0], poly[1], poly[2]).is_valid();
 }
 
-// Sum of the cotangents of the angles opposite edge e (< 0: not Delaunay).
-double opposite_cotan_sum(const Mesh& mesh, Mesh::EdgeHandle e) {
-  double sum = 0.0;
-  for (int side = 0; side < 2; ++side) {
-    const auto h = mesh.halfedge_handle(e, side);
-    const auto opposite = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
-    const Point& p = mesh.point(opposite);
-    sum +=
-        cotan(mesh.point(mesh.from_vertex_handle(h)) - p, mesh.point(mesh.to_vertex_handle(h)) - p);
+// Liepa's minimal-weight triangulation of the hole polygon (dynamic programming over the
+// sub-polygons rim[i..k]): the weight of a triangulation is the largest angle between the
+// normals of two adjacent triangles (the mesh's faces along the rim included), then its area.
+// Chords between rim vertices that are already joined by an edge of the mesh are not used.
+// kNotApplicable (nothing added) when the rim repeats a vertex or no valid triangulation exists;
+// kFailed when the mesh refused a face after others were added.
+enum class Triangulation { kDone, kNotApplicable, kFailed };
+Triangulation triangulate_hole_min_weight(Mesh* mesh,
+                                          const std::vector<Mesh::HalfedgeHandle>& loop) {
+  const int n = static_cast<int>(loop.size());
+  std::vector<Point> p(n);
+  std::vector<int> rim_index(mesh->n_vertices(), -1);
+  for (int i = 0; i < n; ++i) {
+    const auto v = mesh->from_vertex_handle(loop[i]);
+    if (rim_index[v.idx()] >= 0)
+      return Triangulation::kNotApplicable;  // the rim passes twice through v
+    rim_index[v.idx()] = i;
+    p[i] = mesh->point(v);
   }
-  return sum;
+  // Normals of the mesh's faces along rim edge i -> i + 1 (oriented like the patch).
+  std::vector<Point> outer_normal(n, Point(0, 0, 0));
+  for (int i = 0; i < n; ++i) {
+    const auto f = mesh->face_handle(mesh->opposite_halfedge_handle(loop[i]));
+    if (f.is_valid()) outer_normal[i] = mesh->calc_face_normal(f);
+  }
+  // Chords that already exist as mesh edges.
+  std::vector<char> chord_exists(static_cast<size_t>(n) * n, 0);
+  for (int i = 0; i < n; ++i)
+    for (auto w : mesh->vv_range(mesh->from_vertex_handle(loop[i]))) {
+      const int k = rim_index[w.idx()];
+      if (k >= 0) chord_exists[static_cast<size_t>(i) * n + k] = 1;
+    }
+  struct Cell {
+    double max_angle = 0.0;  // 1 - cos of the largest normal angle inside rim[i..k]
+    double area = 0.0;
+    int apex = -1;  // -1: invalid (or k = i + 1)
+    Point normal = Point(0, 0, 0);
+  };
+  std::vector<Cell> w(static_cast<size_t>(n) * n);
+  auto at = [&](int i, int k) -> Cell& { return w[static_cast<size_t>(i) * n + k]; };
+  auto side_normal = [&](int i, int k) -> const Point& {  // neighbour across chord i -> k
+    return k == i + 1 ? outer_normal[i] : at(i, k).normal;
+  };
+  for (int d = 2; d < n; ++d)
+    for (int i = 0; i + d < n; ++i) {
+      const int k = i + d;
+      Cell& best = at(i, k);
+      const bool border = i == 0 && k == n - 1;
+      if (!border && chord_exists[static_cast<size_t>(i) * n + k]) continue;
+      for (int m = i + 1; m < k; ++m) {
+        const Cell& left = at(i, m);
+        const Cell& right = at(m, k);
+        if ((m > i + 1 && left.apex < 0) || (k > m + 1 && right.apex < 0)) continue;
+        Point normal = (p[m] - p[i]) % (p[k] - p[i]);
+        const double twice_area = normal.norm();
+        if (twice_area > 0) normal /= twice_area;
+        double angle = std::max(left.max_angle, right.max_angle);
+        angle = std::max(angle, 1.0 - (normal | side_normal(i, m)));
+        angle = std::max(angle, 1.0 - (normal | side_normal(m, k)));
+        if (border) angle = std::max(angle, 1.0 - (normal | outer_normal[n - 1]));
+        const double area = left.area + right.area + 0.5 * twice_area;
+        if (best.apex < 0 || angle < best.max_angle ||
+            (angle == best.max_angle && area < best.area)) {
+          best.max_angle = angle;
+          best.area = area;
+          best.apex = m;
+          best.normal = normal;
+        }
+      }
+    }
+  if (at(0, n - 1).apex < 0) return Triangulation::kNotApplicable;
+  // Faces in post-order: each one closes an ear of what is left of the hole.
+  std::vector<Mesh::VertexHandle> vertex(n);
+  for (int i = 0; i < n; ++i) vertex[i] = mesh->from_vertex_handle(loop[i]);
+  std::vector<std::array<int, 3>> faces;
+  std::vector<std::pair<int, int>> stack = {{0, n - 1}};
+  while (!stack.empty()) {  // pre-order (i, m, k), reversed below
+    const auto [i, k] = stack.back();
+    stack.pop_back();
+    if (k - i < 2) continue;
+    const int m = at(i, k).apex;
+    faces.push_back({i, m, k});
+    stack.emplace_back(i, m);
+    stack.emplace_back(m, k);
+  }
+  std::reverse(faces.begin(), faces.end());
+  const int first_face = static_cast<int>(mesh->n_faces());
+  for (const auto& f : faces)
+    if (!mesh->add_face(vertex[f[0]], vertex[f[1]], vertex[f[2]]).is_valid())
+      return static_cast<int>(mesh->n_faces()) == first_face ? Triangulation::kNotApplicable
+                                                             : Triangulation::kFailed;
+  return Triangulation::kDone;
+}
+
+// True when s lies inside the smallest sphere through p, q, r (the sphere on their circumcircle).
+bool inside_diametral_sphere(const Point& p, const Point& q, const Point& r, const Point& s) {
+  const Point a = q - p, b = r - p, n = a % b;
+  const double n2 = n.sqrnorm();
+  if (!(n2 > 0)) return false;
+  const Point center = p + ((a.sqrnorm() * b - b.sqrnorm() * a) % n) / (2.0 * n2);
+  return (s - center).sqrnorm() < (p - center).sqrnorm();
+}
+
+// Liepa's refinement of the patch faces (faces from first_patch_face on): a face is split at its
+// centroid while the centroid lies farther than scale / alpha from each corner, where a rim
+// vertex's scale is the mean length of its edges outside the patch and a new vertex inherits
+// the mean scale of its face; split faces' edges and then all patch edges are flipped when the
+// opposite vertex lies inside the sphere on an adjacent face's circumcircle.
+void refine_liepa(Mesh* mesh, const std::vector<Mesh::HalfedgeHandle>& loop, int first_patch_face,
+                  double alpha, bool colors) {
+  const int first_new_vertex = static_cast<int>(mesh->n_vertices());
+  std::vector<double> rim_scale(loop.size());
+  std::vector<int> rim_slot(mesh->n_vertices(), -1);
+  auto is_patch_face = [&](Mesh::FaceHandle f) {
+    return f.is_valid() && f.idx() >= first_patch_face;
+  };
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const auto v = mesh->from_vertex_handle(loop[i]);
+    rim_slot[v.idx()] = static_cast<int>(i);
+    double sum = 0.0;
+    int n = 0;
+    for (auto h : mesh->voh_range(v)) {
+      if (is_patch_face(mesh->face_handle(h)) &&
+          is_patch_face(mesh->face_handle(mesh->opposite_halfedge_handle(h))))
+        continue;
+      sum += mesh->calc_edge_length(h);
+      ++n;
+    }
+    rim_scale[i] = n > 0 ? sum / n : 0.0;
+  }
+  std::vector<double> new_scale;
+  auto scale = [&](Mesh::VertexHandle v) {
+    return v.idx() >= first_new_vertex ? new_scale[v.idx() - first_new_vertex]
+                                       : rim_scale[rim_slot[v.idx()]];
+  };
+  auto is_rim_edge = [&](Mesh::EdgeHandle e) {
+    return !is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 0))) ||
+           !is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 1)));
+  };
+  auto relax = [&](Mesh::EdgeHandle e) {
+    if (is_rim_edge(e)) return false;
+    const auto h = mesh->halfedge_handle(e, 0), o = mesh->halfedge_handle(e, 1);
+    const Point& p = mesh->point(mesh->to_vertex_handle(h));
+    const Point& q = mesh->point(mesh->to_vertex_handle(o));
+    const Point& r = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(h)));
+    const Point& s = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(o)));
+    if (!inside_diametral_sphere(p, q, r, s) && !inside_diametral_sphere(p, q, s, r)) return false;
+    if (!mesh->is_flip_ok(e)) return false;
+    const Point rs = s - r;  // the new edge must not be collinear with p or q
+    if ((rs % (p - r)).sqrnorm() <= 1e-24 * rs.sqrnorm() * (p - r).sqrnorm() ||
+        (rs % (q - r)).sqrnorm() <= 1e-24 * rs.sqrnorm() * (q - r).sqrnorm())
+      return false;
+    mesh->flip(e);
+    return true;
+  };
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    const int n_faces = static_cast<int>(mesh->n_faces());
+    bool split = false;
+    for (int i = first_patch_face; i < n_faces; ++i) {
+      const auto f = mesh->face_handle(i);
+      std::array<Mesh::VertexHandle, 3> v;
+      int j = 0;
+      for (auto w : mesh->fv_range(f)) v[j++] = w;
+      const Point c = (mesh->point(v[0]) + mesh->point(v[1]) + mesh->point(v[2])) / 3.0;
+      const double sc = (scale(v[0]) + scale(v[1]) + scale(v[2])) / 3.0;
+      bool far = true;
+      for (auto w : v) {
+        const double d = alpha * (c - mesh->point(w)).norm();
+        far = far && d > sc && d > scale(w);
+      }
+      if (!far) continue;
+      std::array<Mesh::EdgeHandle, 3> edges;
+      j = 0;
+      for (auto h : mesh->fh_range(f)) edges[j++] = mesh->edge_handle(h);
+      const auto nv = mesh->split(f, c);
+      new_scale.push_back(sc);
+      if (colors)
+        mesh->set_color(nv, (mesh->color(v[0]) + mesh->color(v[1]) + mesh->color(v[2])) / 3.0f);
+      for (auto e : edges) relax(e);
+      split = true;
+    }
+    if (!split) break;
+    std::vector<Mesh::EdgeHandle> edges;  // collected first: a flip changes the faces' edges
+    for (int i = first_patch_face; i < static_cast<int>(mesh->n_faces()); ++i)
+      for (auto h : mesh->fh_range(mesh->face_handle(i)))
+        if (h.idx() < mesh->opposite_halfedge_handle(h).idx())
+          edges.push_back(mesh->edge_handle(h));
+    bool flipped = false;
+    for (auto e : edges) flipped |= relax(e);
+    if (!flipped) break;
+  }
 }
 
 }  // namespace
@@ -101,12 +310,7 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
   const int first_new_face = static_cast<int>(mesh->n_faces());
 
   std::vector<Mesh::VertexHandle> rim;
-  double rim_length = 0.0;
-  for (auto h : loop) {
-    rim.push_back(mesh->from_vertex_handle(h));
-    rim_length += mesh->calc_edge_length(h);
-  }
-  const double target = options.density_factor * rim_length / static_cast<double>(loop.size());
+  for (auto h : loop) rim.push_back(mesh->from_vertex_handle(h));
 
   // Mean normal of the faces along the rim orients the ear clipping.
   Point normal(0, 0, 0);
@@ -116,80 +320,19 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
   }
   if (normal.norm() > 0) normal.normalize();
   // New faces run along the boundary halfedges, so they are oriented like their neighbours and
-  // convex corners of the hole turn about `normal`.
-  if (!triangulate_hole(mesh, rim, normal) && !triangulate_hole(mesh, rim, normal * -1.0))
+  // convex corners of the hole turn about `normal`. Liepa's triangulation first (O(n^3) in the
+  // rim edges n), ear clipping for larger rims or where it does not apply.
+  Triangulation triangulated = Triangulation::kNotApplicable;
+  if (static_cast<int>(loop.size()) <= options.max_min_weight_edges)
+    triangulated = triangulate_hole_min_weight(mesh, loop);
+  if (triangulated == Triangulation::kFailed ||
+      (triangulated == Triangulation::kNotApplicable && !triangulate_hole(mesh, rim, normal) &&
+       !triangulate_hole(mesh, rim, normal * -1.0)))
     return failed_precondition("hole of " + std::to_string(loop.size()) +
                                " rim edges could not be triangulated");
 
-  Mesh::Color mean_color(0, 0, 0, 0);
   const bool colors = options.fill_colors && mesh->has_vertex_colors();
-  if (colors) {
-    for (auto v : rim) mean_color += mesh->color(v);
-    mean_color /= static_cast<float>(rim.size());
-  }
-  auto is_patch_face = [&](Mesh::FaceHandle f) {
-    return f.is_valid() && f.idx() >= first_new_face;
-  };
-  auto is_patch_edge = [&](Mesh::EdgeHandle e) {
-    return !mesh->is_boundary(e) && is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 0))) &&
-           is_patch_face(mesh->face_handle(mesh->halfedge_handle(e, 1)));
-  };
-  // Edges of the patch faces (faces are appended, so the patch is a tail of the face list).
-  auto patch_edges = [&] {
-    std::vector<Mesh::EdgeHandle> edges;
-    for (int i = first_new_face; i < static_cast<int>(mesh->n_faces()); ++i)
-      for (auto h : mesh->fh_range(mesh->face_handle(i))) {
-        const auto e = mesh->edge_handle(h);
-        if (is_patch_edge(e) && mesh->halfedge_handle(e, 0) == h) edges.push_back(e);
-      }
-    return edges;
-  };
-  auto delaunay_flips = [&] {
-    for (int pass = 0; pass < 10; ++pass) {
-      int flips = 0;
-      for (auto e : patch_edges()) {
-        // Never flip away a rim-to-rim edge pair that would reconnect existing vertices.
-        if (opposite_cotan_sum(*mesh, e) < -1e-9 && mesh->is_flip_ok(e)) {
-          mesh->flip(e);
-          ++flips;
-        }
-      }
-      if (flips == 0) break;
-    }
-  };
-
-  // Refinement: split long patch edges, restore Delaunay, relax new vertices.
-  delaunay_flips();
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    std::vector<Mesh::EdgeHandle> long_edges;
-    for (auto e : patch_edges())
-      if (mesh->calc_edge_length(e) > 4.0 / 3.0 * target) long_edges.push_back(e);
-    if (long_edges.empty()) break;
-    for (auto e : long_edges) {
-      const auto h = mesh->halfedge_handle(e, 0);
-      const Point mid =
-          0.5 * (mesh->point(mesh->from_vertex_handle(h)) + mesh->point(mesh->to_vertex_handle(h)));
-      Mesh::Color c = mean_color;
-      if (colors)
-        c = 0.5f *
-            (mesh->color(mesh->from_vertex_handle(h)) + mesh->color(mesh->to_vertex_handle(h)));
-      const auto v = mesh->split(e, mid);
-      if (colors) mesh->set_color(v, c);
-    }
-    delaunay_flips();
-    for (int relax = 0; relax < 3; ++relax)
-      for (int i = first_new_vertex; i < static_cast<int>(mesh->n_vertices()); ++i) {
-        const auto v = mesh->vertex_handle(i);
-        Point sum(0, 0, 0);
-        int n = 0;
-        for (auto w : mesh->vv_range(v)) {
-          sum += mesh->point(w);
-          ++n;
-        }
-        if (n > 0) mesh->set_point(v, sum / n);
-      }
-    delaunay_flips();
-  }
+  refine_liepa(mesh, loop, first_new_face, std::sqrt(2.0) / options.density_factor, colors);
 
   // Bi-Laplacian solve for the new vertices. Local indices: new vertices first, then the rest of
   // the vertices within two rings of them (the rim and one ring beyond, held fixed).
@@ -224,33 +367,49 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
       lo.minimize(mesh->point(vertex_of[k]));
       hi.maximize(mesh->point(vertex_of[k]));
     }
-    const Point grow = hi - lo;
-    lo -= grow;
-    hi += grow;
-    // Cotan weights first; uniform weights (the graph bi-Laplacian, always well posed with two
-    // fixed rings) when the cotan solve leaves the hull or is not finite.
-    bool uniform = false;
+    const double grow = (hi - lo).norm();
+    lo -= Point(grow, grow, grow);
+    hi += Point(grow, grow, grow);
+    // Triangles without area among the fixed ones (a surface seen edge-on, collapsed scan
+    // triangles): their signed cotangents are +-22 whatever the shape nearby.
+    bool degenerate = false;
+    for (int k = n_new; k < n_s && !degenerate; ++k)
+      for (auto h : mesh->voh_range(s_set[k])) {
+        if (mesh->is_boundary(h)) continue;
+        const Point& p0 = mesh->point(mesh->from_vertex_handle(h));
+        const Point e1 = mesh->point(mesh->to_vertex_handle(h)) - p0;
+        const Point e2 = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(h))) - p0;
+        if (!((e1 % e2).norm() > 1e-6 * e1.norm() * e2.norm())) degenerate = true;
+      }
+    // Weights, in order of preference: cotangent weights with the mixed Voronoi areas (signed,
+    // as in Liepa's and CGAL's fairing); the same with each edge's weight kept positive, where
+    // the two rings hold triangles without area or the signed solve leaves the hull; uniform
+    // weights (the graph bi-Laplacian, always well posed with two fixed rings) when the solve
+    // still leaves the hull or is not finite.
+    enum class Weights { kSignedCotan, kPositiveCotan, kUniform };
+    Weights weights = degenerate ? Weights::kPositiveCotan : Weights::kSignedCotan;
     for (int solve = 0; solve < options.solve_iterations; ++solve) {
+      const bool uniform = weights == Weights::kUniform;
       std::vector<Eigen::Triplet<double>> l_triplets;
       Eigen::VectorXd mass = Eigen::VectorXd::Zero(n_s);
       for (int k = 0; k < n_s; ++k) {
         const auto v = s_set[k];
         for (auto h : mesh->voh_range(v)) {
           const auto w = mesh->to_vertex_handle(h);
-          double weight = 0.0;
-          for (auto hh : {h, mesh->opposite_halfedge_handle(h)}) {
-            if (mesh->is_boundary(hh)) continue;
-            const auto o = mesh->to_vertex_handle(mesh->next_halfedge_handle(hh));
-            const Point& p = mesh->point(o);
-            weight += 0.5 * cotan(mesh->point(v) - p, mesh->point(w) - p);
+          double weight = 1.0;
+          if (!uniform) {
+            weight = 0.0;
+            for (auto hh : {h, mesh->opposite_halfedge_handle(h)}) {
+              if (mesh->is_boundary(hh)) continue;
+              const Point& p = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(hh)));
+              weight += 0.5 * clamped_cotan(mesh->point(v) - p, mesh->point(w) - p);
+            }
+            if (weights == Weights::kPositiveCotan) weight = std::max(weight, 1e-6);
           }
-          weight = std::max(weight, 1e-6);  // keep the operator definite on poor triangles
-          if (uniform) weight = 1.0;
           l_triplets.emplace_back(k, local[w.idx()], -weight);
           l_triplets.emplace_back(k, k, weight);
         }
-        for (auto f : mesh->vf_range(v)) mass[k] += mesh->calc_face_area(f) / 3.0;
-        mass[k] = uniform ? 1.0 : std::max(mass[k], 1e-12);
+        mass[k] = uniform ? 1.0 : std::max(mixed_voronoi_area(*mesh, v), 1e-12);
       }
       Eigen::SparseMatrix<double> l(n_s, n_t);
       l.setFromTriplets(l_triplets.begin(), l_triplets.end());
@@ -285,8 +444,8 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
         if (uniform)
           return failed_precondition("hole of " + std::to_string(loop.size()) +
                                      " rim edges: the fill leaves the rim's hull");
-        uniform = true;
-        --solve;  // the same solve again with uniform weights
+        weights = weights == Weights::kSignedCotan ? Weights::kPositiveCotan : Weights::kUniform;
+        --solve;  // the same solve again with the next weights
         continue;
       }
       for (int k = 0; k < n_new; ++k) {

@@ -41,7 +41,9 @@ TEST(FaceMask, IctFaceGivesOneSurfaceWithFourBoundaries) {
     const IctFace face = ict_face(*model, model->evaluate({{"jawOpen", jaw}}));
     // The heat method (the reference) and fast marching (the default) keep nearly the same
     // surface; fast marching's is a few percent larger, as the heat method's distances run
-    // long by 1-2 % (geodesic_distance_test: fast marching is the closer to exact there).
+    // long by 1-2 % (geodesic_distance_test: fast marching is the closer to exact there). With
+    // the denser eye and mouth fills of 2026-12-01 the ratio is 1.087 at jawOpen 0 (1.063 at
+    // 0.6).
     FaceMaskOptions heat_options;
     heat_options.method = GeodesicMethod::kHeat;
     auto heat = geodesic_face_mask(face.mesh, face.landmarks, heat_options);
@@ -50,7 +52,7 @@ TEST(FaceMask, IctFaceGivesOneSurfaceWithFourBoundaries) {
     auto mask = geodesic_face_mask(face.mesh, face.landmarks);
     ASSERT_TRUE(mask.is_ok()) << "jawOpen " << jaw << ": " << mask.status().message();
     EXPECT_GT(area(mask->mesh) / area(heat->mesh), 0.99);
-    EXPECT_LT(area(mask->mesh) / area(heat->mesh), 1.08);
+    EXPECT_LT(area(mask->mesh) / area(heat->mesh), 1.09);
     EXPECT_EQ(mask->topology.components, 1);
     EXPECT_EQ(mask->topology.genus, 0);
     EXPECT_EQ(mask->topology.boundary_loops, 4);

@@ -116,6 +116,61 @@ TEST(HoleFilling, SpacetimeFaceHoleIsCloseToTheTrueSurface) {
   EXPECT_EQ(mesh_topology(mesh).boundary_loops, 1);
 }
 
+// A spherical cap (radius 50 mm, grid of 1.5 mm) with a 10 mm hole punched off its pole: the
+// fill's new vertices lie close to the sphere, and the patch meets the surface around it with
+// matching normals (C1).
+TEST(HoleFilling, SphereCapHoleIsCloseToTheSphereAndMeetsItSmoothly) {
+  const double radius = 50.0, step = 1.5;
+  const int n = 41;  // grid of n x n points, x, y in [-30, 30] mm
+  Mesh mesh;
+  std::vector<Mesh::VertexHandle> v(n * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      // An off-centre, sheared grid so that the hole's rim is irregular.
+      const double px = (x - n / 2) * step + 0.3 * (y - n / 2) * step * 0.2 + 3.1;
+      const double py = (y - n / 2) * step - 1.7;
+      v[y * n + x] =
+          mesh.add_vertex(Mesh::Point(px, py, std::sqrt(radius * radius - px * px - py * py)));
+    }
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      mesh.add_face(v[y * n + x], v[y * n + x + 1], v[(y + 1) * n + x + 1]);
+      mesh.add_face(v[y * n + x], v[(y + 1) * n + x + 1], v[(y + 1) * n + x]);
+    }
+  const PunchedHole hole = punch_hole(&mesh, Mesh::Point(0, 0, radius), 10.0);
+  ASSERT_GT(hole.removed_mm.size(), 100u);
+  const int first_new_vertex = static_cast<int>(mesh.n_vertices());
+  const int first_new_face = static_cast<int>(mesh.n_faces());
+  auto report = fill_holes(&mesh);
+  ASSERT_TRUE(report.is_ok()) << report.status().message();
+  EXPECT_EQ(report->holes_filled, 1);
+  ASSERT_GT(report->vertices_added, 50);
+
+  double sum = 0.0;
+  for (int i = first_new_vertex; i < static_cast<int>(mesh.n_vertices()); ++i) {
+    const double d = mesh.point(mesh.vertex_handle(i)).norm() - radius;
+    sum += d * d;
+  }
+  const double rms = std::sqrt(sum / report->vertices_added);
+  // Normals across the rim: each patch face on the rim against the surface face beyond it.
+  double max_angle_deg = 0.0;
+  for (int i = first_new_face; i < static_cast<int>(mesh.n_faces()); ++i)
+    for (auto h : mesh.fh_range(mesh.face_handle(i))) {
+      const auto outer = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+      if (!outer.is_valid() || outer.idx() >= first_new_face) continue;
+      const double c = std::clamp(
+          mesh.calc_face_normal(mesh.face_handle(i)) | mesh.calc_face_normal(outer), -1.0, 1.0);
+      max_angle_deg = std::max(max_angle_deg, std::acos(c) * 180.0 / M_PI);
+    }
+  std::printf(
+      "sphere cap hole: %d new vertices, RMS %.4f mm off the sphere, rim normals within "
+      "%.2f deg\n",
+      report->vertices_added, rms, max_angle_deg);
+  EXPECT_LT(rms, 0.02);
+  EXPECT_LT(max_angle_deg, 4.0);
+  EXPECT_EQ(mesh_topology(mesh).boundary_loops, 1);
+}
+
 TEST(HoleFilling, HoleTouchingTheRimIsAnError) {
   // A 4x4 grid with the interior square removed next to the rim: shares rim vertices.
   Mesh mesh;
