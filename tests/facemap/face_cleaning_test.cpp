@@ -184,9 +184,19 @@ TEST_F(FaceCleaningTest, OpenFeatureHolesGiveTheFaceOfTheFilledOnes) {
     EXPECT_GT(same, 0.95 * static_cast<double>(points.size()));
     EXPECT_LT(mean, 0.05);
     EXPECT_NEAR(area_ratio, 1.0, 0.01);
-    for (int k = 0; k < 4; ++k)
-      EXPECT_NEAR(a.boundary_loop_lengths[k], b.boundary_loop_lengths[k],
-                  0.05 * b.boundary_loop_lengths[k] + 2);
+    // The boundaries' length in mm (their edge counts depend on how the fill is triangulated
+    // where a reference boundary crosses it). The eye and mouth loops may lie up to their margin
+    // (1 and 2 mm) apart all round, which alone is about 2 pi (1 + 1 + 2) = 25 mm of some
+    // 1,250 mm, and the rim can slide at the scan's border: 3.2 % seen with an open mouth.
+    auto boundary_mm = [](const Mesh& mesh) {
+      double sum = 0.0;
+      for (auto h : mesh.halfedges())
+        if (mesh.is_boundary(h)) sum += mesh.calc_edge_length(h);
+      return sum;
+    };
+    const double boundary_a = boundary_mm(open->mesh), boundary_b = boundary_mm(filled->mesh);
+    std::printf("boundary length %.1f / %.1f mm\n", boundary_a, boundary_b);
+    EXPECT_NEAR(boundary_a, boundary_b, 0.05 * boundary_b);
   }
 }
 
