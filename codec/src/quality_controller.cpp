@@ -7,6 +7,16 @@
 #include <utility>
 
 namespace gvkit::codec {
+namespace {
+
+// A QP step from the error model, clamped to [1, max_steps] in double before the conversion (a
+// non-finite error would make the conversion undefined).
+int qp_steps(double model_steps, int max_steps) {
+  if (!std::isfinite(model_steps)) return max_steps;
+  return static_cast<int>(std::clamp(model_steps, 1.0, static_cast<double>(max_steps)));
+}
+
+}  // namespace
 
 Result<std::unique_ptr<QualityController>> QualityController::create(const EncoderOptions& options,
                                                                      const SequenceInfo& info) {
@@ -98,7 +108,7 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
     // The first frame of its type: no previous QP to stay near, so coarser without a bracket, by
     // the model's step (doubled while the frame meets), then bisect (pass, miss).
     const double ratio = target_rms(intra) / std::max(last_rms_mm, 1e-12);
-    int step = std::clamp(static_cast<int>(std::floor(6.0 * std::log2(ratio))), 1, 51 - qp_min_);
+    int step = qp_steps(std::floor(6.0 * std::log2(ratio)), 51 - qp_min_);
     int pass = start;
     std::optional<int> miss;
     while (pass < 51) {
@@ -121,8 +131,7 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
     }
   } else {
     // Finer: the step the model RMS ~ 2^(QP / 6) predicts, doubled while the frame still misses.
-    int step =
-        std::max(1, static_cast<int>(std::ceil(6.0 * std::log2(last_rms_mm / target_rms(intra)))));
+    int step = qp_steps(std::ceil(6.0 * std::log2(last_rms_mm / target_rms(intra))), 51 - qp_min_);
     int miss = start;
     std::optional<int> pass;
     while (miss > qp_min_) {

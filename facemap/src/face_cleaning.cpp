@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "gvkit/core/mesh_topology.hpp"
 #include "gvkit/facemap/nearest_vertices.hpp"
 
 namespace gvkit::facemap {
@@ -71,6 +72,38 @@ Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options,
   // checks the topology of what it keeps, so they are left open here.
   HoleFillingOptions hole_options = options.holes;
   hole_options.fail_on_rim_touching_holes = false;
+  // Openings that fill_holes would not fill anyway (touching the outer rim, or longer than
+  // max_hole_edges) are not kept open as feature holes: so that the fallbacks below, which fill
+  // the open holes, never fill what the reference (every hole given to fill_holes) leaves open.
+  if (!open_holes.empty()) {
+    const auto loops = boundary_loops(*mesh);
+    size_t rim = 0;
+    double rim_mm = -1.0;
+    for (size_t i = 0; i < loops.size(); ++i) {
+      double length = 0.0;
+      for (size_t k = 0; k < loops[i].size(); ++k)
+        length +=
+            (mesh->point(loops[i][(k + 1) % loops[i].size()]) - mesh->point(loops[i][k])).norm();
+      if (length > rim_mm) rim_mm = length, rim = i;
+    }
+    std::vector<char> on_rim(mesh->n_vertices(), 0);
+    if (!loops.empty())
+      for (auto v : loops[rim]) on_rim[v.idx()] = 1;
+    std::vector<FeatureHole> kept;
+    for (const FeatureHole& hole : open_holes) {
+      int edges = 0;
+      bool touches_rim = false;
+      auto h = hole.halfedge;
+      do {
+        ++edges;
+        touches_rim |= on_rim[mesh->from_vertex_handle(h).idx()] != 0;
+        h = mesh->next_halfedge_handle(h);
+      } while (h != hole.halfedge && edges <= static_cast<int>(mesh->n_halfedges()));
+      const bool too_long = hole_options.max_hole_edges > 0 && edges > hole_options.max_hole_edges;
+      if (!touches_rim && !too_long) kept.push_back(hole);
+    }
+    open_holes = std::move(kept);
+  }
   std::vector<Mesh::HalfedgeHandle> left_open;
   for (const FeatureHole& hole : open_holes) left_open.push_back(hole.halfedge);
   auto filled = fill_holes(mesh, hole_options, left_open);

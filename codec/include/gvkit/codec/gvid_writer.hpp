@@ -45,10 +45,11 @@ class GvidWriter {
   const SequenceInfo& info() const { return info_; }
   // Frames whose packets are written.
   int64_t frames_written() const { return static_cast<int64_t>(index_.size()); }
-  // Per frame in display order, for the frames coded so far (0 / empty for a frame still
-  // waiting): the size of its packet (header + payload) in bytes, its QP (0 for bypass frames:
-  // options.qp and the offsets, the rate controller's, or the constant-quality search's), where
-  // its bits went per plane and syntax element group, and its type.
+  // Per frame in display order, for the frames coded so far (a frame still waiting as a B-frame
+  // candidate behind a coded one has 0 bytes, QP 0, empty stats and type kIntra until coded): the
+  // size of its packet (header + payload) in bytes, its QP (0 for bypass frames: options.qp and the
+  // offsets, the rate controller's, or the constant-quality search's), where its bits went per
+  // plane and syntax element group, and its type.
   const std::vector<int64_t>& frame_bytes() const { return frame_bytes_; }
   int64_t header_bytes() const { return header_bytes_; }
   const std::vector<int>& frame_qp() const { return frame_qp_; }
