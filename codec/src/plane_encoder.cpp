@@ -66,28 +66,15 @@ class MacroblockEncoder {
   MacroblockData encode(int mb_x, int mb_y, const ContextSet& ctx) {
     mb_x_ = mb_x;
     mb_y_ = mb_y;
-    struct Candidate {
-      MacroblockData mb;
-      double cost;
-      std::array<uint16_t, 256> recon;
-    };
     Candidate best;
-    best.cost = std::numeric_limits<double>::infinity();
     const auto consider = [&](MbType type, bool td = false, Forced forced = Forced::kNone) {
-      Candidate c;
-      c.mb.type = type;
-      ContextSet trial = ctx;
-      bound_ = best.cost;
-      c.cost = td                  ? try_td(c.mb, trial)
-               : type == kMbInter  ? try_inter(c.mb, trial, forced)
-               : type == kMbI16x16 ? try_i16(c.mb, trial)
-                                   : (type == kMbI8x8 ? try_i8(c.mb, trial) : try_i4(c.mb, trial));
-      if (c.cost < best.cost) {
-        for (int y = 0; y < 16; ++y)
-          for (int x = 0; x < 16; ++x)
-            c.recon[y * 16 + x] = recon_.at(mb_x * 16 + x, mb_y * 16 + y);
-        best = c;
-      }
+      consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+        mb.type = type;
+        return td                  ? try_td(mb, trial)
+               : type == kMbInter  ? try_inter(mb, trial, forced)
+               : type == kMbI16x16 ? try_i16(mb, trial)
+                                   : (type == kMbI8x8 ? try_i8(mb, trial) : try_i4(mb, trial));
+      });
     };
     const size_t mb_index = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
     // Inter: the co-located first-plane vector (shared motion: one flag, no difference), the
@@ -115,8 +102,7 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
-    for (int y = 0; y < 16; ++y)
-      for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
+    restore(best);
     return best.mb;
   }
 
@@ -126,24 +112,9 @@ class MacroblockEncoder {
   MacroblockData encode_b(int mb_x, int mb_y, const ContextSet& ctx) {
     mb_x_ = mb_x;
     mb_y_ = mb_y;
-    struct Candidate {
-      MacroblockData mb;
-      double cost;
-      std::array<uint16_t, 256> recon;
-    };
     Candidate best;
-    best.cost = std::numeric_limits<double>::infinity();
     const auto consider = [&](const auto& try_candidate) {
-      Candidate c;
-      ContextSet trial = ctx;
-      bound_ = best.cost;
-      c.cost = try_candidate(c.mb, trial);
-      if (c.cost < best.cost) {
-        for (int y = 0; y < 16; ++y)
-          for (int x = 0; x < 16; ++x)
-            c.recon[y * 16 + x] = recon_.at(mb_x * 16 + x, mb_y * 16 + y);
-        best = c;
-      }
+      consider_candidate(&best, ctx, try_candidate);
     };
     int p0x, p0y, p1x, p1y;
     st_.mv_predictor_list(0, mb_x, mb_y, &p0x, &p0y);
@@ -177,12 +148,42 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
-    for (int y = 0; y < 16; ++y)
-      for (int x = 0; x < 16; ++x) recon_.at(mb_x * 16 + x, mb_y * 16 + y) = best.recon[y * 16 + x];
+    restore(best);
     return best.mb;
   }
 
  private:
+  // The cheapest candidate of the current macroblock so far and its reconstructed samples.
+  struct Candidate {
+    MacroblockData mb;
+    double cost = std::numeric_limits<double>::infinity();
+    std::array<uint16_t, 256> recon;
+  };
+
+  // Codes one candidate (try_candidate(mb, contexts) writes recon_ and returns its cost; it may
+  // stop once its cost reaches bound_, the best cost so far) on a copy of the contexts, and keeps
+  // it in *best when it is cheaper.
+  template <class Try>
+  void consider_candidate(Candidate* best, const ContextSet& ctx, const Try& try_candidate) {
+    Candidate c;
+    ContextSet trial = ctx;
+    bound_ = best->cost;
+    c.cost = try_candidate(c.mb, trial);
+    if (c.cost < best->cost) {
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+          c.recon[y * 16 + x] = recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y);
+      *best = c;
+    }
+  }
+
+  // Puts the chosen candidate's samples back into recon_ (later candidates overwrote them).
+  void restore(const Candidate& best) {
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y) = best.recon[y * 16 + x];
+  }
+
   // B planes: the motion search of one list around its predictor (px, py).
   MotionSearchResult search_list(const InterpolatedReference& ref, int px, int py) const {
     MotionSearchParams search;
