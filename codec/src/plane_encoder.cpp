@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 
+#include "cross_plane_residual.hpp"
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/motion_search.hpp"
@@ -25,18 +26,20 @@ using namespace detail;
 constexpr double kMotionLambdaScale = 4.0;
 
 // An inter candidate at a given vector instead of the motion search's.
-enum class Forced { kNone, kShared, kPredictor };
+enum class Forced { kNone, kShared, kPredictor, kGiven };
 
 class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
-                    const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr)
+                    const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr,
+                    const CrossPlaneResidual* cross = nullptr)
       : src_(source),
         recon_(recon),
         st_(st),
         p_(p),
         ref_(reference),
+        cross_(cross),
         max_value_((1 << p.bit_depth) - 1) {
     // Half-sample planes over the search area (the predictor's vector may reach further: the
     // interpolation then falls back to the plain block-wise path).
@@ -102,6 +105,7 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
+    try_cross_plane(&best, ctx);
     restore(best);
     return best.mb;
   }
@@ -148,6 +152,7 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
+    try_cross_plane(&best, ctx);
     restore(best);
     return best.mb;
   }
@@ -167,14 +172,81 @@ class MacroblockEncoder {
   void consider_candidate(Candidate* best, const ContextSet& ctx, const Try& try_candidate) {
     Candidate c;
     ContextSet trial = ctx;
-    bound_ = best->cost;
-    c.cost = try_candidate(c.mb, trial);
+    bound_ = best->cost - extra_cost_;
+    c.cost = try_candidate(c.mb, trial) + extra_cost_;
+    c.mb.cross_scale = alpha_;
     if (c.cost < best->cost) {
       for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x)
           c.recon[y * 16 + x] = recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y);
       *best = c;
     }
+  }
+
+  // Cross-plane prediction (format 1.6, Y and Z planes): where the macroblock codes a scale, the
+  // least-squares scale of the chosen candidate's residual (its coded residual plus the
+  // remaining error) against the source plane's; the chosen type (same vector, modes searched
+  // again) is coded again with that scale, and in the slow preset also with its nonzero
+  // neighbours in kCrossScales; each cost counts the scale's bins, and the cheapest is kept.
+  // The fast preset's costs are SATD-based, so it keeps the scale when it lowers the SATD cost.
+  void try_cross_plane(Candidate* best, const ContextSet& ctx) {
+    if (!st_.codes_cross_scale(mb_x_, mb_y_) || (best->mb.type == kMbInter && best->mb.skip))
+      return;
+    int32_t r[256];
+    macroblock_residual(best->mb, p_, r);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        r[y * 16 + x] +=
+            static_cast<int32_t>(src_.at(mb_x_ * 16 + x, mb_y_ * 16 + y)) - best->recon[y * 16 + x];
+    const int fit = least_squares_cross_scale(r, *cross_, mb_x_, mb_y_);
+    if (fit == 0) return;
+    const double lambda = p_.rdo ? lambda_ : lambda_sad_;
+    const auto scale_bits = [&](int alpha) {
+      CabacBitCounter counter;
+      ContextSet scratch = ctx;
+      write_cross_scale(counter, scratch.cross_scale, scratch.cross_sign[0], alpha);
+      return counter.bits();
+    };
+    best->cost += lambda * scale_bits(0);
+    const MacroblockData base = best->mb;
+    const auto retry = [&](MacroblockData& mb, ContextSet& trial) {
+      mb.type = base.type;
+      if (st_.bidirectional && base.type == kMbInter)
+        return try_b_inter(mb, trial, base.b_pred, base.mv_x, base.mv_y, base.mv_x1, base.mv_y1);
+      if (base.type == kMbInter && base.td) {
+        mv_x_ = base.mv_x;
+        mv_y_ = base.mv_y;
+        return try_td(mb, trial);
+      }
+      if (base.type == kMbInter) {
+        given_mv_x_ = base.mv_x;
+        given_mv_y_ = base.mv_y;
+        return try_inter(mb, trial, Forced::kGiven);
+      }
+      return base.type == kMbI16x16
+                 ? try_i16(mb, trial)
+                 : (base.type == kMbI8x8 ? try_i8(mb, trial) : try_i4(mb, trial));
+    };
+    int scales[3], count = 0;
+    scales[count++] = fit;
+    if (p_.rdo) {
+      const int i = cross_scale_index(fit);
+      if (i > 0 && kCrossScales[i - 1] != 0) scales[count++] = kCrossScales[i - 1];
+      if (i + 1 < kCrossScaleCount && kCrossScales[i + 1] != 0)
+        scales[count++] = kCrossScales[i + 1];
+    }
+    for (int k = 0; k < count; ++k) {
+      alpha_ = scales[k];
+      extra_cost_ = lambda * scale_bits(alpha_);
+      consider_candidate(best, ctx, retry);
+    }
+    alpha_ = 0;
+    extra_cost_ = 0;
+  }
+
+  // The current candidate's cross-plane term added to an n x n prediction at (x0, y0).
+  void add_cross(int n, int x0, int y0, int32_t* pred) const {
+    if (alpha_) add_cross_plane_term(alpha_, *cross_, x0, y0, n, pred);
   }
 
   // Puts the chosen candidate's samples back into recon_ (later candidates overwrote them).
@@ -215,6 +287,7 @@ class MacroblockEncoder {
     if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
     if (lists == 3)
       for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+    add_cross(16, x0, y0, pred);
     // Side information: skip, is_inter and prediction flags, then the vector differences.
     double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
     if (kind != kBDirect) {
@@ -235,7 +308,7 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = kind == kBDirect && mb.cbp == 0;
+    mb.skip = kind == kBDirect && mb.cbp == 0 && alpha_ == 0;
     // A skip codes one flag: no prediction flags, no coded block pattern.
     if (mb.skip) cost -= p_.rdo ? lambda_ * (side_bits + 2) : lambda_sad_ * (side_bits - 1);
     return cost;
@@ -285,6 +358,11 @@ class MacroblockEncoder {
       best_x = px;
       best_y = py;
       whole_mv_x_ = whole_mv_y_ = 0;
+    } else if (forced == Forced::kGiven) {
+      best_x = given_mv_x_;
+      best_y = given_mv_y_;
+      whole_mv_x_ = best_x / unit * unit;
+      whole_mv_y_ = best_y / unit * unit;
     } else {
       MotionSearchParams search;
       search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
@@ -306,6 +384,7 @@ class MacroblockEncoder {
     mb.mv_y = mv_y_ = best_y;
     mb.shared = is_shared_vector(best_x, best_y);
     interp_->predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
+    add_cross(16, x0, y0, pred);
     const double mv_bits = motion_bits(best_x, best_y, px, py);
     double cost;
     if (p_.rdo) {
@@ -314,7 +393,7 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = mb.cbp == 0 && (mb.shared || (best_x == px && best_y == py));
+    mb.skip = mb.cbp == 0 && alpha_ == 0 && (mb.shared || (best_x == px && best_y == py));
     if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
     return cost;
   }
@@ -416,6 +495,8 @@ class MacroblockEncoder {
       if (td)
         for (int mode = 0; mode < mode_count; ++mode)
           for (int i = 0; i < 16; ++i) preds[mode][i] += ref_block[i];
+      if (alpha_)
+        for (int mode = 0; mode < mode_count; ++mode) add_cross(4, x0, y0, preds[mode]);
       distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
                      src_.width, preds, mode_count, distortion);
       for (int mode = 0; mode < mode_count; ++mode) {
@@ -432,6 +513,7 @@ class MacroblockEncoder {
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
+      add_cross(n, x0, y0, pred);
       double cost;
       if (p_.rdo) {
         const bool coded = make_levels(n, pred, x0, y0, levels);
@@ -524,6 +606,7 @@ class MacroblockEncoder {
     int best_mode = kIntraDc;
     for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
       predict_intra(16, mode, nb, max_value_, pred);
+      add_cross(16, x0, y0, pred);
       double cost;
       if (p_.rdo) {
         MacroblockData m;
@@ -538,6 +621,7 @@ class MacroblockEncoder {
       }
     }
     predict_intra(16, best_mode, nb, max_value_, pred);
+    add_cross(16, x0, y0, pred);
     mb.i16_mode = best_mode;
     const double rd_cost = code_i16_residual(mb, pred, trial);
     return p_.rdo ? rd_cost : best_cost;
@@ -612,6 +696,12 @@ class MacroblockEncoder {
   PlaneState& st_;
   const PlaneCodingParams& p_;
   const SamplePlane* ref_;
+  // Cross-plane prediction (format 1.6): the source plane's residual (null when off), the scale
+  // of the candidate being coded, and the cost of its bins (added to the candidate's).
+  const CrossPlaneResidual* cross_;
+  int alpha_ = 0;
+  double extra_cost_ = 0;
+  int given_mv_x_ = 0, given_mv_y_ = 0;           // Forced::kGiven: the vector of the candidate
   std::optional<InterpolatedReference> interp_;   // of ref_, for P planes (list 0 of B planes)
   std::optional<InterpolatedReference> interp1_;  // B planes: list 1
   // Joint motion search: the other planes' interpolated references (reserved once, so the
@@ -636,7 +726,8 @@ namespace {
 
 PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingParams& params,
                                     const SamplePlane* reference, const MotionField* shared,
-                                    const JointSearchPlanes* joint, const SamplePlane* reference1) {
+                                    const JointSearchPlanes* joint, const SamplePlane* reference1,
+                                    const CrossPlaneLinks* cross) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -656,18 +747,30 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
                 "shared motion of another macroblock grid");
     st.colocated = shared;
   }
+  const CrossPlaneResidual* cross_source = cross ? cross->source : nullptr;
+  CrossPlaneResidual* residual_out = cross ? cross->residual_out : nullptr;
+  if (cross_source) {
+    GVKIT_CHECK(cross_source->width == plane.width && cross_source->height == plane.height,
+                "cross-plane source residual of another size");
+    st.cross = cross_source;
+  }
+  if (residual_out) residual_out->reset(plane.width, plane.height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
-                               reference && !reference1 ? joint : nullptr, reference1);
+                               reference && !reference1 ? joint : nullptr, reference1,
+                               cross_source);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb =
           reference1 ? mb_encoder.encode_b(mb_x, mb_y, ctx) : mb_encoder.encode(mb_x, mb_y, ctx);
       write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+      if (residual_out) record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params);
+      if (st.codes_cross_scale(mb_x, mb_y) && !(mb.type == kMbInter && mb.skip))
+        ++result.stats.cross_scale_mbs[cross_scale_index(mb.cross_scale)];
       if (mb.type != kMbInter)
         ++result.stats.intra_mbs;
       else if (mb.skip)
@@ -687,15 +790,16 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
 
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference, const MotionField* shared,
-                               const JointSearchPlanes* joint) {
-  return encode_plane_impl(plane, params, reference, shared, joint, nullptr);
+                               const JointSearchPlanes* joint, const CrossPlaneLinks* cross) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, cross);
 }
 
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                                 const SamplePlane& reference0, const SamplePlane& reference1) {
+                                 const SamplePlane& reference0, const SamplePlane& reference1,
+                                 const CrossPlaneLinks* cross) {
   PlaneCodingParams p = params;
   p.td_prediction = false;
-  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1);
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, cross);
 }
 
 }  // namespace gvkit::codec

@@ -32,6 +32,9 @@ struct PlaneCodingStats {
   int64_t inter_mbs = 0;  // inter, not skip, not TD
   int64_t td_mbs = 0;     // inter with temporal-difference prediction
   int64_t skip_mbs = 0;   // inter skip
+  // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,
+  // per scale in the order of kCrossScales (-8, -4, -2, -1, 0, 1, 2, 4, 8).
+  int64_t cross_scale_mbs[9] = {};
 
   double total_bits() const;
   PlaneCodingStats& operator+=(const PlaneCodingStats& other);

@@ -80,6 +80,11 @@ struct EncoderOptions {
   double target_rms_mm = 0;
   // Constant quality: I frames aim this many dB above the target (0..20).
   double intra_target_offset_db = 0;
+  // Cross-plane residual prediction (format 1.6, docs/bitstream.md 4.9): each Y and Z
+  // macroblock may add a scaled copy (0, +-1/8 .. +-1) of the X plane's reconstructed residual
+  // to its own. false writes today's stream (no flags2 bit 3). Default: see docs/benchmarks.md
+  // "Cross-plane residual prediction".
+  bool cross_plane = false;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gvkit/codec/coding_stats.hpp"
+#include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::codec {
@@ -79,20 +80,25 @@ struct JointSearchPlanes {
 // (the previous frame's reconstruction of this plane, same size) the plane is coded as a P plane:
 // each macroblock is intra or inter (motion, skip, TD). With `shared` (the motion of the frame's
 // first plane, same macroblock grid; P planes only) a macroblock whose co-located one is inter
-// may take over its vector with one context-coded flag (format 1.4).
+// may take over its vector with one context-coded flag (format 1.4). With cross->source (Y and
+// Z planes, format 1.6; the X plane's residual, same size) a macroblock may add a scaled copy of
+// it to its residual (cross_plane.hpp); cross->residual_out receives the plane's own residual.
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference = nullptr,
                                const MotionField* shared = nullptr,
-                               const JointSearchPlanes* joint = nullptr);
+                               const JointSearchPlanes* joint = nullptr,
+                               const CrossPlaneLinks* cross = nullptr);
 
-// Decodes a segment made by encode_plane with the same bit depth, QP, flags and shared motion.
-// Fails with a message naming the macroblock and the field when the data cannot be a valid
-// segment. motion_out (optional, P planes) receives the plane's motion.
+// Decodes a segment made by encode_plane with the same bit depth, QP, flags, shared motion and
+// cross-plane source. Fails with a message naming the macroblock and the field when the data
+// cannot be a valid segment. motion_out (optional, P planes) receives the plane's motion,
+// cross->residual_out (optional) the plane's residual.
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params,
                                  const SamplePlane* reference = nullptr,
                                  const MotionField* shared = nullptr,
-                                 MotionField* motion_out = nullptr);
+                                 MotionField* motion_out = nullptr,
+                                 const CrossPlaneLinks* cross = nullptr);
 
 // B planes (format 1.5): each macroblock is intra, skip (direct without residual) or inter from
 // reference0 (list 0: the anchor before in display order), reference1 (list 1: the anchor
@@ -100,10 +106,12 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
 // (direct: the predicted vectors). params.td_prediction is ignored (no TD in B planes); both
 // references have the plane's size.
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                                 const SamplePlane& reference0, const SamplePlane& reference1);
+                                 const SamplePlane& reference0, const SamplePlane& reference1,
+                                 const CrossPlaneLinks* cross = nullptr);
 // Decodes a segment made by encode_b_plane; fails naming the macroblock and the field.
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,
-                                   const SamplePlane& reference1);
+                                   const SamplePlane& reference1,
+                                   const CrossPlaneLinks* cross = nullptr);
 
 }  // namespace gvkit::codec

@@ -1,0 +1,20 @@
+#pragma once
+// Cross-plane residual prediction (format 1.6, docs/bitstream.md 4.9): the spatial-domain
+// residual of a coded macroblock, which the X plane keeps for the Y and Z planes.
+
+#include <cstdint>
+
+#include "gvkit/codec/cross_plane.hpp"
+#include "macroblock_syntax.hpp"
+
+namespace gvkit::codec::detail {
+
+// The residual the macroblock's levels add to its prediction (16x16, row-major, sample units):
+// what reconstruct_block adds (before clipping), without any cross-plane term. Zero for a skip.
+void macroblock_residual(const MacroblockData& mb, const PlaneCodingParams& p, int32_t* out);
+
+// Stores the macroblock's residual (macroblock_residual) and whether it is nonzero into `out`.
+void record_macroblock_residual(CrossPlaneResidual& out, int mb_x, int mb_y,
+                                const MacroblockData& mb, const PlaneCodingParams& p);
+
+}  // namespace gvkit::codec::detail
