@@ -13,8 +13,11 @@ namespace gvkit::codec::detail {
 // what reconstruct_block adds (before clipping), without any cross-plane term. Zero for a skip.
 void macroblock_residual(const MacroblockData& mb, const PlaneCodingParams& p, int32_t* out);
 
-// Stores the macroblock's residual (macroblock_residual) and whether it is nonzero into `out`.
+// Stores the macroblock's reconstructed residual into `out`, and whether it is nonzero: its
+// decoded residual (macroblock_residual) plus, when the plane predicts from `source` (may be
+// null), the cross-plane term of the macroblock's scale.
 void record_macroblock_residual(CrossPlaneResidual& out, int mb_x, int mb_y,
-                                const MacroblockData& mb, const PlaneCodingParams& p);
+                                const MacroblockData& mb, const PlaneCodingParams& p,
+                                const CrossPlaneResidual* source);
 
 }  // namespace gvkit::codec::detail
