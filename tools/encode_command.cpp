@@ -270,9 +270,10 @@ void add_encode_command(CLI::App& app) {
   cmd->add_flag("--skip-check", args->options.skip_check,
                 "P frames: try the predicted vector first and take a skip found there at once "
                 "(fast preset: about 2x faster encoding, slightly lower quality)");
-  cmd->add_flag("--cross-plane", args->options.cross_plane,
+  cmd->add_flag("--cross-plane,!--no-cross-plane", args->options.cross_plane,
                 "Let each Y and Z macroblock add a scaled copy of the X plane's residual to its "
-                "own (cross-plane residual prediction, format 1.6)");
+                "own (cross-plane residual prediction, format 1.6; on by default); "
+                "--no-cross-plane writes the 1.4 / 1.5 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

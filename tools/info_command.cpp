@@ -163,10 +163,16 @@ void describe_gvid(const fs::path& path) {
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const int64_t bits = reader->frame_bits(i);
     total += bits;
-    std::printf("  frame %6lld    %s  %9lld bytes  %8.4f bits/vertex  (packet %lld)\n",
+    // Frame-level tools of the packet's flags2 (format 1.4 shared motion, 1.6 cross-plane).
+    std::string tools;
+    if (auto h = reader->frame_header(i); h.is_ok()) {
+      if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
+      if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
+    }
+    std::printf("  frame %6lld    %s  %9lld bytes  %8.4f bits/vertex  (packet %lld)%s\n",
                 static_cast<long long>(i), codec::format::frame_type_name(reader->frame_type(i)),
                 static_cast<long long>(bits / 8), bits / vertices,
-                static_cast<long long>(reader->decode_position(i)));
+                static_cast<long long>(reader->decode_position(i)), tools.c_str());
   }
   if (reader->frame_count() > 0)
     std::printf("  mean            %.4f bits/vertex/frame, %.1f kbit/s\n",

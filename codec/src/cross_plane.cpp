@@ -84,7 +84,8 @@ void record_macroblock_residual(CrossPlaneResidual& out, int mb_x, int mb_y,
                                 const CrossPlaneResidual* source) {
   int32_t r[256];
   macroblock_residual(mb, p, r);
-  if (source && mb.cross_scale) add_cross_plane_term(mb.cross_scale, *source, mb_x * 16, mb_y * 16, 16, r);
+  if (source && mb.cross_scale)
+    add_cross_plane_term(mb.cross_scale, *source, mb_x * 16, mb_y * 16, 16, r);
   bool nonzero = false;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x) {

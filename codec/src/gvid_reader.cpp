@@ -174,6 +174,15 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   return deep_copy(d->image);
 }
 
+Result<format::PacketHeader> GvidReader::frame_header(int64_t index) const {
+  if (index < 0 || index >= frame_count())
+    return invalid_argument(name_ + ": frame " + std::to_string(index) + " out of range");
+  const uint64_t offset = entry(index).offset;
+  if (offset + format::kPacketHeaderSize > bytes_.size())
+    return corrupt_data(name_ + ": frame " + std::to_string(index) + ": packet header truncated");
+  return format::read_packet_header(std::string_view(bytes_).substr(offset));
+}
+
 int64_t GvidReader::frame_bits(int64_t index) const {
   if (index < 0 || index >= frame_count()) return 0;
   return (static_cast<int64_t>(entry(index).payload_size) +

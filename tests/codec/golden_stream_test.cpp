@@ -33,7 +33,17 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless;
+      bframes_lossless, cross_fast, cross_near;
+  // The streams before 1.6 were written without cross-plane prediction.
+  for (EncoderOptions* o :
+       {&lossless, &fast, &slow_no_gv, &eight_bit, &inter, &lossless_inter, &near_affine, &plane_qp,
+        &qpel_td, &hpel_lossless, &shared_fast, &shared_lossless, &bframes_fast, &bframes_lossless})
+    o->cross_plane = false;
+  cross_fast.qp = 0;  // version 1.6: cross-plane prediction, one B frame, fast preset
+  cross_fast.preset = Preset::kFast;
+  cross_fast.bframes = 1;
+  cross_near.max_error_mm = 0.05;  // version 1.6: cross-plane prediction, near-lossless, slow
+  cross_near.preset = Preset::kSlow;
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -87,7 +97,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_shared_qp0_ippi_v1_4_48.gvid", 48, 4, shared_fast, 0.75},
           {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5},
           {"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 48, 5, bframes_fast, 0.75},
-          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5}};
+          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5},
+          {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
+          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

@@ -92,6 +92,7 @@ TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (bool shared : {false, true})
         for (bool decimation : {false, true}) {
           EncoderOptions o;
+          o.cross_plane = false;  // the format 1.4 syntax alone
           o.preset = preset;
           o.qp = 0;
           o.intra_period = 4;
@@ -118,6 +119,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
@@ -146,6 +148,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = true;
@@ -191,6 +194,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = false;
