@@ -119,7 +119,9 @@ TEST(CrossPlane, CorrelatedPlaneCostsLessAndDecodesExactly) {
       auto dy = decode_plane(ey.bytes, 64, 64, p, nullptr, nullptr, nullptr, &y_links);
       ASSERT_TRUE(dy.is_ok()) << dy.status().message();
       EXPECT_EQ(dy->samples, ey.reconstruction.samples);
-      if (lossless) EXPECT_EQ(dy->samples, y.samples);
+      if (lossless) {
+        EXPECT_EQ(dy->samples, y.samples);
+      }
     }
 }
 
@@ -196,7 +198,9 @@ std::string round_trip(const std::vector<GeometryImage>& frames, const SequenceI
   for (size_t f = 0; f < frames.size(); ++f) {
     auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
     EXPECT_TRUE(decoded.is_ok()) << decoded.status().message();
-    if (decoded.is_ok()) EXPECT_TRUE(same_samples(*decoded, recon[f])) << "frame " << f;
+    if (decoded.is_ok()) {
+      EXPECT_TRUE(same_samples(*decoded, recon[f])) << "frame " << f;
+    }
   }
   return *bytes;
 }
@@ -247,10 +251,13 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     for (int64_t f = 0; f < (*reader)->frame_count(); ++f) {
       auto d = (*reader)->decode_frame(f);
       ASSERT_TRUE(d.is_ok());
-      if (c.o.lossless)
+      if (c.o.lossless) {
         EXPECT_TRUE(
             same_samples(*d, dequantize_geometry(quantize_geometry(frames[f], info), info, f)));
-      if (c.o.max_error_mm > 0) EXPECT_LE(max_error(frames[f], *d), c.o.max_error_mm);
+      }
+      if (c.o.max_error_mm > 0) {
+        EXPECT_LE(max_error(frames[f], *d), c.o.max_error_mm);
+      }
     }
     for (const auto& s : stats) {
       EXPECT_EQ(scales_coded(s.planes[0], false), 0);  // X codes no scale
