@@ -454,7 +454,8 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
       reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, cross_source);
-      if (residual_out) record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
+      if (residual_out)
+        record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");

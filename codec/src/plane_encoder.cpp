@@ -768,7 +768,8 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
       const MacroblockData mb =
           reference1 ? mb_encoder.encode_b(mb_x, mb_y, ctx) : mb_encoder.encode(mb_x, mb_y, ctx);
       write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
-      if (residual_out) record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
+      if (residual_out)
+        record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
       if (st.codes_cross_scale(mb_x, mb_y) && !(mb.type == kMbInter && mb.skip))
         ++result.stats.cross_scale_mbs[cross_scale_index(mb.cross_scale)];
       if (mb.type != kMbInter)
