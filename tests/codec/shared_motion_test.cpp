@@ -160,7 +160,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
     EXPECT_NE(r.status().message().find(message), std::string::npos) << r.status().message();
   };
   format::PacketHeader unknown = *header;
-  unknown.flags2 = 2;
+  unknown.flags2 = 128;
   expect_error(with_header(c.packets[1], unknown), &c.recon[0], "frame flags2: unknown bits");
   auto intra = format::read_packet_header(c.packets[0]);
   ASSERT_TRUE(intra.is_ok());

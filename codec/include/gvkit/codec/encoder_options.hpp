@@ -80,6 +80,10 @@ struct EncoderOptions {
   double target_rms_mm = 0;
   // Constant quality: I frames aim this many dB above the target (0..20).
   double intra_target_offset_db = 0;
+  // P frames: reference frames (format 1.6): each P frame predicts from up to this many of the
+  // nearest anchors since the last I frame, choosing per macroblock (1..5; 1 = one reference,
+  // no 1.6 syntax).
+  int refs = 1;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
