@@ -4,6 +4,7 @@
 // frames back; corrupt ref_count syntax is rejected with a message; refs = 1 writes the older
 // stream.
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/sequence_encoder.hpp"
+#include "gvkit/core/atomic_file.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -249,6 +251,47 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     const Status s = b.check();
     ASSERT_FALSE(s.is_ok());
     EXPECT_NE(s.message().find("refs " + std::to_string(bad)), std::string::npos) << s.message();
+  }
+}
+
+// refs = 1 keeps today's streams: the format 1.5 golden streams (written by the 1.5 encoder
+// from these frames and options) come out byte for byte.
+TEST(MultiRef, OneReferenceWritesTheGoldenStreamsByteForByte) {
+  const std::filesystem::path golden = GVKIT_GOLDEN_DIR;
+  struct Case {
+    const char* file;
+    int frames;
+    double shift;
+    EncoderOptions options;
+  };
+  Case fast{"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 5, 0.75, {}};
+  fast.options.qp = 0;
+  fast.options.preset = Preset::kFast;
+  fast.options.bframes = 1;
+  Case lossless{"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 5, 0.5, {}};
+  lossless.options.lossless = true;
+  lossless.options.preset = Preset::kSlow;
+  lossless.options.bframes = 2;
+  for (Case c : {fast, lossless}) {
+    testing::GeometryVideoOptions vo;
+    vo.size = 48;
+    vo.frames = c.frames;
+    auto frames = testing::make_analytic_video(vo);
+    for (size_t f = 0; f < frames.size(); ++f) {
+      const double m[6] = {1, 0, -c.shift * f, 0, 1, -0.5 * c.shift * f};
+      cv::Mat moved;
+      cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                     frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+      frames[f].xyz_mm = moved;
+    }
+    auto info = make_sequence_info(frames, 16, 30.0);
+    ASSERT_TRUE(info.is_ok());
+    c.options.refs = 1;
+    auto bytes = encode_gvid(frames, *info, c.options);
+    ASSERT_TRUE(bytes.is_ok());
+    auto expected = read_file(golden / c.file);
+    ASSERT_TRUE(expected.is_ok()) << expected.status().message();
+    EXPECT_TRUE(*bytes == *expected) << c.file;
   }
 }
 
