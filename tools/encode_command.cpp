@@ -187,7 +187,7 @@ void run_encode(const EncodeArgs& args) {
         {"target_psnr_db", options.target_psnr_db},
         {"target_rms_mm", options.target_rms_mm},
         {"intra_target_offset_db", options.intra_target_offset_db},
-        {"refs", options.refs},
+        {"refs", options.reference_frames()},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -302,7 +302,9 @@ void add_encode_command(CLI::App& app) {
                   "reference for the P frames), 0..20");
   cmd->add_option("--refs", args->options.refs,
                   "Reference frames of P frames, 1..5: each macroblock predicts from one of the "
-                  "nearest anchors since the last I frame (format 1.6); 1 = one reference");
+                  "nearest anchors since the last I frame (format 1.6); 1 = one reference (a "
+                  "1.4 / 1.5 stream); default 3 in lossy, 1 in lossless and --max-error-mm "
+                  "streams");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });

@@ -125,10 +125,11 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                            (p_frame && options.td_prediction ? format::kFrameTdPrediction : 0) |
                            (reference && options.subpel ? format::kFrameQuarterPel : 0));
   if (p_frame && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
-  // Multiple reference frames (format 1.6): the nearest options.refs anchors since the last I
-  // frame (reference, then `older`, nearest first).
-  if (p_frame && options.refs > 1 && older && !older->empty()) {
-    syntax.ref_count = std::min<int>(options.refs, 1 + static_cast<int>(older->size()));
+  // Multiple reference frames (format 1.6): the nearest options.reference_frames() anchors
+  // since the last I frame (reference, then `older`, nearest first).
+  if (p_frame && options.reference_frames() > 1 && older && !older->empty()) {
+    syntax.ref_count =
+        std::min<int>(options.reference_frames(), 1 + static_cast<int>(older->size()));
     for (int k = 0; k + 1 < syntax.ref_count; ++k)
       GVKIT_CHECK((*older)[k] && (*older)[k]->size() == planes.size());
     header.flags2 |= format::kFrame2MultiRef;

@@ -175,7 +175,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
-  if (options.refs > 1 && !options.intra_only && options.intra_period >= 3)
+  if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
     return format::kMinorVersionMultiRef;
   return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
              ? format::kMinorVersion

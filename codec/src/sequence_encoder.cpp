@@ -75,9 +75,9 @@ void SequenceEncoder::set_anchor(std::vector<SamplePlane> planes, uint32_t numbe
   // The reference list never reaches past the last I frame.
   if (options_.is_intra(number)) {
     older_anchors_.clear();
-  } else if (options_.refs > 1 && !anchor_.empty()) {
+  } else if (options_.reference_frames() > 1 && !anchor_.empty()) {
     older_anchors_.push_front(std::move(anchor_));
-    while (older_anchors_.size() > static_cast<size_t>(options_.refs - 1))
+    while (older_anchors_.size() > static_cast<size_t>(options_.reference_frames() - 1))
       older_anchors_.pop_back();
   }
   anchor_ = std::move(planes);

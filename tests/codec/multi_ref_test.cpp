@@ -146,6 +146,7 @@ TEST(MultiRef, ReturningContentIsPredictedFromTwoFramesBack) {
     o.preset = preset;
     o.qp = 6;
     o.bframes = 0;
+    o.refs = 1;
     auto one = encode_gvid(frames, info, o);
     o.refs = 2;
     auto two = encode_gvid(frames, info, o);
@@ -229,6 +230,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.bframes = 0;
+  EXPECT_EQ(o.reference_frames(), 3);  // automatic: 3 in lossy streams
+  o.refs = 1;
   auto one = encode_gvid(frames, info, o);
   ASSERT_TRUE(one.is_ok());
   EXPECT_EQ((*one)[5], format::kMinorVersionWithoutBFrames);
@@ -245,7 +248,13 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EXPECT_EQ((*r3)->frame_references(3), 3);
   o.intra_only = true;
   EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
-  for (int bad : {0, 6}) {
+  EncoderOptions automatic;
+  automatic.lossless = true;
+  EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
+  automatic.lossless = false;
+  automatic.max_error_mm = 0.1;
+  EXPECT_EQ(automatic.reference_frames(), 1);
+  for (int bad : {0, -2, 6}) {
     EncoderOptions b;
     b.refs = bad;
     const Status s = b.check();

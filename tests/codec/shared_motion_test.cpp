@@ -122,6 +122,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.qp = -6;
   o.shared_motion = true;
   o.bframes = 0;  // shared motion is a P-frame tool
+  o.refs = 1;     // one reference: the motion bits are vectors only (no ref_idx)
   std::string one;
   for (int threads : {1, 3}) {
     o.threads = threads;

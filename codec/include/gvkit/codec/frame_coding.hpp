@@ -23,9 +23,9 @@ struct EncodedFrame {
 
 // Encodes an intra frame, a P frame predicted from `reference` (the previous anchor's
 // reconstructed planes) when given, or with `reference1` too (the next anchor's planes) a B
-// frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). A P frame with options.refs > 1 and
-// `older` (the reconstructed planes of the anchors before `reference` since the last I frame,
-// nearest first) predicts from up to options.refs of them (format 1.6, flags2 bit 1). Fails
+// frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). A P frame with options.reference_frames()
+// > 1 and `older` (the reconstructed planes of the anchors before `reference` since the last I
+// frame, nearest first) predicts from up to that many of them (format 1.6, flags2 bit 1). Fails
 // (naming the frame) when its size differs from the header's.
 Result<EncodedFrame> encode_frame(
     const GeometryImage& image, const SequenceInfo& info, const EncoderOptions& options,
