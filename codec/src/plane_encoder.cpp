@@ -109,8 +109,7 @@ class MacroblockEncoder {
     }
     // Format 1.6: the other references (fast preset: only when reference 0 gave no skip, and
     // only the one whose searched vector is cheapest by SATD + lambda * bits is coded).
-    if (ref_ && p_.ref_count > 1 && !skip_found() && !(p_.skip_check && skip_found()))
-      consider_more_references(best, ctx);
+    if (ref_ && p_.ref_count > 1 && !skip_found()) consider_more_references(best, ctx);
     const bool early_skip = ref_ && skip_found();
     if (!early_skip) {
       if (ref_ && p_.td_prediction) {
@@ -385,7 +384,8 @@ class MacroblockEncoder {
   // then the predictor, the co-located first-plane vector (shared motion) and the eight
   // half-sample (and then quarter-sample) neighbours of the best vector by SATD (SAD when
   // lossless) + lambda * motion bits (motion_search.hpp); then the residual as sixteen 4x4 blocks.
-  // A forced candidate takes the co-located vector or the predictor without a search.
+  // A forced candidate takes the co-located vector (and its reference), the predictor, or a
+  // vector searched on another reference before (kGiven, format 1.6) without a search.
   double try_inter(MacroblockData& mb, ContextSet& trial, Forced forced = Forced::kNone) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     const size_t mb_index = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;

@@ -87,6 +87,7 @@ void expect_round_trip(const std::vector<GeometryImage>& frames, const SequenceI
     auto image = (*reader)->decode_frame(f);
     ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
     ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
+    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " texture " << f;
   }
   EXPECT_GT(multi, 0) << what << ": no P frame with several references";
   auto again = GvidReader::open_memory(*bytes, what);
@@ -96,6 +97,7 @@ void expect_round_trip(const std::vector<GeometryImage>& frames, const SequenceI
     auto image = (*again)->decode_frame(f);
     ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
     ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " random frame " << f;
+    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " random texture " << f;
   }
 }
 
@@ -124,6 +126,27 @@ TEST(MultiRef, DecoderReproducesTheEncoderInEveryConfiguration) {
                                      (shared ? " shared" : "");
             expect_round_trip(frames, info, o, what);
           }
+}
+
+// A sequence with a texture plane: T predicts from its references like X, Y and Z.
+TEST(MultiRef, TexturePlaneRoundTrips) {
+  auto frames = video(48, 6);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    GeometryImage& f = frames[i];
+    f.texture.create(f.xyz_mm.size(), CV_32F);
+    for (int y = 0; y < f.texture.rows; ++y)
+      for (int x = 0; x < f.texture.cols; ++x)
+        f.texture.at<float>(y, x) =
+            ((x * 7 + y * 3 + static_cast<int>(i) * (i % 2 ? 40 : 2)) % 256) / 255.0f;
+  }
+  const SequenceInfo info = info_for(frames);
+  ASSERT_TRUE(info.has_texture);
+  EncoderOptions o;
+  o.preset = Preset::kSlow;
+  o.qp = 0;
+  o.bframes = 0;
+  o.refs = 4;
+  expect_round_trip(frames, info, o, "texture refs 4");
 }
 
 // Frames alternate between two shapes: with two references each P frame finds its content two
