@@ -15,6 +15,7 @@
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
+#include "reference_index_syntax.hpp"
 
 namespace gvkit::codec::detail {
 
@@ -49,7 +50,7 @@ struct ContextSet {
   CabacContext b_pred[3];
   // Format 1.6, P planes with several references: ref_idx as truncated unary; bin 0 by the
   // left and top macroblocks' ref_idx > 0 (0..2), bin 1 context 3, later bins context 4.
-  CabacContext ref_idx[5];
+  CabacContext ref_idx[kRefIdxContexts];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -369,26 +370,6 @@ void write_mvd(Coder& coder, ContextSet& ctx, int component, int value) {
   write_exp_golomb0(coder, static_cast<uint32_t>(std::abs(value) - 1));
 }
 
-// Format 1.6: context of ref_idx's first bin, from the left and top macroblocks' ref_idx > 0.
-inline int ref_idx_context(const PlaneState& st, int mb_x, int mb_y) {
-  const size_t i = static_cast<size_t>(mb_y) * st.mbs_x + mb_x;
-  return (mb_x > 0 && st.ref_idx[i - 1] > 0 ? 1 : 0) +
-         (mb_y > 0 && st.ref_idx[i - st.mbs_x] > 0 ? 1 : 0);
-}
-
-// Format 1.6: ref_idx (0 .. ref_count - 1) as truncated unary with cMax = ref_count - 1.
-template <class Coder>
-void write_ref_idx(Coder& coder, ContextSet& ctx, const PlaneState& st, int mb_x, int mb_y,
-                   int ref_idx, int ref_count) {
-  set_group(coder, kSyntaxMotion);
-  for (int b = 0; b < ref_count - 1; ++b) {
-    CabacContext& c =
-        b == 0 ? ctx.ref_idx[ref_idx_context(st, mb_x, mb_y)] : ctx.ref_idx[b == 1 ? 3 : 4];
-    coder.encode(c, b < ref_idx ? 1 : 0);
-    if (b >= ref_idx) break;
-  }
-}
-
 // The intra part of a macroblock (type, modes, residuals), after the inter syntax of P and B
 // planes.
 template <class Coder>
@@ -529,8 +510,11 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       st.skip[mb_index] = mb.skip;
       // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
       const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
-      if (!mb.skip && !shared && params.ref_count > 1)
-        write_ref_idx(coder, ctx, st, mb_x, mb_y, ref, params.ref_count);
+      if (!mb.skip && !shared && params.ref_count > 1) {
+        set_group(coder, kSyntaxMotion);
+        write_ref_idx(coder, ctx.ref_idx, ref_idx_context(st.ref_idx, st.mbs_x, mb_x, mb_y), ref,
+                      params.ref_count);
+      }
       st.ref_idx[mb_index] = static_cast<uint8_t>(ref);
       int px, py;
       if (shared) {

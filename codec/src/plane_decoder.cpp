@@ -43,7 +43,10 @@ class MacroblockReader {
         st_.skip[mb_index] = mb.skip;
         // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
         mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
-        if (!mb.skip && !mb.shared && p_.ref_count > 1) mb.ref_idx = read_ref_idx(mb_x, mb_y);
+        if (!mb.skip && !mb.shared && p_.ref_count > 1)
+          mb.ref_idx =
+              read_ref_idx(dec_, ctx_.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x, mb_y),
+                           p_.ref_count);
         if (mb.ref_idx >= p_.ref_count)
           return corrupt_data("ref_idx " + std::to_string(mb.ref_idx) + " of the co-located " +
                               "macroblock exceeds the frame's " + std::to_string(p_.ref_count) +
@@ -199,17 +202,6 @@ class MacroblockReader {
       GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));
     }
     return read_cbp_and_residuals(mb_x, mb_y, mb);
-  }
-
-  // Format 1.6: the mirror of write_ref_idx (truncated unary, at most ref_count - 1 bins, so
-  // every bin string is a valid index).
-  int read_ref_idx(int mb_x, int mb_y) {
-    int v = 0;
-    while (v < p_.ref_count - 1 &&
-           dec_.decode(v == 0 ? ctx_.ref_idx[ref_idx_context(st_, mb_x, mb_y)]
-                              : ctx_.ref_idx[v == 1 ? 3 : 4]))
-      ++v;
-    return v;
   }
 
   Status read_mvd(int component, int& value) {

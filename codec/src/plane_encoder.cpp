@@ -284,15 +284,8 @@ class MacroblockEncoder {
   // Estimated CABAC bits of ref_idx `ref` with the current contexts (0 with one reference).
   double ref_idx_bits(const ContextSet& ctx, int ref) const {
     if (p_.ref_count <= 1) return 0.0;
-    double bits = 0;
-    for (int b = 0; b < p_.ref_count - 1; ++b) {
-      const CabacContext& c =
-          b == 0 ? ctx.ref_idx[ref_idx_context(st_, mb_x_, mb_y_)] : ctx.ref_idx[b == 1 ? 3 : 4];
-      const int bin = b < ref ? 1 : 0;
-      bits += kCabacBitCost[c.state][bin != c.mps ? 1 : 0] * (1.0 / 256.0);
-      if (!bin) break;
-    }
-    return bits;
+    return detail::ref_idx_bits(ctx.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x_, mb_y_),
+                                ref, p_.ref_count);
   }
 
   // P planes: the interpolated reference `ref` (0 = the nearest).

@@ -287,8 +287,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
 }
 
 // refs = 1 keeps today's streams: the format 1.5 golden streams (written by the 1.5 encoder
-// from these frames and options) come out byte for byte.
-TEST(MultiRef, OneReferenceWritesTheGoldenStreamsByteForByte) {
+// from these frames and options) come out byte for byte; so do the 1.6 ones.
+TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
   const std::filesystem::path golden = GVKIT_GOLDEN_DIR;
   struct Case {
     const char* file;
@@ -304,7 +304,20 @@ TEST(MultiRef, OneReferenceWritesTheGoldenStreamsByteForByte) {
   lossless.options.lossless = true;
   lossless.options.preset = Preset::kSlow;
   lossless.options.bframes = 2;
-  for (Case c : {fast, lossless}) {
+  lossless.options.refs = 1;
+  fast.options.refs = 1;
+  Case refs3{"analytic_refs3_qp0_ipppp_v1_6_48.gvid", 5, 0.75, {}};
+  refs3.options.qp = 0;
+  refs3.options.preset = Preset::kFast;
+  refs3.options.bframes = 0;
+  refs3.options.refs = 3;
+  Case refs2{"analytic_refs2_lossless_ibpbpbp_v1_6_48.gvid", 7, 0.5, {}};
+  refs2.options.lossless = true;
+  refs2.options.preset = Preset::kSlow;
+  refs2.options.bframes = 1;
+  refs2.options.refs = 2;
+  refs2.options.shared_motion = true;
+  for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;
     vo.size = 48;
     vo.frames = c.frames;
@@ -318,7 +331,6 @@ TEST(MultiRef, OneReferenceWritesTheGoldenStreamsByteForByte) {
     }
     auto info = make_sequence_info(frames, 16, 30.0);
     ASSERT_TRUE(info.is_ok());
-    c.options.refs = 1;
     auto bytes = encode_gvid(frames, *info, c.options);
     ASSERT_TRUE(bytes.is_ok());
     auto expected = read_file(golden / c.file);
