@@ -187,6 +187,7 @@ void run_encode(const EncodeArgs& args) {
         {"target_psnr_db", options.target_psnr_db},
         {"target_rms_mm", options.target_rms_mm},
         {"intra_target_offset_db", options.intra_target_offset_db},
+        {"refs", options.reference_frames()},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -299,6 +300,11 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--intra-target-offset", args->options.intra_target_offset_db,
                   "Constant quality: I frames aim this many dB above the target (a finer "
                   "reference for the P frames), 0..20");
+  cmd->add_option("--refs", args->options.refs,
+                  "Reference frames of P frames, 1..5: each macroblock predicts from one of the "
+                  "nearest anchors since the last I frame (format 1.6); 1 = one reference (a "
+                  "1.4 / 1.5 stream); default 3 in lossy, 1 in lossless and --max-error-mm "
+                  "streams");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });

@@ -12,11 +12,14 @@
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only]
+//                            [--refs-only [--refs-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
 // --bframes-only: format 1.5, 0..3 B frames in both presets, B-frame QP offsets, lossless, and
-// the BD-rates against 0 B frames and x265 (logged points with --no-peers))
+// the BD-rates against 0 B frames and x265 (logged points with --no-peers); --refs-only: format
+// 1.6, --refs 1, 2, 3, 5 in both presets (or the one of --refs-preset), lossless, and the
+// BD-rates against --refs 1 and x265)
 #include <time.h>
 
 #include <chrono>
@@ -269,6 +272,41 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
 
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
 
+// Format 1.6, multiple reference frames: --refs 1, 2, 3, 5 in the given presets (QP curves),
+// lossless (fast), and the BD-rates against --refs 1 and against x265.
+void report_refs(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                 const std::vector<RdPoint>& x265, const std::string& source,
+                 const std::vector<Preset>& presets) {
+  print_header();
+  const int refs[4] = {1, 2, 3, 5};
+  std::vector<std::vector<RdPoint>> curves[2];
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int r : refs) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.refs = r;
+      curves[p].push_back(qp_curve(
+          m, o, std::string(preset_name(presets[p])) + ", --refs " + std::to_string(r), qps));
+    }
+  for (int r : refs) {
+    EncoderOptions o = base;
+    o.lossless = true;
+    o.refs = r;
+    print_row("lossless, fast, --refs " + std::to_string(r), "-", run_ours(m, o));
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int i = 1; i < 4; ++i)
+      print_bd(std::string(preset_name(presets[p])) + ", --refs " + std::to_string(refs[i]) +
+                   " vs --refs 1",
+               curves[p][0], curves[p][i]);
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int i = 0; i < 4; ++i)
+      print_bd(std::string(preset_name(presets[p])) + ", --refs " + std::to_string(refs[i]) +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[p][i]);
+}
+
 // x265 12-bit 4:4:4 with the GOP, one B frame and 5 references at --peer-preset, QP 0 .. 24.
 std::vector<RdPoint> run_x265(const Material& m, int gop, const std::string& peer_preset) {
   print_header();
@@ -423,7 +461,8 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
-       bframes_only = false;
+       bframes_only = false, refs_only = false;
+  std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -449,7 +488,16 @@ int main(int argc, char** argv) {
       motion_only = true;
     else if (a == "--bframes-only")
       bframes_only = true;
-    else if (a == "--bframes" && i + 1 < argc)
+    else if (a == "--refs-only")
+      refs_only = true;
+    else if (a == "--refs-preset" && i + 1 < argc) {
+      auto preset = parse_preset(argv[++i]);
+      if (!preset.is_ok()) {
+        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+        return 2;
+      }
+      refs_presets = {*preset};
+    } else if (a == "--bframes" && i + 1 < argc)
       bframes = std::atoi(argv[++i]);
     else if (a == "--no-peers")
       peers = false;
@@ -460,7 +508,7 @@ int main(int argc, char** argv) {
           stderr,
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-          "[--bits-only] [--motion-only] [--bframes-only]\n");
+          "[--bits-only] [--motion-only] [--bframes-only] [--refs-only [--refs-preset P]]\n");
       return 2;
     }
   }
@@ -512,6 +560,11 @@ int main(int argc, char** argv) {
   if (bframes_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_bframes(m, base, qps, x265, peers ? "this run" : "logged");
+    return 0;
+  }
+  if (refs_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_refs(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
     return 0;
   }
   if (motion_only) {

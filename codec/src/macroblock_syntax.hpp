@@ -15,6 +15,7 @@
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
+#include "reference_index_syntax.hpp"
 
 namespace gvkit::codec::detail {
 
@@ -47,6 +48,9 @@ struct ContextSet {
   CabacContext shared_skip[2];  // ... then skip, by whether the co-located MB is a skip
   // Format 1.5, B planes: direct (bin 0), else bi (bin 1), else L1 (bin 2).
   CabacContext b_pred[3];
+  // Format 1.6, P planes with several references: ref_idx as truncated unary; bin 0 by the
+  // left and top macroblocks' ref_idx > 0 (0..2), bin 1 context 3, later bins context 4.
+  CabacContext ref_idx[kRefIdxContexts];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -110,6 +114,7 @@ struct PlaneState {
   std::vector<int16_t> mv_x, mv_y;  // per macroblock, inter only (units of the plane)
   std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
+  std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
   // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
   // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
@@ -129,6 +134,7 @@ struct PlaneState {
         mv_y(mb_type.size()),
         td(mb_type.size()),
         shared(mb_type.size()),
+        ref_idx(mb_type.size()),
         lists(mb_type.size()),
         mv_x1(mb_type.size()),
         mv_y1(mb_type.size()) {}
@@ -143,15 +149,33 @@ struct PlaneState {
     out.skip = skip;
     out.mv_x = mv_x;
     out.mv_y = mv_y;
+    out.ref_idx = ref_idx;
   }
-  // Motion vector predictor of a macroblock: the left one's if inter, else the top one's if
-  // inter, else zero.
-  void mv_predictor(int mb_x, int mb_y, int* px, int* py) const {
+  // The reference of the co-located first-plane macroblock (shared motion).
+  int colocated_ref(size_t i) const {
+    return colocated && i < colocated->ref_idx.size() ? colocated->ref_idx[i] : 0;
+  }
+  // Motion vector predictor of a macroblock that predicts from reference `ref`: the left one's
+  // if inter from the same reference, else the top one's if so, else the left one's if inter,
+  // else the top one's if inter, else zero (with one reference: the left one's if inter, else
+  // the top one's if inter, else zero).
+  void mv_predictor(int mb_x, int mb_y, int* px, int* py, int ref = 0) const {
     *px = *py = 0;
     const auto inter = [&](int x, int y) {
       return x >= 0 && y >= 0 && mb_type[static_cast<size_t>(y) * mbs_x + x] == kMbInter;
     };
-    if (inter(mb_x - 1, mb_y)) {
+    const auto same_ref = [&](int x, int y) {
+      return inter(x, y) && ref_idx[static_cast<size_t>(y) * mbs_x + x] == ref;
+    };
+    if (same_ref(mb_x - 1, mb_y)) {
+      const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    } else if (same_ref(mb_x, mb_y - 1)) {
+      const size_t i = static_cast<size_t>(mb_y - 1) * mbs_x + mb_x;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    } else if (inter(mb_x - 1, mb_y)) {
       const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
       *px = mv_x[i];
       *py = mv_y[i];
@@ -202,6 +226,7 @@ struct MacroblockData {
   bool td = false;              // inter: temporal-difference prediction with modes[0..15]
   bool shared = false;          // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;       // inter: motion vector (samples, or quarter samples)
+  int ref_idx = 0;              // inter, P planes: index into the reference list (format 1.6)
   // B planes: the prediction of an inter macroblock and its list 1 vector (mv_x, mv_y being
   // the list 0 one). Skip is a direct macroblock without residual.
   BPred b_pred = kBDirect;
@@ -483,12 +508,20 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       else
         coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
       st.skip[mb_index] = mb.skip;
+      // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
+      const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
+      if (!mb.skip && !shared && params.ref_count > 1) {
+        set_group(coder, kSyntaxMotion);
+        write_ref_idx(coder, ctx.ref_idx, ref_idx_context(st.ref_idx, st.mbs_x, mb_x, mb_y), ref,
+                      params.ref_count);
+      }
+      st.ref_idx[mb_index] = static_cast<uint8_t>(ref);
       int px, py;
       if (shared) {
         px = st.colocated->mv_x[mb_index];
         py = st.colocated->mv_y[mb_index];
       } else {
-        st.mv_predictor(mb_x, mb_y, &px, &py);
+        st.mv_predictor(mb_x, mb_y, &px, &py, ref);
       }
       if (!mb.skip && !shared) {
         write_mvd(coder, ctx, 0, mb.mv_x - px);
@@ -522,6 +555,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
     }
     st.skip[mb_index] = 0;
     st.td[mb_index] = 0;
+    st.ref_idx[mb_index] = 0;
   }
   write_intra_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
 }

@@ -2,6 +2,7 @@
 // macroblock_syntax.hpp) and reconstructs it. Every decoded value is range-checked, so any byte
 // string either decodes or fails with the macroblock and field named.
 #include <string>
+#include <vector>
 
 #include "gvkit/codec/cabac_decoder.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -40,12 +41,23 @@ class MacroblockReader {
                 ? dec_.decode(ctx_.shared_skip[st_.colocated->skip[mb_index]])
                 : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
         st_.skip[mb_index] = mb.skip;
+        // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
+        mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
+        if (!mb.skip && !mb.shared && p_.ref_count > 1)
+          mb.ref_idx =
+              read_ref_idx(dec_, ctx_.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x, mb_y),
+                           p_.ref_count);
+        if (mb.ref_idx >= p_.ref_count)
+          return corrupt_data("ref_idx " + std::to_string(mb.ref_idx) + " of the co-located " +
+                              "macroblock exceeds the frame's " + std::to_string(p_.ref_count) +
+                              " references");
+        st_.ref_idx[mb_index] = static_cast<uint8_t>(mb.ref_idx);
         int px, py;
         if (mb.shared) {
           px = st_.colocated->mv_x[mb_index];
           py = st_.colocated->mv_y[mb_index];
         } else {
-          st_.mv_predictor(mb_x, mb_y, &px, &py);
+          st_.mv_predictor(mb_x, mb_y, &px, &py, mb.ref_idx);
         }
         mb.mv_x = px;
         mb.mv_y = py;
@@ -81,7 +93,9 @@ class MacroblockReader {
       }
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
+      st_.ref_idx[mb_index] = 0;
     }
+    mb.ref_idx = 0;
     return read_intra(mb_x, mb_y, mb);
   }
 
@@ -338,9 +352,13 @@ class MacroblockReader {
 };
 
 void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
-                            const PlaneCodingParams& p, const SamplePlane* reference,
-                            const SamplePlane* reference1) {
+                            const PlaneCodingParams& p, const SamplePlane* reference0,
+                            const SamplePlane* reference1,
+                            const std::vector<const SamplePlane*>* more_references) {
   const int max_value = (1 << p.bit_depth) - 1;
+  // P planes: the macroblock's own reference (format 1.6).
+  const SamplePlane* reference =
+      mb.type == kMbInter && mb.ref_idx > 0 ? (*more_references)[mb.ref_idx - 1] : reference0;
   int32_t pred[256];
   if (mb.type == kMbInter && reference1) {
     predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
@@ -401,8 +419,16 @@ namespace {
 Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int height,
                                       const PlaneCodingParams& params, const SamplePlane* reference,
                                       const MotionField* shared, MotionField* motion_out,
-                                      const SamplePlane* reference1) {
+                                      const SamplePlane* reference1,
+                                      const std::vector<const SamplePlane*>* more_references) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
+  GVKIT_CHECK(params.ref_count >= 1 && params.ref_count <= 5);
+  GVKIT_CHECK(params.ref_count == 1 ||
+              (reference && !reference1 && more_references &&
+               more_references->size() + 1 >= static_cast<size_t>(params.ref_count)));
+  if (params.ref_count > 1)
+    for (int k = 0; k + 1 < params.ref_count; ++k)
+      GVKIT_CHECK((*more_references)[k]->width == width && (*more_references)[k]->height == height);
   GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
   GVKIT_CHECK(!reference1 ||
               (reference && reference1->width == width && reference1->height == height && !shared));
@@ -431,7 +457,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
       const Status status = reader.read(mb_x, mb_y, mb);
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
-      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1);
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, more_references);
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
@@ -443,15 +469,19 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
 
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params, const SamplePlane* reference,
-                                 const MotionField* shared, MotionField* motion_out) {
-  return decode_plane_impl(bytes, width, height, params, reference, shared, motion_out, nullptr);
+                                 const MotionField* shared, MotionField* motion_out,
+                                 const std::vector<const SamplePlane*>* more_references) {
+  return decode_plane_impl(bytes, width, height, params, reference, shared, motion_out, nullptr,
+                           more_references);
 }
 
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,
                                    const SamplePlane& reference1) {
-  return decode_plane_impl(bytes, width, height, params, &reference0, nullptr, nullptr,
-                           &reference1);
+  PlaneCodingParams p = params;
+  p.ref_count = 1;
+  return decode_plane_impl(bytes, width, height, p, &reference0, nullptr, nullptr, &reference1,
+                           nullptr);
 }
 
 }  // namespace gvkit::codec

@@ -24,14 +24,16 @@ using namespace detail;
 // BD-rate against 1).
 constexpr double kMotionLambdaScale = 4.0;
 
-// An inter candidate at a given vector instead of the motion search's.
-enum class Forced { kNone, kShared, kPredictor };
+// An inter candidate at a given vector instead of the motion search's (kGiven: a vector of
+// another reference found before, format 1.6).
+enum class Forced { kNone, kShared, kPredictor, kGiven };
 
 class MacroblockEncoder {
  public:
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
-                    const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr)
+                    const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr,
+                    const std::vector<const SamplePlane*>* more_references = nullptr)
       : src_(source),
         recon_(recon),
         st_(st),
@@ -48,6 +50,22 @@ class MacroblockEncoder {
         joint_interp_.emplace_back(*joint->references[j], p.bit_depth, p.search_range + 4);
         joint_planes_.push_back({joint->sources[j], &joint_interp_.back()});
       }
+    }
+    // Multiple reference frames (format 1.6): references 1 .. ref_count - 1 and, under joint
+    // search, the other planes' references of the same index.
+    const int more = reference && !reference1 ? p.ref_count - 1 : 0;
+    more_interp_.reserve(more);
+    for (int k = 0; k < more; ++k)
+      more_interp_.emplace_back(*(*more_references)[k], p.bit_depth, p.search_range + 4);
+    if (more > 0 && joint && !joint->references.empty()) {
+      more_joint_interp_.reserve(static_cast<size_t>(more) * joint->sources.size());
+      more_joint_planes_.resize(more);
+      for (int k = 0; k < more; ++k)
+        for (size_t j = 0; j < joint->sources.size(); ++j) {
+          more_joint_interp_.emplace_back(*joint->more_references[k][j], p.bit_depth,
+                                          p.search_range + 4);
+          more_joint_planes_[k].push_back({joint->sources[j], &more_joint_interp_.back()});
+        }
     }
     if (p.lossless && p.near_lossless > 0) {
       // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
@@ -66,6 +84,8 @@ class MacroblockEncoder {
   MacroblockData encode(int mb_x, int mb_y, const ContextSet& ctx) {
     mb_x_ = mb_x;
     mb_y_ = mb_y;
+    own_.fill(Searched{});
+    cur_ref_ = 0;
     Candidate best;
     const auto consider = [&](MbType type, bool td = false, Forced forced = Forced::kNone) {
       consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
@@ -83,10 +103,25 @@ class MacroblockEncoder {
     const auto skip_found = [&] { return !p_.rdo && best.mb.skip; };
     if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, Forced::kShared);
     if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
-    if (ref_ && !(p_.skip_check && skip_found())) consider(kMbInter);
+    if (ref_ && !(p_.skip_check && skip_found())) {
+      consider(kMbInter);
+      own_[0] = {mv_x_, mv_y_, whole_mv_x_, whole_mv_y_, last_cost_};
+    }
+    // Format 1.6: the other references (fast preset: only when reference 0 gave no skip, and
+    // only the one whose searched vector is cheapest by SATD + lambda * bits is coded).
+    if (ref_ && p_.ref_count > 1 && !skip_found()) consider_more_references(best, ctx);
     const bool early_skip = ref_ && skip_found();
     if (!early_skip) {
       if (ref_ && p_.td_prediction) {
+        // TD at the reference whose own-search candidate was cheapest (ties: the nearest).
+        int td_ref = 0;
+        for (int k = 1; k < p_.ref_count; ++k)
+          if (own_[k].cost < own_[td_ref].cost) td_ref = k;
+        cur_ref_ = td_ref;
+        mv_x_ = own_[td_ref].mv_x;
+        mv_y_ = own_[td_ref].mv_y;
+        whole_mv_x_ = own_[td_ref].whole_x;
+        whole_mv_y_ = own_[td_ref].whole_y;
         consider(kMbInter, true);
         // The sub-sample vector suits plain inter prediction; the temporal difference from a
         // whole-sample vector is often smoother, so TD also tries the whole-sample search result
@@ -184,6 +219,80 @@ class MacroblockEncoder {
         recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y) = best.recon[y * 16 + x];
   }
 
+  // The motion search of a P macroblock against reference `ref` around the predictor (px, py).
+  MotionSearchResult search_reference(int ref, int px, int py) const {
+    MotionSearchParams search;
+    search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
+    search.range = p_.search_range;
+    search.subpel = p_.subpel;
+    search.lossless = p_.lossless;
+    search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
+    search.max_abs_mv = 4 * kMaxMotion;
+    set_shared(search, ref);
+    if (ref == 0)
+      search.joint = joint_planes_;
+    else if (!more_joint_planes_.empty())
+      search.joint = more_joint_planes_[ref - 1];
+    return search_motion_16x16(src_, interp(ref), mb_x_ * 16, mb_y_ * 16, px, py, search);
+  }
+
+  // Format 1.6: the motion search on references 1 .. ref_count - 1. Slow preset: each result is
+  // a candidate decided by RDO (ref_idx bits included); fast preset: the results are compared
+  // by SATD + lambda * (motion + ref_idx bits), and only the cheapest one is coded as a
+  // candidate, when it beats the best so far by that measure.
+  void consider_more_references(Candidate& best, const ContextSet& ctx) {
+    int chosen = -1;
+    double chosen_cost = best.cost;
+    for (int k = 1; k < p_.ref_count; ++k) {
+      int px, py;
+      st_.mv_predictor(mb_x_, mb_y_, &px, &py, k);
+      const MotionSearchResult found = search_reference(k, px, py);
+      own_[k] = {found.mv_x, found.mv_y, found.whole_mv_x, found.whole_mv_y,
+                 std::numeric_limits<double>::infinity()};
+      given_ = own_[k];
+      given_ref_ = k;
+      if (p_.rdo) {
+        consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+          mb.type = kMbInter;
+          return try_inter(mb, trial, Forced::kGiven);
+        });
+        own_[k].cost = last_cost_;
+        continue;
+      }
+      int32_t pred[256];
+      interp(k).predict(mb_x_ * 16, mb_y_ * 16, 16, 16, found.mv_x, found.mv_y, p_.subpel != 0,
+                        pred);
+      const bool shared = is_shared_vector(found.mv_x, found.mv_y, k);
+      const double bits =
+          motion_bits(found.mv_x, found.mv_y, px, py, k) + (shared ? 0 : ref_idx_bits(ctx, k));
+      own_[k].cost = static_cast<double>(distortion_estimate(16, pred, mb_x_ * 16, mb_y_ * 16)) +
+                     lambda_sad_ * bits;
+      if (own_[k].cost < chosen_cost) {
+        chosen = k;
+        chosen_cost = own_[k].cost;
+      }
+    }
+    if (chosen < 0) return;
+    given_ = own_[chosen];
+    given_ref_ = chosen;
+    consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+      mb.type = kMbInter;
+      return try_inter(mb, trial, Forced::kGiven);
+    });
+  }
+
+  // Estimated CABAC bits of ref_idx `ref` with the current contexts (0 with one reference).
+  double ref_idx_bits(const ContextSet& ctx, int ref) const {
+    if (p_.ref_count <= 1) return 0.0;
+    return detail::ref_idx_bits(ctx.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x_, mb_y_),
+                                ref, p_.ref_count);
+  }
+
+  // P planes: the interpolated reference `ref` (0 = the nearest).
+  const InterpolatedReference& interp(int ref) const {
+    return ref == 0 ? *interp_ : more_interp_[ref - 1];
+  }
+
   // B planes: the motion search of one list around its predictor (px, py).
   MotionSearchResult search_list(const InterpolatedReference& ref, int px, int py) const {
     MotionSearchParams search;
@@ -243,22 +352,24 @@ class MacroblockEncoder {
 
   // Motion bits of vector (mx, my): the flag and nothing else for the co-located first-plane
   // vector (shared motion), else the two differences to the predictor (px, py).
-  double motion_bits(int mx, int my, int px, int py) const {
+  // (With several references the co-located vector is shared only with its reference.)
+  double motion_bits(int mx, int my, int px, int py, int ref = 0) const {
     MotionSearchParams shared;
-    set_shared(shared);
+    set_shared(shared, ref);
     return motion_vector_bits(mx, my, px, py, shared);
   }
-  void set_shared(MotionSearchParams& params) const {
+  void set_shared(MotionSearchParams& params, int ref = 0) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-    params.has_shared = st_.can_share(i);
+    params.has_shared = st_.can_share(i) && st_.colocated_ref(i) == ref;
     if (params.has_shared) {
       params.shared_mv_x = st_.colocated->mv_x[i];
       params.shared_mv_y = st_.colocated->mv_y[i];
     }
   }
-  bool is_shared_vector(int mx, int my) const {
+  bool is_shared_vector(int mx, int my, int ref = 0) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-    return st_.can_share(i) && mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i];
+    return st_.can_share(i) && st_.colocated_ref(i) == ref && mx == st_.colocated->mv_x[i] &&
+           my == st_.colocated->mv_y[i];
   }
 
   // Inter candidate: integer motion within the search range around zero by SAD + lambda * motion
@@ -266,15 +377,24 @@ class MacroblockEncoder {
   // then the predictor, the co-located first-plane vector (shared motion) and the eight
   // half-sample (and then quarter-sample) neighbours of the best vector by SATD (SAD when
   // lossless) + lambda * motion bits (motion_search.hpp); then the residual as sixteen 4x4 blocks.
-  // A forced candidate takes the co-located vector or the predictor without a search.
+  // A forced candidate takes the co-located vector (and its reference), the predictor, or a
+  // vector searched on another reference before (kGiven, format 1.6) without a search.
   double try_inter(MacroblockData& mb, ContextSet& trial, Forced forced = Forced::kNone) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const size_t mb_index = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+    const int ref = forced == Forced::kShared ? st_.colocated_ref(mb_index)
+                                              : (forced == Forced::kGiven ? given_ref_ : 0);
     int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, ref);
     const bool qpel = p_.subpel != 0;
     const int unit = qpel ? 4 : 1;  // vector units per sample
     int best_x, best_y;
-    if (forced == Forced::kShared) {
+    if (forced == Forced::kGiven) {
+      best_x = given_.mv_x;
+      best_y = given_.mv_y;
+      whole_mv_x_ = given_.whole_x;
+      whole_mv_y_ = given_.whole_y;
+    } else if (forced == Forced::kShared) {
       // The first plane's vector as it is; its whole-sample part serves the TD candidate.
       const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
       best_x = st_.colocated->mv_x[i];
@@ -286,16 +406,7 @@ class MacroblockEncoder {
       best_y = py;
       whole_mv_x_ = whole_mv_y_ = 0;
     } else {
-      MotionSearchParams search;
-      search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
-      search.range = p_.search_range;
-      search.subpel = p_.subpel;
-      search.lossless = p_.lossless;
-      search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
-      search.max_abs_mv = 4 * kMaxMotion;
-      set_shared(search);
-      search.joint = joint_planes_;
-      const MotionSearchResult found = search_motion_16x16(src_, *interp_, x0, y0, px, py, search);
+      const MotionSearchResult found = search_reference(0, px, py);
       best_x = found.mv_x;
       best_y = found.mv_y;
       whole_mv_x_ = found.whole_mv_x;
@@ -304,9 +415,11 @@ class MacroblockEncoder {
     int32_t pred[256];
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
-    mb.shared = is_shared_vector(best_x, best_y);
-    interp_->predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
-    const double mv_bits = motion_bits(best_x, best_y, px, py);
+    mb.ref_idx = cur_ref_ = ref;
+    mb.shared = is_shared_vector(best_x, best_y, ref);
+    interp(ref).predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
+    const double mv_bits =
+        motion_bits(best_x, best_y, px, py, ref) + (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
     double cost;
     if (p_.rdo) {
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
@@ -314,8 +427,9 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = mb.cbp == 0 && (mb.shared || (best_x == px && best_y == py));
+    mb.skip = mb.cbp == 0 && (mb.shared || (ref == 0 && best_x == px && best_y == py));
     if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
+    last_cost_ = cost;
     return cost;
   }
 
@@ -480,17 +594,19 @@ class MacroblockEncoder {
   // Inter with temporal-difference prediction, at the motion vector of the inter candidate.
   double try_td(MacroblockData& mb, ContextSet& trial) {
     int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, cur_ref_);
     mb.mv_x = mv_x_;
     mb.mv_y = mv_y_;
     mb.td = true;
-    mb.shared = is_shared_vector(mv_x_, mv_y_);
-    const double mv_bits = motion_bits(mv_x_, mv_y_, px, py) + 3;
+    mb.ref_idx = cur_ref_;
+    mb.shared = is_shared_vector(mv_x_, mv_y_, cur_ref_);
+    const double mv_bits = motion_bits(mv_x_, mv_y_, px, py, cur_ref_) + 3 +
+                           (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_));
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     // The motion-compensated reference over the macroblock and the samples its blocks' TD
     // neighbours read (one column left, one row above, up to 4 beyond the right edge).
-    interp_->predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_, p_.subpel != 0,
-                     td_mc_);
+    interp(cur_ref_).predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_,
+                             p_.subpel != 0, td_mc_);
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
@@ -618,6 +734,19 @@ class MacroblockEncoder {
   // pointers in joint_planes_ stay valid) and the planes the search adds up.
   std::vector<InterpolatedReference> joint_interp_;
   std::vector<JointMotionPlane> joint_planes_;
+  // Multiple reference frames (format 1.6): references 1.. and their joint-search planes.
+  std::vector<InterpolatedReference> more_interp_, more_joint_interp_;
+  std::vector<std::vector<JointMotionPlane>> more_joint_planes_;
+  // Per reference: the own search's vector, its whole-sample part and the candidate's cost.
+  struct Searched {
+    int mv_x = 0, mv_y = 0, whole_x = 0, whole_y = 0;
+    double cost = std::numeric_limits<double>::infinity();
+  };
+  std::array<Searched, 5> own_;
+  Searched given_;     // the vector a Forced::kGiven candidate takes
+  int given_ref_ = 0;  // ... and its reference
+  int cur_ref_ = 0;    // reference of the inter candidate (reused by try_td)
+  double last_cost_ = 0;
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
@@ -636,7 +765,8 @@ namespace {
 
 PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingParams& params,
                                     const SamplePlane* reference, const MotionField* shared,
-                                    const JointSearchPlanes* joint, const SamplePlane* reference1) {
+                                    const JointSearchPlanes* joint, const SamplePlane* reference1,
+                                    const std::vector<const SamplePlane*>* more_references) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -661,8 +791,20 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
+  GVKIT_CHECK(params.ref_count >= 1 && params.ref_count <= 5);
+  if (params.ref_count > 1) {
+    GVKIT_CHECK(reference && !reference1 && more_references &&
+                    more_references->size() + 1 >= static_cast<size_t>(params.ref_count),
+                "encode_plane: fewer references than ref_count");
+    for (int k = 0; k + 1 < params.ref_count; ++k)
+      GVKIT_CHECK((*more_references)[k]->width == plane.width &&
+                  (*more_references)[k]->height == plane.height);
+    GVKIT_CHECK(!joint || joint->references.empty() ||
+                joint->more_references.size() + 1 >= static_cast<size_t>(params.ref_count));
+  }
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
-                               reference && !reference1 ? joint : nullptr, reference1);
+                               reference && !reference1 ? joint : nullptr, reference1,
+                               more_references);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb =
@@ -687,15 +829,17 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
 
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference, const MotionField* shared,
-                               const JointSearchPlanes* joint) {
-  return encode_plane_impl(plane, params, reference, shared, joint, nullptr);
+                               const JointSearchPlanes* joint,
+                               const std::vector<const SamplePlane*>* more_references) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references);
 }
 
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                  const SamplePlane& reference0, const SamplePlane& reference1) {
   PlaneCodingParams p = params;
   p.td_prediction = false;
-  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1);
+  p.ref_count = 1;
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr);
 }
 
 }  // namespace gvkit::codec

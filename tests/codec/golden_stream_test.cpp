@@ -33,7 +33,16 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless;
+      bframes_lossless, refs_fast, refs_lossless;
+  refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
+  refs_fast.preset = Preset::kFast;
+  refs_fast.bframes = 0;
+  refs_fast.refs = 3;
+  refs_lossless.lossless = true;  // version 1.6: two references with B frames, shared motion
+  refs_lossless.preset = Preset::kSlow;
+  refs_lossless.bframes = 1;
+  refs_lossless.refs = 2;
+  refs_lossless.shared_motion = true;
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -87,7 +96,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_shared_qp0_ippi_v1_4_48.gvid", 48, 4, shared_fast, 0.75},
           {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5},
           {"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 48, 5, bframes_fast, 0.75},
-          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5}};
+          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5},
+          {"analytic_refs3_qp0_ipppp_v1_6_48.gvid", 48, 5, refs_fast, 0.75},
+          {"analytic_refs2_lossless_ibpbpbp_v1_6_48.gvid", 48, 7, refs_lossless, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

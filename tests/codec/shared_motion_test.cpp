@@ -122,6 +122,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.qp = -6;
   o.shared_motion = true;
   o.bframes = 0;  // shared motion is a P-frame tool
+  o.refs = 1;     // one reference: the motion bits are vectors only (no ref_idx)
   std::string one;
   for (int threads : {1, 3}) {
     o.threads = threads;
@@ -160,7 +161,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
     EXPECT_NE(r.status().message().find(message), std::string::npos) << r.status().message();
   };
   format::PacketHeader unknown = *header;
-  unknown.flags2 = 2;
+  unknown.flags2 = 128;
   expect_error(with_header(c.packets[1], unknown), &c.recon[0], "frame flags2: unknown bits");
   auto intra = format::read_packet_header(c.packets[0]);
   ASSERT_TRUE(intra.is_ok());

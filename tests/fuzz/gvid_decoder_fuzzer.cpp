@@ -1,12 +1,14 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
-// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P or B), decoded
+// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
+//    references or B), decoded
 //    directly, so that mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -49,6 +51,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             static_cast<uint16_t>((i * 11 + 5) & ((1u << params.bit_depth) - 1));
       (void)decode_b_plane(std::string_view(bytes).substr(4), width, height, params, reference,
                            reference1);
+    } else if ((data[0] & 0x40) && (data[2] & 0x80)) {
+      // Bit 6 of byte 0 with bit 7 of byte 2: a P plane with 2 + (byte 1 >> 4) % 4 references
+      // (format 1.6), the older ones more ramps.
+      params.ref_count = 2 + (data[1] >> 4) % 4;
+      std::vector<SamplePlane> older(params.ref_count - 1, reference);
+      std::vector<const SamplePlane*> more;
+      for (size_t k = 0; k < older.size(); ++k) {
+        for (size_t i = 0; i < older[k].samples.size(); ++i)
+          older[k].samples[i] =
+              static_cast<uint16_t>((i * (13 + 6 * k) + k) & ((1u << params.bit_depth) - 1));
+        more.push_back(&older[k]);
+      }
+      (void)decode_plane(std::string_view(bytes).substr(4), width, height, params, &reference,
+                         nullptr, nullptr, &more);
     } else {
       (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
                          (data[2] & 0x80) ? &reference : nullptr);

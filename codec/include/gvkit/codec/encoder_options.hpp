@@ -80,6 +80,12 @@ struct EncoderOptions {
   double target_rms_mm = 0;
   // Constant quality: I frames aim this many dB above the target (0..20).
   double intra_target_offset_db = 0;
+  // P frames: reference frames (format 1.6): each P frame predicts from up to this many of the
+  // nearest anchors since the last I frame, choosing per macroblock; 1..5 (1 = one reference,
+  // no 1.6 syntax), or -1 = automatic: 3 in lossy streams (ICT face, docs/benchmarks.md: -0.60 %
+  // BD-rate fast, -0.18 % slow, fast encode still >= 30 frames/s; main-job video -10.7 % fast),
+  // 1 in lossless and near-lossless ones (where 2..5 cost 0.8-1.4 % more rate on the ICT face).
+  int refs = -1;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -102,6 +108,8 @@ struct EncoderOptions {
     if (is_intra(frame_number) || b <= 0) return true;
     return frame_number % intra_period % (b + 1) == 0;
   }
+  // The reference frames the encoder gives P frames: refs, or its automatic value.
+  int reference_frames() const { return refs >= 1 ? refs : (bypass() ? 1 : 3); }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

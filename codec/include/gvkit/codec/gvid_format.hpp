@@ -21,6 +21,10 @@ inline constexpr uint8_t kMajorVersion = 1;
 inline constexpr uint8_t kMinorVersion = 5;
 // A stream without B frames is written as version 1.4 (it uses no 1.5 syntax).
 inline constexpr uint8_t kMinorVersionWithoutBFrames = 4;
+// Format 1.6 (multiple reference frames): written only when the encoder's options turn it on.
+inline constexpr uint8_t kMinorVersionMultiRef = 6;
+// P frames with multiple reference frames (1.6): at most this many references.
+inline constexpr int kMaxReferenceFrames = 5;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -46,7 +50,8 @@ enum FrameFlag : uint8_t {
 // Packet header byte 7 (reserved, 0, before 1.4): more frame flags.
 enum FrameFlag2 : uint8_t {
   kFrame2SharedMotion = 1,  // since 1.4: P frames, Y and Z may take over X's motion per MB
-  kFrame2Known = 1,         // every bit a reader understands
+  kFrame2MultiRef = 2,      // since 1.6: P frames, 2..5 reference frames (payload: u8 ref_count)
+  kFrame2Known = 3,         // every bit a reader understands
 };
 
 struct PacketHeader {
