@@ -23,6 +23,7 @@ struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
   int plane_qp_offset[3] = {0, 0, 0};
+  int max_transform = 4;  // format 1.6 (flags2 bit 2): 8 or 16
 };
 
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
@@ -34,6 +35,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.adaptive_levels = (flags & format::kFrameAdaptiveLevels) != 0;
   p.td_prediction = (flags & format::kFrameTdPrediction) != 0;
   p.subpel = (flags & format::kFrameQuarterPel) != 0 ? 4 : 0;
+  p.max_transform = syntax.max_transform;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -122,6 +124,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                            (p_frame && options.td_prediction ? format::kFrameTdPrediction : 0) |
                            (reference && options.subpel ? format::kFrameQuarterPel : 0));
   if (p_frame && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
+  if (options.large_transforms()) {
+    header.flags2 |= format::kFrame2LargeTransforms;
+    syntax.max_transform = options.max_transform;
+  }
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
                                       (bidirectional ? options.b_qp_offset : 0),
@@ -220,6 +226,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     write_value_transform(payload, syntax.value_transform);
   if (header.flags & format::kFramePlaneQp)
     for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
+  if (header.flags2 & format::kFrame2LargeTransforms)
+    payload.u8(static_cast<uint8_t>(syntax.max_transform));
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
@@ -260,7 +268,7 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
     return corrupt_data("B frame without the anchor frame after it");
   if (bidirectional &&
       ((header.flags & (format::kFrameValuePrediction | format::kFrameTdPrediction)) ||
-       header.flags2 != 0))
+       (header.flags2 & format::kFrame2SharedMotion)))
     return corrupt_data(
         "frame flags: P-frame tools (value, TD prediction or shared motion) in a "
         "B frame");
@@ -278,6 +286,8 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   if (shared_motion && !predicted)
     return corrupt_data("frame flags2: shared motion in an intra frame");
+  if ((header.flags2 & format::kFrame2LargeTransforms) && lossless)
+    return corrupt_data("frame flags2: larger transforms in a lossless frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -311,6 +321,11 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
       if (!r.ok() || syntax.plane_qp_offset[i] < -12 || syntax.plane_qp_offset[i] > 12)
         return corrupt_data("plane QP offset missing or out of range (-12..12)");
     }
+  if (header.flags2 & format::kFrame2LargeTransforms) {
+    syntax.max_transform = r.u8();
+    if (!r.ok() || (syntax.max_transform != 8 && syntax.max_transform != 16))
+      return corrupt_data("max transform missing or not 8 or 16 (larger transforms)");
+  }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   for (int l = 0; l < 2 && predicted; ++l) {
     const std::vector<SamplePlane>* refs = l ? reference1 : reference;

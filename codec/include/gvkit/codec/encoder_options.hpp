@@ -80,6 +80,10 @@ struct EncoderOptions {
   double target_rms_mm = 0;
   // Constant quality: I frames aim this many dB above the target (0..20).
   double intra_target_offset_db = 0;
+  // Larger transforms (format 1.6, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks of lossy frames code their residual with an 8x8 or 16x16 transform (chosen per
+  // macroblock by rate-distortion cost); 4 = 4x4 only, a stream without the 1.6 syntax.
+  int max_transform = 4;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -102,6 +106,8 @@ struct EncoderOptions {
     if (is_intra(frame_number) || b <= 0) return true;
     return frame_number % intra_period % (b + 1) == 0;
   }
+  // Whether lossy frames use the larger transforms (format 1.6).
+  bool large_transforms() const { return max_transform > 4 && !bypass(); }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

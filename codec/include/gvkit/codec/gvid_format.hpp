@@ -21,6 +21,8 @@ inline constexpr uint8_t kMajorVersion = 1;
 inline constexpr uint8_t kMinorVersion = 5;
 // A stream without B frames is written as version 1.4 (it uses no 1.5 syntax).
 inline constexpr uint8_t kMinorVersionWithoutBFrames = 4;
+// A stream with larger transforms (format 1.6, docs/bitstream.md 4.8) is written as 1.6.
+inline constexpr uint8_t kMinorVersionLargeTransforms = 6;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -46,7 +48,10 @@ enum FrameFlag : uint8_t {
 // Packet header byte 7 (reserved, 0, before 1.4): more frame flags.
 enum FrameFlag2 : uint8_t {
   kFrame2SharedMotion = 1,  // since 1.4: P frames, Y and Z may take over X's motion per MB
-  kFrame2Known = 1,         // every bit a reader understands
+  // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
+  // max transform, 8 or 16; docs/bitstream.md 4.8)
+  kFrame2LargeTransforms = 4,
+  kFrame2Known = 1 | 4,  // every bit a reader understands
 };
 
 struct PacketHeader {

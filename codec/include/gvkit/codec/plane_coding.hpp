@@ -33,6 +33,10 @@ struct PlaneCodingParams {
   // interpolation, docs/bitstream.md 4.4), which the encoder refines to half (2) or quarter (4)
   // sample precision around the best whole-sample vector. The decoder only tests != 0.
   int subpel = 0;
+  // Format 1.6 (larger transforms, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks code their residual with an 8x8 (or a 16x16) transform, chosen per macroblock;
+  // 4 = sixteen 4x4 blocks only (the syntax before 1.6). Lossy planes only.
+  int max_transform = 4;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).
