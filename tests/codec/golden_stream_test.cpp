@@ -33,7 +33,16 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless;
+      bframes_lossless, tx16_fast, tx8_slow;
+  tx16_fast.qp = 0;  // version 1.6: larger transforms up to 16x16, fast preset, I, P and B
+  tx16_fast.preset = Preset::kFast;
+  tx16_fast.bframes = 1;
+  tx16_fast.max_transform = 16;
+  tx8_slow.qp = -6;  // version 1.6: larger transforms up to 8x8, slow preset, I and P
+  tx8_slow.preset = Preset::kSlow;
+  tx8_slow.bframes = 0;
+  tx8_slow.intra_period = 3;
+  tx8_slow.max_transform = 8;
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -87,7 +96,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_shared_qp0_ippi_v1_4_48.gvid", 48, 4, shared_fast, 0.75},
           {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5},
           {"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 48, 5, bframes_fast, 0.75},
-          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5}};
+          {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5},
+          {"analytic_tx16_qp0_ibpbp_v1_6_48.gvid", 48, 5, tx16_fast, 0.75},
+          {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {
