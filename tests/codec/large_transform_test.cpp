@@ -9,7 +9,10 @@
 #include <cstring>
 #include <random>
 
+#include <filesystem>
+
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -19,6 +22,7 @@
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
+#include "gvkit/core/atomic_file.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit::codec {
@@ -326,6 +330,44 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       ASSERT_TRUE(exact.is_ok());
       EXPECT_LT(static_cast<uint8_t>((*exact)[5]), 6);
     }
+}
+
+TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
+  // tests/golden/encoder_v1_4_*.gvid: written by the format 1.4 encoder from the analytic
+  // surface moving by (0.75, 0.375) pixels per frame (see bframe_test.cpp); --max-transform 4
+  // (the default) and a lossless stream with --max-transform 16 (the tool does not apply) keep
+  // the earlier syntax.
+  testing::GeometryVideoOptions vo;
+  vo.size = 48;
+  vo.frames = 4;
+  auto frames = testing::make_analytic_video(vo);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const double m[6] = {1, 0, -0.75 * f, 0, 1, -0.375 * f};
+    cv::Mat moved;
+    cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                   frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+    frames[f].xyz_mm = moved;
+  }
+  auto info = make_sequence_info(frames, 16, 30.0);
+  ASSERT_TRUE(info.is_ok());
+  EncoderOptions o;
+  o.qp = 6;
+  o.preset = Preset::kSlow;
+  o.bframes = 0;
+  o.max_transform = 4;
+  auto bytes = encode_gvid(frames, *info, o);
+  ASSERT_TRUE(bytes.is_ok());
+  auto golden =
+      read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / "encoder_v1_4_slow_qp6_ippp_48.gvid");
+  ASSERT_TRUE(golden.is_ok()) << golden.status().message();
+  EXPECT_TRUE(*bytes == *golden);
+  EncoderOptions lossless = o;
+  lossless.lossless = true;
+  auto exact4 = encode_gvid(frames, *info, lossless);
+  lossless.max_transform = 16;
+  auto exact16 = encode_gvid(frames, *info, lossless);
+  ASSERT_TRUE(exact4.is_ok() && exact16.is_ok());
+  EXPECT_TRUE(*exact4 == *exact16);
 }
 
 TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
