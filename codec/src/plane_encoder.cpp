@@ -102,6 +102,7 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -148,6 +149,7 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -177,6 +179,39 @@ class MacroblockEncoder {
     }
   }
 
+  // ---- Larger transforms (format 1.6), fast preset ----
+  // The fast preset codes its candidates' residuals as 4x4 blocks and decides the transform size
+  // once, for the chosen candidate when it is a plain inter or I16x16 MB with a residual: the
+  // residual is coded again by code_residual_sizes (4x4 or max_transform, by SSD + lambda x
+  // bits); a P or B candidate that then has no residual at the skip vector becomes a skip.
+  void choose_transform_size(Candidate& best, const ContextSet& ctx) {
+    MacroblockData& mb = best.mb;
+    if (p_.max_transform <= 4 || p_.lossless || mb.skip || mb.td ||
+        (mb.type != kMbInter && mb.type != kMbI16x16))
+      return;
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int32_t pred[256];
+    if (mb.type == kMbI16x16) {
+      const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
+      predict_intra(16, mb.i16_mode, nb, max_value_, pred);
+    } else if (st_.bidirectional) {
+      b_prediction(mb.b_pred, mb.mv_x, mb.mv_y, mb.mv_x1, mb.mv_y1, pred);
+    } else {
+      interp_->predict(x0, y0, 16, 16, mb.mv_x, mb.mv_y, p_.subpel != 0, pred);
+    }
+    ContextSet trial = ctx;
+    code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+    if (mb.type == kMbInter && mb.cbp == 0) {
+      int px, py;
+      st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+      mb.skip =
+          st_.bidirectional ? mb.b_pred == kBDirect : mb.shared || (mb.mv_x == px && mb.mv_y == py);
+    }
+  }
+  // ---- end of larger transforms ----
+
   // Puts the chosen candidate's samples back into recon_ (later candidates overwrote them).
   void restore(const Candidate& best) {
     for (int y = 0; y < 16; ++y)
@@ -196,6 +231,19 @@ class MacroblockEncoder {
     return search_motion_16x16(src_, ref, mb_x_ * 16, mb_y_ * 16, px, py, search);
   }
 
+  // B planes: the prediction of kind `kind` with the list 0 vector (m0x, m0y) and the list 1
+  // vector (m1x, m1y).
+  void b_prediction(BPred kind, int m0x, int m0y, int m1x, int m1y, int32_t* pred) const {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool qpel = p_.subpel != 0;
+    const int lists = b_pred_lists(kind);
+    int32_t pred1[256];
+    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
+    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
+    if (lists == 3)
+      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+  }
+
   // B planes: an inter candidate of prediction `kind` with the list 0 vector (m0x, m0y) and the
   // list 1 vector (m1x, m1y) (direct: the predictors); the residual is coded as in P planes. A
   // direct candidate without residual becomes a skip.
@@ -210,11 +258,8 @@ class MacroblockEncoder {
     mb.mv_x1 = m1x;
     mb.mv_y1 = m1y;
     const int lists = b_pred_lists(kind);
-    int32_t pred[256], pred1[256];
-    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
-    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
-    if (lists == 3)
-      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+    int32_t pred[256];
+    b_prediction(kind, m0x, m0y, m1x, m1y, pred);
     // Side information: skip, is_inter and prediction flags, then the vector differences.
     double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
     if (kind != kBDirect) {
@@ -554,16 +599,17 @@ class MacroblockEncoder {
   // coded_block_pattern / coded_block_flag / level bits cost more than the error they remove.
   double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                            bool inter = false) {
-    if (p_.max_transform > 4 && !p_.lossless) return code_residual_sizes(mb, pred16, trial, inter);
+    if (p_.max_transform > 4 && !p_.lossless && p_.rdo)
+      return code_residual_sizes(mb, pred16, trial, inter);
     return code_residual_4x4(mb, pred16, trial, inter, p_.rdo);
   }
 
   // ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
   // The residual coded with each transform size up to max_transform (4x4, 8x8, 16x16), the
   // cheapest by SSD + lambda x CABAC bits (residual and transform_size bins, counted on copies of
-  // the trial contexts) kept: its levels, cbp, transform, reconstruction and contexts. Both
-  // presets decide so (the fast one only here, between 4x4 and max_transform: its macroblock
-  // costs stay SATD-based).
+  // the trial contexts) kept: its levels, cbp, transform, reconstruction and contexts. The slow
+  // preset decides so for every candidate; the fast one once per MB, for the chosen candidate
+  // and between 4x4 and max_transform only (choose_transform_size).
   double code_residual_sizes(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                              bool inter) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
