@@ -255,9 +255,10 @@ void add_encode_command(CLI::App& app) {
                 "P frames: let each Y and Z macroblock take over the X plane's vector with one "
                 "flag (format 1.4; pays in lossless coding); without it the Y and Z planes code "
                 "their own motion (1.3 syntax)");
-  cmd->add_option("--max-transform", args->options.max_transform,
-                  "Largest residual transform of inter and I16x16 macroblocks in lossy frames: 4 "
-                  "(4x4 only), 8 or 16 (8x8 / 16x16 chosen per macroblock; format 1.6)");
+  cmd->add_option(
+      "--max-transform", args->options.max_transform,
+      "Largest residual transform of inter and I16x16 macroblocks in lossy frames: 4 "
+      "(4x4 only), 8 or 16 (8x8 / 16x16 chosen per macroblock; format 1.6; default 16)");
   cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
                 "P frames with shared motion: search the X plane's vectors on the error of all "
                 "three planes (always on in lossless and near-lossless frames)");

@@ -82,8 +82,11 @@ struct EncoderOptions {
   double intra_target_offset_db = 0;
   // Larger transforms (format 1.6, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
   // macroblocks of lossy frames code their residual with an 8x8 or 16x16 transform (chosen per
-  // macroblock by rate-distortion cost); 4 = 4x4 only, a stream without the 1.6 syntax.
-  int max_transform = 4;
+  // macroblock by rate-distortion cost); 4 = 4x4 only, a stream without the 1.6 syntax (byte for
+  // byte the 1.5 encoder's). Default 16: on the ICT face -25 % BD-rate in the slow preset and
+  // -8 to -10 % in the fast one against 4, at the fast preset's speed (docs/benchmarks.md).
+  // Lossless and near-lossless streams do not use it.
+  int max_transform = 16;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
