@@ -261,7 +261,6 @@ void write_exp_golomb0(Coder& coder, uint32_t value, int k = 0) {
   while (k--) coder.encode_bypass((value >> k) & 1);
 }
 
-// Residual block of n*n levels in raster order (at least one nonzero).
 // Raster index of scan position i of an n x n block (n = 4, 8, 16); residual category and
 // significance-map context of scan position i.
 inline int scan_position(int n, int i) {
@@ -278,6 +277,7 @@ inline int sig_context(int n, int i) {
   return n == 4 ? i : (n == 8 ? i >> 2 : i >> 4);
 }
 
+// Residual block of n*n levels in raster order (at least one nonzero).
 template <class Coder>
 void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n) {
   const int count = n * n, cat = residual_category(n);
