@@ -176,6 +176,7 @@ void run_encode(const EncodeArgs& args) {
         {"joint_motion_search", options.joint_motion_search},
         {"inter_decimation", options.inter_decimation},
         {"skip_check", options.skip_check},
+        {"max_transform", options.max_transform},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -255,6 +256,10 @@ void add_encode_command(CLI::App& app) {
                 "P frames: let each Y and Z macroblock take over the X plane's vector with one "
                 "flag (format 1.4; pays in lossless coding); without it the Y and Z planes code "
                 "their own motion (1.3 syntax)");
+  cmd->add_option(
+      "--max-transform", args->options.max_transform,
+      "Largest residual transform of inter and I16x16 macroblocks in lossy frames: 4 "
+      "(4x4 only), 8 or 16 (8x8 / 16x16 chosen per macroblock; format 1.6; default 16)");
   cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
                 "P frames with shared motion: search the X plane's vectors on the error of all "
                 "three planes (always on in lossless and near-lossless frames)");

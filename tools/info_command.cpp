@@ -158,6 +158,17 @@ void describe_gvid(const fs::path& path) {
   }
   std::printf("  frame types     %lld I, %lld P, %lld B\n", static_cast<long long>(count[0]),
               static_cast<long long>(count[1]), static_cast<long long>(count[2]));
+  // Frame-level tools of the packet headers' flags2 (format 1.6: larger transforms).
+  int64_t large_transforms = 0;
+  for (int64_t i = 0; i < reader->frame_count(); ++i) {
+    const auto header = reader->packet_header(i);
+    if (header.is_ok() && (header->flags2 & codec::format::kFrame2LargeTransforms))
+      ++large_transforms;
+  }
+  if (large_transforms > 0)
+    std::printf("  transforms      8x8 / 16x16 in %lld of %lld frames (format 1.6)\n",
+                static_cast<long long>(large_transforms),
+                static_cast<long long>(reader->frame_count()));
   const double vertices = static_cast<double>(std::max<int64_t>(1, info.domain_pixels()));
   // Display order; packets are in decode order (a B frame after the anchor that follows it).
   for (int64_t i = 0; i < reader->frame_count(); ++i) {

@@ -11,7 +11,7 @@
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
-//                            [--bits-only] [--motion-only] [--bframes-only]
+//                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
@@ -19,7 +19,8 @@
 // --bframes-only: format 1.5, 0..3 B frames in both presets, B-frame QP offsets, lossless, and
 // the BD-rates against 0 B frames and x265 (logged points with --no-peers); --refs-only: format
 // 1.6, --refs 1, 2, 3, 5 in both presets (or the one of --refs-preset), lossless, and the
-// BD-rates against --refs 1 and x265)
+// BD-rates against --refs 1 and x265; --transform-only: format 1.6, --max-transform 4, 8, 16 in
+// both presets, with P and B frames and intra only)
 #include <time.h>
 
 #include <chrono>
@@ -270,6 +271,58 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
     print_bd(offset_name(i) + " vs x265 (" + source + " points)", x265, offset_curves[i]);
 }
 
+// Format 1.6, larger transforms: --max-transform 4, 8 and 16 in both presets, with P and B
+// frames and intra only; BD-rates against 4 (the stream without the tool) and against x265, and
+// at QP 0 how many inter / I16x16 macroblocks took each size.
+void report_transforms(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                       const std::vector<RdPoint>& x265, const std::string& source) {
+  print_header();
+  const Preset presets[2] = {Preset::kFast, Preset::kSlow};
+  const int sizes[3] = {4, 8, 16};
+  std::vector<RdPoint> curves[2][2][3];  // [intra only][preset][size]
+  const auto name = [&](int intra, int p, int s) {
+    return std::string(intra ? "intra only, " : "") + preset_name(presets[p]) +
+           ", --max-transform " + std::to_string(sizes[s]);
+  };
+  for (int intra = 0; intra < 2; ++intra)
+    for (int p = 0; p < 2; ++p)
+      for (int s = 0; s < 3; ++s) {
+        EncoderOptions o = base;
+        o.preset = presets[p];
+        o.max_transform = sizes[s];
+        o.intra_only = intra != 0;
+        curves[intra][p][s] = qp_curve(m, o, name(intra, p, s), qps);
+      }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int intra = 0; intra < 2; ++intra)
+    for (int p = 0; p < 2; ++p)
+      for (int s = 1; s < 3; ++s)
+        print_bd(name(intra, p, s) + " vs 4", curves[intra][p][0], curves[intra][p][s]);
+  for (int p = 0; p < 2; ++p)
+    for (int s = 0; s < 3; ++s)
+      print_bd(name(0, p, s) + " vs x265 12-bit (" + source + " points)", x265, curves[0][p][s]);
+  std::printf(
+      "\n| QP 0 | bits/vertex/frame | 8x8 MBs | 16x16 MBs | intra + plain inter MBs | "
+      "sig_map bits | levels bits |\n|---|---|---|---|---|---|---|\n");
+  for (int p = 0; p < 2; ++p)
+    for (int s = 0; s < 3; ++s) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.max_transform = sizes[s];
+      o.qp = 0;
+      std::vector<FrameCodingStats> stats;
+      const Run r = run_ours(m, o, &stats);
+      PlaneCodingStats total;
+      for (const auto& f : stats)
+        for (const auto& plane : f.planes) total += plane;
+      std::printf("| %s | %.4f | %lld | %lld | %lld | %.0f | %.0f |\n", name(0, p, s).c_str(),
+                  r.point.rate, static_cast<long long>(total.transform8_mbs),
+                  static_cast<long long>(total.transform16_mbs),
+                  static_cast<long long>(total.inter_mbs + total.intra_mbs),
+                  total.bits[kSyntaxSigMap], total.bits[kSyntaxLevels]);
+    }
+}
+
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
 
 // Format 1.6, multiple reference frames: --refs 1, 2, 3, 5 in the given presets (QP curves),
@@ -461,7 +514,7 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
-       bframes_only = false, refs_only = false;
+       bframes_only = false, refs_only = false, transform_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
@@ -488,6 +541,8 @@ int main(int argc, char** argv) {
       motion_only = true;
     else if (a == "--bframes-only")
       bframes_only = true;
+    else if (a == "--transform-only")
+      transform_only = true;
     else if (a == "--refs-only")
       refs_only = true;
     else if (a == "--refs-preset" && i + 1 < argc) {
@@ -508,7 +563,8 @@ int main(int argc, char** argv) {
           stderr,
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-          "[--bits-only] [--motion-only] [--bframes-only] [--refs-only [--refs-preset P]]\n");
+          "[--bits-only] [--motion-only] [--bframes-only] [--transform-only] "
+          "[--refs-only [--refs-preset P]]\n");
       return 2;
     }
   }
@@ -565,6 +621,11 @@ int main(int argc, char** argv) {
   if (refs_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_refs(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
+    return 0;
+  }
+  if (transform_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_transforms(m, base, qps, x265, peers ? "this run" : "logged");
     return 0;
   }
   if (motion_only) {

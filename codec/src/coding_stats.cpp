@@ -20,6 +20,8 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   inter_mbs += other.inter_mbs;
   td_mbs += other.td_mbs;
   skip_mbs += other.skip_mbs;
+  transform8_mbs += other.transform8_mbs;
+  transform16_mbs += other.transform16_mbs;
   return *this;
 }
 

@@ -24,6 +24,7 @@ struct FrameSyntax {
   ValueTransform value_transform;
   int plane_qp_offset[3] = {0, 0, 0};
   int ref_count = 1;  // format 1.6: P frames with flags2 bit 1, 2..5
+  int max_transform = 4;  // format 1.6 (flags2 bit 2): 8 or 16
 };
 
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
@@ -36,6 +37,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.td_prediction = (flags & format::kFrameTdPrediction) != 0;
   p.subpel = (flags & format::kFrameQuarterPel) != 0 ? 4 : 0;
   p.ref_count = syntax.ref_count;
+  p.max_transform = syntax.max_transform;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -133,6 +135,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     for (int k = 0; k + 1 < syntax.ref_count; ++k)
       GVKIT_CHECK((*older)[k] && (*older)[k]->size() == planes.size());
     header.flags2 |= format::kFrame2MultiRef;
+  }
+  if (options.large_transforms()) {
+    header.flags2 |= format::kFrame2LargeTransforms;
+    syntax.max_transform = options.max_transform;
   }
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
@@ -241,6 +247,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (header.flags & format::kFramePlaneQp)
     for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
   if (header.flags2 & format::kFrame2MultiRef) payload.u8(static_cast<uint8_t>(syntax.ref_count));
+  if (header.flags2 & format::kFrame2LargeTransforms)
+    payload.u8(static_cast<uint8_t>(syntax.max_transform));
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
@@ -302,7 +310,7 @@ Result<GeometryImage> decode_frame_packet(
     return corrupt_data("B frame without the anchor frame after it");
   if (bidirectional &&
       ((header.flags & (format::kFrameValuePrediction | format::kFrameTdPrediction)) ||
-       header.flags2 != 0))
+       (header.flags2 & format::kFrame2SharedMotion)))
     return corrupt_data(
         "frame flags: P-frame tools (value, TD prediction or shared motion) in a "
         "B frame");
@@ -323,6 +331,8 @@ Result<GeometryImage> decode_frame_packet(
   const bool multi_ref = (header.flags2 & format::kFrame2MultiRef) != 0;
   if (multi_ref && !predicted)
     return corrupt_data("frame flags2: multiple reference frames in an intra frame");
+  if ((header.flags2 & format::kFrame2LargeTransforms) && lossless)
+    return corrupt_data("frame flags2: larger transforms in a lossless frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -375,6 +385,11 @@ Result<GeometryImage> decode_frame_packet(
         return corrupt_data("reference frame " + std::to_string(k + 1) + " missing");
       for (size_t i = 0; i < plane_count; ++i) more[i].push_back(&(*refk)[i]);
     }
+  }
+  if (header.flags2 & format::kFrame2LargeTransforms) {
+    syntax.max_transform = r.u8();
+    if (!r.ok() || (syntax.max_transform != 8 && syntax.max_transform != 16))
+      return corrupt_data("max transform missing or not 8 or 16 (larger transforms)");
   }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   for (int l = 0; l < 2 && predicted; ++l) {

@@ -211,6 +211,10 @@ int GvidReader::frame_references(int64_t index) const {
   return refs.is_ok() ? *refs : -1;
 }
 
+Result<format::PacketHeader> GvidReader::packet_header(int64_t index) const {
+  return format::read_packet_header(std::string_view(bytes_).substr(entry(index).offset));
+}
+
 int64_t GvidReader::frame_bits(int64_t index) const {
   if (index < 0 || index >= frame_count()) return 0;
   return (static_cast<int64_t>(entry(index).payload_size) +

@@ -177,6 +177,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 uint8_t stream_minor_version(const EncoderOptions& options) {
   if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
     return format::kMinorVersionMultiRef;
+  if (options.large_transforms()) return format::kMinorVersionLargeTransforms;
   return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
              ? format::kMinorVersion
              : format::kMinorVersionWithoutBFrames;

@@ -84,6 +84,7 @@ class MacroblockReader {
         }
         if (mb.skip) {
           mb.cbp = 0;
+          mb.transform = 4;
           for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
           for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
           for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
@@ -159,6 +160,7 @@ class MacroblockReader {
     for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
     if (mb.skip) {
       mb.cbp = 0;
+      mb.transform = 4;
       for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
       for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
       for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
@@ -231,7 +233,29 @@ class MacroblockReader {
       mb.cbp |= static_cast<uint8_t>(bit << q);
       st_.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
     }
-    if (mb.type == kMbI8x8) {
+    // Format 1.6: transform_size (docs/bitstream.md 4.8).
+    int size = mb.type == kMbI8x8 ? 8 : 4;
+    if (has_transform_size(mb, p_)) {
+      const size_t i = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
+      const auto count = [&](int code) {
+        return (mb_x > 0 && st_.transform[i - 1] >= code ? 1 : 0) +
+               (mb_y > 0 && st_.transform[i - st_.mbs_x] >= code ? 1 : 0);
+      };
+      if (dec_.decode(ctx_.transform_size[0][count(1)]))
+        size =
+            p_.max_transform == 16 && mb.cbp == 15 && dec_.decode(ctx_.transform_size[1][count(2)])
+                ? 16
+                : 8;
+    }
+    mb.transform = size == 8 && mb.type == kMbI8x8 ? 4 : size;
+    st_.transform[static_cast<size_t>(mb_y) * st_.mbs_x + mb_x] =
+        static_cast<uint8_t>(transform_code(size));
+    if (size == 16) {
+      for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 1;
+      std::fill(mb.levels16, mb.levels16 + 256, 0);
+      return read_residual(mb.levels16, 16);
+    }
+    if (size == 8) {
       for (int q = 0; q < 4; ++q) {
         const int bit = (mb.cbp >> q) & 1;
         for (int i = 0; i < 4; ++i)
@@ -288,13 +312,12 @@ class MacroblockReader {
   }
 
   Status read_residual(int32_t* levels, int n) {
-    const int count = n * n, cat = n == 8 ? 1 : 0;
-    const uint8_t* scan = n == 8 ? kZigzag8x8 : kZigzag4x4;
-    int sig_pos[64];
+    const int count = n * n, cat = residual_category(n);
+    int sig_pos[256];
     int num_sig = 0;
     bool ended = false;
     for (int i = 0; i < count - 1; ++i) {
-      const int c = n == 8 ? i >> 2 : i;
+      const int c = sig_context(n, i);
       if (dec_.decode(ctx_.sig[cat][c])) {
         sig_pos[num_sig++] = i;
         if (dec_.decode(ctx_.last[cat][c])) {
@@ -336,7 +359,7 @@ class MacroblockReader {
         }
       }
       const int32_t magnitude = static_cast<int32_t>(abs_minus1) + 1;
-      levels[scan[sig_pos[s]]] = dec_.decode_bypass() ? -magnitude : magnitude;
+      levels[scan_position(n, sig_pos[s])] = dec_.decode_bypass() ? -magnitude : magnitude;
       if (abs_minus1 == 0)
         ++num_eq1;
       else
@@ -363,14 +386,8 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
   if (mb.type == kMbInter && reference1) {
     predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
                     mb.mv_x1, mb.mv_y1, p.subpel != 0, p.bit_depth, pred);
-    for (int b = 0; b < 16; ++b) {
-      const int bx = block_x(b) * 4, by = block_y(b) * 4;
-      int32_t sub[16];
-      for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
-      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
-                        mb_y * 16 + by);
-    }
+    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                    mb_y * 16);
   } else if (mb.type == kMbInter && mb.td) {
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
@@ -387,14 +404,8 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
           block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
       predict_intra(16, mb.i16_mode, nb, max_value, pred);
     }
-    for (int b = 0; b < 16; ++b) {
-      const int bx = block_x(b) * 4, by = block_y(b) * 4;
-      int32_t sub[16];
-      for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
-      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
-                        mb_y * 16 + by);
-    }
+    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                    mb_y * 16);
   } else if (mb.type == kMbI8x8) {
     for (int q = 0; q < 4; ++q) {
       const int x0 = mb_x * 16 + (q & 1) * 8, y0 = mb_y * 16 + (q >> 1) * 8;

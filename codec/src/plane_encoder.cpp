@@ -137,6 +137,7 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -183,6 +184,7 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -211,6 +213,40 @@ class MacroblockEncoder {
       *best = c;
     }
   }
+
+  // ---- Larger transforms (format 1.6), fast preset ----
+  // The fast preset codes its candidates' residuals as 4x4 blocks and decides the transform size
+  // once, for the chosen candidate when it is a plain inter or I16x16 MB with a residual: the
+  // residual is coded again by code_residual_sizes (4x4 or max_transform, by SSD + lambda x
+  // bits); a P or B candidate that then has no residual at the skip vector becomes a skip.
+  void choose_transform_size(Candidate& best, const ContextSet& ctx) {
+    MacroblockData& mb = best.mb;
+    if (p_.max_transform <= 4 || p_.lossless || mb.skip || mb.td ||
+        (mb.type != kMbInter && mb.type != kMbI16x16))
+      return;
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int32_t pred[256];
+    if (mb.type == kMbI16x16) {
+      const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
+      predict_intra(16, mb.i16_mode, nb, max_value_, pred);
+    } else if (st_.bidirectional) {
+      b_prediction(mb.b_pred, mb.mv_x, mb.mv_y, mb.mv_x1, mb.mv_y1, pred);
+    } else {
+      interp(mb.ref_idx).predict(x0, y0, 16, 16, mb.mv_x, mb.mv_y, p_.subpel != 0, pred);
+    }
+    ContextSet trial = ctx;
+    code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+    if (mb.type == kMbInter && mb.cbp == 0) {
+      int px, py;
+      st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+      // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
+      mb.skip = st_.bidirectional ? mb.b_pred == kBDirect
+                                  : mb.shared || (mb.ref_idx == 0 && mb.mv_x == px && mb.mv_y == py);
+    }
+  }
+  // ---- end of larger transforms ----
 
   // Puts the chosen candidate's samples back into recon_ (later candidates overwrote them).
   void restore(const Candidate& best) {
@@ -305,6 +341,19 @@ class MacroblockEncoder {
     return search_motion_16x16(src_, ref, mb_x_ * 16, mb_y_ * 16, px, py, search);
   }
 
+  // B planes: the prediction of kind `kind` with the list 0 vector (m0x, m0y) and the list 1
+  // vector (m1x, m1y).
+  void b_prediction(BPred kind, int m0x, int m0y, int m1x, int m1y, int32_t* pred) const {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool qpel = p_.subpel != 0;
+    const int lists = b_pred_lists(kind);
+    int32_t pred1[256];
+    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
+    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
+    if (lists == 3)
+      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+  }
+
   // B planes: an inter candidate of prediction `kind` with the list 0 vector (m0x, m0y) and the
   // list 1 vector (m1x, m1y) (direct: the predictors); the residual is coded as in P planes. A
   // direct candidate without residual becomes a skip.
@@ -319,11 +368,8 @@ class MacroblockEncoder {
     mb.mv_x1 = m1x;
     mb.mv_y1 = m1y;
     const int lists = b_pred_lists(kind);
-    int32_t pred[256], pred1[256];
-    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
-    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
-    if (lists == 3)
-      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+    int32_t pred[256];
+    b_prediction(kind, m0x, m0y, m1x, m1y, pred);
     // Side information: skip, is_inter and prediction flags, then the vector differences.
     double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
     if (kind != kBDirect) {
@@ -436,7 +482,7 @@ class MacroblockEncoder {
   // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
   bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels,
                    bool inter_dead_zone = false) const {
-    int32_t residual[64];
+    int32_t residual[256];
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         residual[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
@@ -449,6 +495,10 @@ class MacroblockEncoder {
       }
     } else if (p_.lossless) {
       std::copy(residual, residual + n * n, levels);
+    } else if (n == 16) {
+      int32_t coeffs[256];
+      forward_transform16x16(residual, coeffs);
+      quantize16x16(coeffs, p_.qp_prime, inter_dead_zone, levels);
     } else {
       int32_t coeffs[64];
       if (n == 4)
@@ -666,6 +716,118 @@ class MacroblockEncoder {
   // coded_block_pattern / coded_block_flag / level bits cost more than the error they remove.
   double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                            bool inter = false) {
+    if (p_.max_transform > 4 && !p_.lossless && p_.rdo)
+      return code_residual_sizes(mb, pred16, trial, inter);
+    return code_residual_4x4(mb, pred16, trial, inter, p_.rdo);
+  }
+
+  // ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
+  // The residual coded with each transform size up to max_transform (4x4, 8x8, 16x16), the
+  // cheapest by SSD + lambda x CABAC bits (residual and transform_size bins, counted on copies of
+  // the trial contexts) kept: its levels, cbp, transform, reconstruction and contexts. The slow
+  // preset decides so for every candidate; the fast one once per MB, for the chosen candidate
+  // and between 4x4 and max_transform only (choose_transform_size).
+  double code_residual_sizes(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                             bool inter) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_size = 4;
+    uint8_t best_cbp = 0;
+    ContextSet best_ctx;
+    std::array<uint16_t, 256> best_recon;
+    for (int size = 4; size <= p_.max_transform; size *= 2) {
+      // Fast preset: 4x4 or the largest size only (8x8 as well would cost ~10 % of its speed).
+      if (!p_.rdo && size != 4 && size != p_.max_transform) continue;
+      ContextSet t = trial;
+      double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter, true)
+                    : size == 8 ? code_residual_8x8(mb, pred16, t, inter)
+                                : code_residual_16x16(mb, pred16, t, inter);
+      if (mb.cbp != 0) {
+        CabacBitCounter counter;
+        write_transform_size(counter, t, st_, mb_x_, mb_y_, size, mb.cbp, p_.max_transform);
+        cost += lambda_ * counter.bits();
+      }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_size = size;
+        best_cbp = mb.cbp;
+        best_ctx = t;
+        for (int y = 0; y < 16; ++y)
+          for (int x = 0; x < 16; ++x) best_recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+      }
+    }
+    mb.cbp = best_cbp;
+    mb.transform = best_cbp ? best_size : 4;
+    trial = best_ctx;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(x0 + x, y0 + y) = best_recon[y * 16 + x];
+    for (int i = 0; i < 16; ++i) {
+      const int gx = mb_x_ * 4 + block_x(i), gy = mb_y_ * 4 + block_y(i);
+      st_.cbf_at(gx, gy) = best_size == 4
+                               ? any_nonzero(mb.levels[i], 16)
+                               : (best_size == 8 ? (best_cbp >> (i >> 2)) & 1 : best_cbp != 0);
+    }
+    return best_cost;
+  }
+
+  // The residual as four 8x8 blocks (inter: the inter dead zone and x264's 8x8 decimation, a
+  // block scoring < 4 and a macroblock scoring < 6 coded as zero).
+  double code_residual_8x8(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                           bool inter) {
+    double cost = lambda_ * 3;
+    mb.cbp = 0;
+    int32_t preds[4][64];
+    const bool decimate = inter && p_.inter_decimation;
+    for (int q = 0; q < 4; ++q) {
+      const int bx = (q & 1) * 8, by = (q >> 1) * 8;
+      for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) preds[q][y * 8 + x] = pred16[(by + y) * 16 + bx + x];
+      make_levels(8, preds[q], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels8[q], decimate);
+    }
+    if (decimate) {
+      int total = 0;
+      for (int q = 0; q < 4; ++q) {
+        const int score = decimation_score(mb.levels8[q], 8);
+        if (score < 4)
+          std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+        else
+          total += score;
+      }
+      if (total < 6)
+        for (int q = 0; q < 4; ++q) std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+    }
+    for (int q = 0; q < 4; ++q) {
+      const int x0 = mb_x_ * 16 + (q & 1) * 8, y0 = mb_y_ * 16 + (q >> 1) * 8;
+      const bool coded = any_nonzero(mb.levels8[q], 64);
+      const int64_t ssd = reconstruct(8, preds[q], mb.levels8[q], x0, y0);
+      if (coded) mb.cbp |= static_cast<uint8_t>(1 << q);
+      const double bits = count_block_bits(trial, 8, -1, 0, 0, mb.levels8[q], coded, 0, 0);
+      for (int i = 0; i < 4; ++i) st_.cbf_at(x0 / 4 + (i & 1), y0 / 4 + (i >> 1)) = coded ? 1 : 0;
+      cost += static_cast<double>(ssd) + lambda_ * bits;
+    }
+    return cost;
+  }
+
+  // The residual as one 16x16 block (inter: the inter dead zone, and a block scoring < 6 is
+  // coded as zero).
+  double code_residual_16x16(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                             bool inter) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool decimate = inter && p_.inter_decimation;
+    make_levels(16, pred16, x0, y0, mb.levels16, decimate);
+    if (decimate && decimation_score(mb.levels16, 16) < 6) std::fill_n(mb.levels16, 256, 0);
+    const bool coded = any_nonzero(mb.levels16, 256);
+    mb.cbp = coded ? 15 : 0;
+    const int64_t ssd = reconstruct(16, pred16, mb.levels16, x0, y0);
+    const double bits = count_block_bits(trial, 16, -1, 0, 0, mb.levels16, coded, 0, 0);
+    for (int i = 0; i < 16; ++i) st_.cbf_at(x0 / 4 + i % 4, y0 / 4 + i / 4) = coded ? 1 : 0;
+    return lambda_ * 3 + static_cast<double>(ssd) + lambda_ * bits;
+  }
+  // ---- end of larger transforms ----
+
+  // The residual as sixteen 4x4 blocks (count_bits: with the CABAC bits, else SSD only).
+  double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial, bool inter,
+                           bool count_bits) {
     double cost = lambda_ * 3;
     mb.cbp = 0;
     int32_t preds[16][16];
@@ -680,7 +842,7 @@ class MacroblockEncoder {
       int total = 0;
       for (int q = 0; q < 4; ++q) {
         int score = 0;
-        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b]);
+        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b], 4);
         if (score < 4)
           for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
         else
@@ -695,32 +857,33 @@ class MacroblockEncoder {
       const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
       if (coded) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
       double bits = 0;
-      if (p_.rdo) bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
+      if (count_bits)
+        bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
       st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
       cost += static_cast<double>(ssd) + lambda_ * bits;
     }
     return cost;
   }
 
-  // x264's decimation score of a 4x4 block (levels in raster order): large (9) when any level
+  // x264's decimation score of an n x n block (levels in raster order): large (9) when any level
   // exceeds 1, else the sum over the nonzero levels of a weight that falls with the run of
   // zeros before it in scan order (3, 2, 2, 1, 1, 1, then 0).
-  static int decimation_score(const int32_t* levels) {
-    static const int kWeight[16] = {3, 2, 2, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  static int decimation_score(const int32_t* levels, int n) {
+    static const int kWeight[6] = {3, 2, 2, 1, 1, 1};
     int score = 0, run = 0;
     bool seen = false;
-    for (int i = 15; i >= 0; --i) {
-      const int32_t v = levels[kZigzag4x4[i]];
+    for (int i = n * n - 1; i >= 0; --i) {
+      const int32_t v = levels[scan_position(n, i)];
       if (!v) {
         if (seen) ++run;
         continue;
       }
       if (std::abs(v) > 1) return 9;
-      if (seen) score += kWeight[run];
+      if (seen) score += run < 6 ? kWeight[run] : 0;
       seen = true;
       run = 0;
     }
-    return seen ? score + kWeight[run] : 0;
+    return seen ? score + (run < 6 ? kWeight[run] : 0) : 0;
   }
 
   const SamplePlane& src_;
@@ -810,6 +973,8 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
       const MacroblockData mb =
           reference1 ? mb_encoder.encode_b(mb_x, mb_y, ctx) : mb_encoder.encode(mb_x, mb_y, ctx);
       write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+      if (has_transform_size(mb, params) && mb.transform > 4)
+        ++(mb.transform == 16 ? result.stats.transform16_mbs : result.stats.transform8_mbs);
       if (mb.type != kMbInter)
         ++result.stats.intra_mbs;
       else if (mb.skip)

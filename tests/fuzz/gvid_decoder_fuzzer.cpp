@@ -35,6 +35,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Bit 3 of byte 1: quarter-sample motion vectors in a P plane (format 1.3).
     params.subpel = (data[1] & 8) ? 4 : 0;
     params.qp_prime = (data[3] >> 2) % (52 + 6 * (params.bit_depth - 8));
+    // Bits 4..5 of byte 1: larger transforms of a lossy plane (format 1.6): 0 = 4x4 only, 1 = up
+    // to 8x8, 2 and 3 = up to 16x16.
+    const int transforms = (data[1] >> 4) & 3;
+    params.max_transform = params.lossless || transforms == 0 ? 4 : (transforms == 1 ? 8 : 16);
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
     SamplePlane reference;

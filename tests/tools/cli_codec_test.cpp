@@ -194,6 +194,28 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
       << lossless_rate.output;
 }
 
+TEST(CliCodec, MaxTransformIsAnOptionAndInfoShowsTheLargerTransforms) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string in = (dir / "in").string(), gvid = (dir / "t.gvid").string();
+  for (const int max_transform : {4, 16}) {
+    auto enc = run_gvkit("encode " + in + " -o " + gvid + " --qp 0 --preset fast --max-transform " +
+                         std::to_string(max_transform));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["max_transform"], max_transform);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_EQ(contains(info.output, "transforms      8x8 / 16x16 in 3 of 3 frames (format 1.6)"),
+              max_transform == 16)
+        << info.output;
+  }
+  auto bad = run_gvkit("encode " + in + " -o " + gvid + " --max-transform 32");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "max transform 32 is not 4, 8 or 16")) << bad.output;
+}
+
 TEST(CliCodec, TargetPsnrMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
   TempDir dir;
   write_frames(dir / "in", 3);

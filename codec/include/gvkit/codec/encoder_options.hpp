@@ -86,6 +86,13 @@ struct EncoderOptions {
   // BD-rate fast, -0.18 % slow, fast encode still >= 30 frames/s; main-job video -10.7 % fast),
   // 1 in lossless and near-lossless ones (where 2..5 cost 0.8-1.4 % more rate on the ICT face).
   int refs = -1;
+  // Larger transforms (format 1.6, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks of lossy frames code their residual with an 8x8 or 16x16 transform (chosen per
+  // macroblock by rate-distortion cost); 4 = 4x4 only, a stream without the 1.6 syntax (byte for
+  // byte the 1.5 encoder's). Default 16: on the ICT face -25 % BD-rate in the slow preset and
+  // -8 to -10 % in the fast one against 4, at the fast preset's speed (docs/benchmarks.md).
+  // Lossless and near-lossless streams do not use it.
+  int max_transform = 16;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -110,6 +117,8 @@ struct EncoderOptions {
   }
   // The reference frames the encoder gives P frames: refs, or its automatic value.
   int reference_frames() const { return refs >= 1 ? refs : (bypass() ? 1 : 3); }
+  // Whether lossy frames use the larger transforms (format 1.6).
+  bool large_transforms() const { return max_transform > 4 && !bypass(); }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

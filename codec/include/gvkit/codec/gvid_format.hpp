@@ -25,6 +25,8 @@ inline constexpr uint8_t kMinorVersionWithoutBFrames = 4;
 inline constexpr uint8_t kMinorVersionMultiRef = 6;
 // P frames with multiple reference frames (1.6): at most this many references.
 inline constexpr int kMaxReferenceFrames = 5;
+// A stream with larger transforms (format 1.6, docs/bitstream.md 4.8) is written as 1.6.
+inline constexpr uint8_t kMinorVersionLargeTransforms = 6;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -51,7 +53,10 @@ enum FrameFlag : uint8_t {
 enum FrameFlag2 : uint8_t {
   kFrame2SharedMotion = 1,  // since 1.4: P frames, Y and Z may take over X's motion per MB
   kFrame2MultiRef = 2,      // since 1.6: P frames, 2..5 reference frames (payload: u8 ref_count)
-  kFrame2Known = 3,         // every bit a reader understands
+  // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
+  // max transform, 8 or 16; docs/bitstream.md 4.8)
+  kFrame2LargeTransforms = 4,
+  kFrame2Known = 1 | 2 | 4,  // every bit a reader understands
 };
 
 struct PacketHeader {

@@ -40,6 +40,9 @@ class GvidReader {
   Result<GeometryImage> decode_frame(int64_t index);
   // Bits of the frame's packet (header + payload); 0 for an index out of range.
   int64_t frame_bits(int64_t index) const;
+  // The packet header of frame `index` (display order; contract: 0 <= index < frame_count());
+  // fails when it is damaged.
+  Result<format::PacketHeader> packet_header(int64_t index) const;
   // Type of frame `index` (display order; contract: 0 <= index < frame_count()).
   format::FrameType frame_type(int64_t index) const { return entry(index).type; }
   // Reference frames of frame `index` (packet_reference_count; -1 when its packet is damaged).

@@ -37,6 +37,10 @@ struct PlaneCodingParams {
   // references (1..5); with more than one, every inter macroblock that is not a skip codes
   // ref_idx. The references are passed to encode_plane / decode_plane, nearest first.
   int ref_count = 1;
+  // Format 1.6 (larger transforms, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks code their residual with an 8x8 (or a 16x16) transform, chosen per macroblock;
+  // 4 = sixteen 4x4 blocks only (the syntax before 1.6). Lossy planes only.
+  int max_transform = 4;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).
