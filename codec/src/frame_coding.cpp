@@ -23,7 +23,7 @@ struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
   int plane_qp_offset[3] = {0, 0, 0};
-  int ref_count = 1;  // format 1.6: P frames with flags2 bit 1, 2..5
+  int ref_count = 1;      // format 1.6: P frames with flags2 bit 1, 2..5
   int max_transform = 4;  // format 1.6 (flags2 bit 2): 8 or 16
 };
 

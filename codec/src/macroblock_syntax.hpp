@@ -15,8 +15,8 @@
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
-#include "reference_index_syntax.hpp"
 #include "gvkit/codec/transform16x16.hpp"
+#include "reference_index_syntax.hpp"
 
 namespace gvkit::codec::detail {
 

@@ -242,8 +242,9 @@ class MacroblockEncoder {
       int px, py;
       st_.mv_predictor(mb_x_, mb_y_, &px, &py);
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
-      mb.skip = st_.bidirectional ? mb.b_pred == kBDirect
-                                  : mb.shared || (mb.ref_idx == 0 && mb.mv_x == px && mb.mv_y == py);
+      mb.skip = st_.bidirectional
+                    ? mb.b_pred == kBDirect
+                    : mb.shared || (mb.ref_idx == 0 && mb.mv_x == px && mb.mv_y == py);
     }
   }
   // ---- end of larger transforms ----
