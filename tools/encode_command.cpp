@@ -182,6 +182,7 @@ void run_encode(const EncodeArgs& args) {
         {"joint_motion_search", options.joint_motion_search},
         {"inter_decimation", options.inter_decimation},
         {"skip_check", options.skip_check},
+        {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
@@ -194,6 +195,7 @@ void run_encode(const EncodeArgs& args) {
         {"target_psnr_db", options.target_psnr_db},
         {"target_rms_mm", options.target_rms_mm},
         {"intra_target_offset_db", options.intra_target_offset_db},
+        {"refs", options.reference_frames()},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -261,6 +263,10 @@ void add_encode_command(CLI::App& app) {
                 "P frames: let each Y and Z macroblock take over the X plane's vector with one "
                 "flag (format 1.4; pays in lossless coding); without it the Y and Z planes code "
                 "their own motion (1.3 syntax)");
+  cmd->add_option(
+      "--max-transform", args->options.max_transform,
+      "Largest residual transform of inter and I16x16 macroblocks in lossy frames: 4 "
+      "(4x4 only), 8 or 16 (8x8 / 16x16 chosen per macroblock; format 1.6; default 16)");
   cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
                 "P frames with shared motion: search the X plane's vectors on the error of all "
                 "three planes (always on in lossless and near-lossless frames)");
@@ -310,6 +316,11 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--intra-target-offset", args->options.intra_target_offset_db,
                   "Constant quality: I frames aim this many dB above the target (a finer "
                   "reference for the P frames), 0..20");
+  cmd->add_option("--refs", args->options.refs,
+                  "Reference frames of P frames, 1..5: each macroblock predicts from one of the "
+                  "nearest anchors since the last I frame (format 1.6); 1 = one reference (a "
+                  "1.4 / 1.5 stream); default 3 in lossy, 1 in lossless and --max-error-mm "
+                  "streams");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args] { run_encode(*args); });

@@ -158,17 +158,33 @@ void describe_gvid(const fs::path& path) {
   }
   std::printf("  frame types     %lld I, %lld P, %lld B\n", static_cast<long long>(count[0]),
               static_cast<long long>(count[1]), static_cast<long long>(count[2]));
+  // Frame-level tools of the packet headers' flags2 (format 1.6: larger transforms).
+  int64_t large_transforms = 0;
+  for (int64_t i = 0; i < reader->frame_count(); ++i) {
+    const auto header = reader->packet_header(i);
+    if (header.is_ok() && (header->flags2 & codec::format::kFrame2LargeTransforms))
+      ++large_transforms;
+  }
+  if (large_transforms > 0)
+    std::printf("  transforms      8x8 / 16x16 in %lld of %lld frames (format 1.6)\n",
+                static_cast<long long>(large_transforms),
+                static_cast<long long>(reader->frame_count()));
   const double vertices = static_cast<double>(std::max<int64_t>(1, info.domain_pixels()));
   // Display order; packets are in decode order (a B frame after the anchor that follows it).
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const int64_t bits = reader->frame_bits(i);
     total += bits;
-    // Frame-level tools of the packet's flags2 (format 1.4 shared motion, 1.6 cross-plane).
+    // Frame-level tools of the packet's flags2 (format 1.4 shared motion, 1.6 cross-plane), and
+    // (format 1.6) how many reference frames a P frame with several has.
     std::string tools;
-    if (auto h = reader->frame_header(i); h.is_ok()) {
+    if (auto h = reader->packet_header(i); h.is_ok()) {
       if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
       if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
     }
+    const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
+                         ? reader->frame_references(i)
+                         : 1;
+    if (refs > 1) tools += "  refs " + std::to_string(refs);
     std::printf("  frame %6lld    %s  %9lld bytes  %8.4f bits/vertex  (packet %lld)%s\n",
                 static_cast<long long>(i), codec::format::frame_type_name(reader->frame_type(i)),
                 static_cast<long long>(bits / 8), bits / vertices,

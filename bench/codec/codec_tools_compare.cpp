@@ -11,15 +11,19 @@
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
-//                            [--bits-only] [--motion-only] [--bframes-only]
-//                            [--cross-plane-only]
+//                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
+//                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
 // --bframes-only: format 1.5, 0..3 B frames in both presets, B-frame QP offsets, lossless, and
-// the BD-rates against 0 B frames and x265 (logged points with --no-peers); --cross-plane-only:
-// format 1.6 cross-plane residual prediction off / on in both presets, intra only, lossless
-// and near-lossless, the BD-rates against off and x265, and how often each scale is coded)
+// the BD-rates against 0 B frames and x265 (logged points with --no-peers); --refs-only: format
+// 1.6, --refs 1, 2, 3, 5 in both presets (or the one of --refs-preset), lossless, and the
+// BD-rates against --refs 1 and x265; --transform-only: format 1.6, --max-transform 4, 8, 16 in
+// both presets, with P and B frames and intra only; --cross-plane-only: format 1.6 cross-plane
+// residual prediction off / on (the other options at their defaults) in both presets, intra
+// only, lossless and near-lossless, the BD-rates against off and x265, and how often each scale
+// is coded)
 #include <time.h>
 
 #include <chrono>
@@ -270,6 +274,58 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
     print_bd(offset_name(i) + " vs x265 (" + source + " points)", x265, offset_curves[i]);
 }
 
+// Format 1.6, larger transforms: --max-transform 4, 8 and 16 in both presets, with P and B
+// frames and intra only; BD-rates against 4 (the stream without the tool) and against x265, and
+// at QP 0 how many inter / I16x16 macroblocks took each size.
+void report_transforms(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                       const std::vector<RdPoint>& x265, const std::string& source) {
+  print_header();
+  const Preset presets[2] = {Preset::kFast, Preset::kSlow};
+  const int sizes[3] = {4, 8, 16};
+  std::vector<RdPoint> curves[2][2][3];  // [intra only][preset][size]
+  const auto name = [&](int intra, int p, int s) {
+    return std::string(intra ? "intra only, " : "") + preset_name(presets[p]) +
+           ", --max-transform " + std::to_string(sizes[s]);
+  };
+  for (int intra = 0; intra < 2; ++intra)
+    for (int p = 0; p < 2; ++p)
+      for (int s = 0; s < 3; ++s) {
+        EncoderOptions o = base;
+        o.preset = presets[p];
+        o.max_transform = sizes[s];
+        o.intra_only = intra != 0;
+        curves[intra][p][s] = qp_curve(m, o, name(intra, p, s), qps);
+      }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int intra = 0; intra < 2; ++intra)
+    for (int p = 0; p < 2; ++p)
+      for (int s = 1; s < 3; ++s)
+        print_bd(name(intra, p, s) + " vs 4", curves[intra][p][0], curves[intra][p][s]);
+  for (int p = 0; p < 2; ++p)
+    for (int s = 0; s < 3; ++s)
+      print_bd(name(0, p, s) + " vs x265 12-bit (" + source + " points)", x265, curves[0][p][s]);
+  std::printf(
+      "\n| QP 0 | bits/vertex/frame | 8x8 MBs | 16x16 MBs | intra + plain inter MBs | "
+      "sig_map bits | levels bits |\n|---|---|---|---|---|---|---|\n");
+  for (int p = 0; p < 2; ++p)
+    for (int s = 0; s < 3; ++s) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.max_transform = sizes[s];
+      o.qp = 0;
+      std::vector<FrameCodingStats> stats;
+      const Run r = run_ours(m, o, &stats);
+      PlaneCodingStats total;
+      for (const auto& f : stats)
+        for (const auto& plane : f.planes) total += plane;
+      std::printf("| %s | %.4f | %lld | %lld | %lld | %.0f | %.0f |\n", name(0, p, s).c_str(),
+                  r.point.rate, static_cast<long long>(total.transform8_mbs),
+                  static_cast<long long>(total.transform16_mbs),
+                  static_cast<long long>(total.inter_mbs + total.intra_mbs),
+                  total.bits[kSyntaxSigMap], total.bits[kSyntaxLevels]);
+    }
+}
+
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
 
 // Cross-plane scales coded by the Y and Z planes of a run, per scale (kCrossScales order).
@@ -363,6 +419,41 @@ void report_cross_plane(const Material& m, const EncoderOptions& base, const std
                x265, curves[on][i]);
   std::printf("\nCross-plane scales of the Y and Z planes (all QPs of the curve):\n");
   for (const auto& line : scale_lines) std::printf("  %s\n", line.c_str());
+}
+
+// Format 1.6, multiple reference frames: --refs 1, 2, 3, 5 in the given presets (QP curves),
+// lossless (fast), and the BD-rates against --refs 1 and against x265.
+void report_refs(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                 const std::vector<RdPoint>& x265, const std::string& source,
+                 const std::vector<Preset>& presets) {
+  print_header();
+  const int refs[4] = {1, 2, 3, 5};
+  std::vector<std::vector<RdPoint>> curves[2];
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int r : refs) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.refs = r;
+      curves[p].push_back(qp_curve(
+          m, o, std::string(preset_name(presets[p])) + ", --refs " + std::to_string(r), qps));
+    }
+  for (int r : refs) {
+    EncoderOptions o = base;
+    o.lossless = true;
+    o.refs = r;
+    print_row("lossless, fast, --refs " + std::to_string(r), "-", run_ours(m, o));
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int i = 1; i < 4; ++i)
+      print_bd(std::string(preset_name(presets[p])) + ", --refs " + std::to_string(refs[i]) +
+                   " vs --refs 1",
+               curves[p][0], curves[p][i]);
+  for (size_t p = 0; p < presets.size(); ++p)
+    for (int i = 0; i < 4; ++i)
+      print_bd(std::string(preset_name(presets[p])) + ", --refs " + std::to_string(refs[i]) +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[p][i]);
 }
 
 // x265 12-bit 4:4:4 with the GOP, one B frame and 5 references at --peer-preset, QP 0 .. 24.
@@ -519,7 +610,8 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
-       bframes_only = false, cross_plane_only = false;
+       bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false;
+  std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -547,7 +639,18 @@ int main(int argc, char** argv) {
       bframes_only = true;
     else if (a == "--cross-plane-only")
       cross_plane_only = true;
-    else if (a == "--bframes" && i + 1 < argc)
+    else if (a == "--transform-only")
+      transform_only = true;
+    else if (a == "--refs-only")
+      refs_only = true;
+    else if (a == "--refs-preset" && i + 1 < argc) {
+      auto preset = parse_preset(argv[++i]);
+      if (!preset.is_ok()) {
+        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+        return 2;
+      }
+      refs_presets = {*preset};
+    } else if (a == "--bframes" && i + 1 < argc)
       bframes = std::atoi(argv[++i]);
     else if (a == "--no-peers")
       peers = false;
@@ -558,7 +661,8 @@ int main(int argc, char** argv) {
           stderr,
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-          "[--bits-only] [--motion-only] [--bframes-only] [--cross-plane-only]\n");
+          "[--bits-only] [--motion-only] [--bframes-only] [--transform-only] "
+          "[--refs-only [--refs-preset P]] [--cross-plane-only]\n");
       return 2;
     }
   }
@@ -615,6 +719,16 @@ int main(int argc, char** argv) {
   if (cross_plane_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_cross_plane(m, base, qps, x265, peers ? "this run" : "logged");
+    return 0;
+  }
+  if (refs_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_refs(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
+    return 0;
+  }
+  if (transform_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_transforms(m, base, qps, x265, peers ? "this run" : "logged");
     return 0;
   }
   if (motion_only) {

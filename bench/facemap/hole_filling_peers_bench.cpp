@@ -131,7 +131,7 @@ void BM_OurFill(benchmark::State& state) {
   Mesh filled;
   HoleFillingOptions options;
   options.density_factor = state.range(1) / 10.0;
-  options.solve_iterations = static_cast<int>(state.range(2));
+  options.continuity = static_cast<int>(state.range(2));
   for (auto _ : state) {
     filled = c->mesh;
     auto report = fill_holes(&filled, options);
@@ -144,8 +144,7 @@ void BM_OurFill(benchmark::State& state) {
   state.counters["removed"] = static_cast<double>(c->removed.size());
   state.counters["new_vertices"] = static_cast<double>(filled.n_vertices() - c->mesh.n_vertices());
 }
-// Args: hole, density factor x 10, bi-Laplacian solves (the default: 8, 1; before 2026-12-01:
-// 10, 2).
+// Args: hole, density factor x 10, continuity (the default: 8, 2; before 2026-12-02: 8, 1).
 BENCHMARK(BM_OurFill)
     ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7, 8}, {8, 10}, {1, 2}})
     ->Unit(benchmark::kMillisecond);
@@ -169,16 +168,19 @@ BENCHMARK(BM_OurFillIctEyesAndMouth)->Unit(benchmark::kMillisecond);
 
 void BM_CgalFairOnOurs(benchmark::State& state) {
   const Case* c = hole_case(static_cast<int>(state.range(0)));
+  const int continuity = static_cast<int>(state.range(1));
   if (!c) return state.SkipWithError("../shared/data absent");
   Mesh filled = c->mesh;
-  auto report = fill_holes(&filled);
+  HoleFillingOptions options;
+  options.continuity = continuity;
+  auto report = fill_holes(&filled, options);
   SurfaceMesh sm = to_cgal(filled);
   std::vector<SurfaceMesh::Vertex_index> nv;
   for (auto v : sm.vertices())
     if (v.idx() >= c->mesh.n_vertices()) nv.push_back(v);
   for (auto _ : state) {
     SurfaceMesh s2 = sm;
-    CGAL::Polygon_mesh_processing::fair(s2, nv);
+    CGAL::Polygon_mesh_processing::fair(s2, nv, CGAL::parameters::fairing_continuity(continuity));
     for (auto v : nv) {
       const auto& p = s2.point(v);
       filled.set_point(filled.vertex_handle(v.idx()), Mesh::Point(p.x(), p.y(), p.z()));
@@ -189,7 +191,10 @@ void BM_CgalFairOnOurs(benchmark::State& state) {
     if (f.idx() >= static_cast<int>(c->mesh.n_faces())) patch.push_back(f);
   state.counters["rms_mm"] = rms(filled, patch, c->removed);
 }
-BENCHMARK(BM_CgalFairOnOurs)->DenseRange(0, kHoles - 1)->Unit(benchmark::kMillisecond);
+// Args: hole, continuity (of our fill, and of CGAL's fair() on its patch).
+BENCHMARK(BM_CgalFairOnOurs)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, kHoles - 1, 1), {1, 2}})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_CgalFill(benchmark::State& state) {
   const Case* c = hole_case(static_cast<int>(state.range(0)));
@@ -215,7 +220,8 @@ void BM_CgalFill(benchmark::State& state) {
     }
     std::vector<SurfaceMesh::Vertex_index> vertices;
     CGAL::Polygon_mesh_processing::triangulate_refine_and_fair_hole(
-        sm, hole, std::back_inserter(new_faces), std::back_inserter(vertices));
+        sm, hole, std::back_inserter(new_faces), std::back_inserter(vertices),
+        CGAL::parameters::fairing_continuity(static_cast<unsigned>(state.range(1))));
     new_vertices = vertices.size();
   }
   // Back to our mesh type for the same distance code.
@@ -235,7 +241,10 @@ void BM_CgalFill(benchmark::State& state) {
   state.counters["removed"] = static_cast<double>(c->removed.size());
   state.counters["new_vertices"] = static_cast<double>(new_vertices);
 }
-BENCHMARK(BM_CgalFill)->DenseRange(0, kHoles - 1)->Unit(benchmark::kMillisecond);
+// Args: hole, CGAL's fairing continuity (1: its default).
+BENCHMARK(BM_CgalFill)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, kHoles - 1, 1), {1, 2}})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace gvkit::facemap::bench

@@ -7,6 +7,7 @@
 
 #include "cross_plane_residual.hpp"
 #include "gvkit/codec/transform.hpp"
+#include "gvkit/codec/transform16x16.hpp"
 
 namespace gvkit::codec {
 
@@ -57,26 +58,41 @@ void macroblock_residual(const MacroblockData& mb, const PlaneCodingParams& p, i
   const auto block = [&](int n, const int32_t* levels, int x0, int y0) {
     const int count = n * n;
     if (!any_nonzero(levels, count)) return;
-    int32_t r[64];
+    int32_t r[256];
     if (p.lossless) {
       const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
       for (int i = 0; i < count; ++i) r[i] = static_cast<int32_t>(levels[i] * step);
     } else {
-      int64_t coeffs[64];
-      dequantize(n, levels, p.qp_prime, coeffs);
-      if (n == 4)
-        inverse_transform4x4(coeffs, r);
-      else
-        inverse_transform8x8(coeffs, r);
+      int64_t coeffs[256];
+      if (n == 16) {
+        dequantize16x16(levels, p.qp_prime, coeffs);
+        inverse_transform16x16(coeffs, r);
+      } else {
+        dequantize(n, levels, p.qp_prime, coeffs);
+        if (n == 4)
+          inverse_transform4x4(coeffs, r);
+        else
+          inverse_transform8x8(coeffs, r);
+      }
     }
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) out[(y0 + y) * 16 + x0 + x] = r[y * n + x];
   };
-  if (mb.type == kMbI8x8) {
-    for (int q = 0; q < 4; ++q) block(8, mb.levels8[q], (q & 1) * 8, (q >> 1) * 8);
+  // Only the blocks the cbp codes (the encoder may hold levels of a transform size it tried and
+  // did not choose, e.g. when the chosen one quantized to cbp 0: the decoder reads none).
+  const auto coded = [&](int quadrant) { return ((mb.cbp >> quadrant) & 1) != 0; };
+  // I8x8, and inter / I16x16 macroblocks with the 8x8 transform of format 1.6 (4.8).
+  if (mb.type == kMbI8x8 || ((mb.type == kMbInter || mb.type == kMbI16x16) && mb.transform == 8)) {
+    for (int q = 0; q < 4; ++q)
+      if (coded(q)) block(8, mb.levels8[q], (q & 1) * 8, (q >> 1) * 8);
     return;
   }
-  for (int b = 0; b < 16; ++b) block(4, mb.levels[b], block_x(b) * 4, block_y(b) * 4);
+  if ((mb.type == kMbInter || mb.type == kMbI16x16) && mb.transform == 16) {  // 4.8: 16x16
+    if (mb.cbp == 15) block(16, mb.levels16, 0, 0);
+    return;
+  }
+  for (int b = 0; b < 16; ++b)
+    if (coded(b >> 2)) block(4, mb.levels[b], block_x(b) * 4, block_y(b) * 4);
 }
 
 void record_macroblock_residual(CrossPlaneResidual& out, int mb_x, int mb_y,

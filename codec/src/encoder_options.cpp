@@ -91,6 +91,12 @@ Status EncoderOptions::check() const {
   if (constant_quality() && bypass())
     return invalid_argument(std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
                             ": constant quality needs lossy coding (not lossless or max error)");
+  if (refs < -1 || refs == 0 || refs > 5)
+    return invalid_argument("refs " + std::to_string(refs) +
+                            " out of range (1..5 reference frames, -1 automatic)");
+  if (max_transform != 4 && max_transform != 8 && max_transform != 16)
+    return invalid_argument("max transform " + std::to_string(max_transform) +
+                            " is not 4, 8 or 16");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

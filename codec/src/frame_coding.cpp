@@ -23,6 +23,8 @@ struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
   int plane_qp_offset[3] = {0, 0, 0};
+  int ref_count = 1;      // format 1.6: P frames with flags2 bit 1, 2..5
+  int max_transform = 4;  // format 1.6 (flags2 bit 2): 8 or 16
 };
 
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
@@ -34,6 +36,8 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.adaptive_levels = (flags & format::kFrameAdaptiveLevels) != 0;
   p.td_prediction = (flags & format::kFrameTdPrediction) != 0;
   p.subpel = (flags & format::kFrameQuarterPel) != 0 ? 4 : 0;
+  p.ref_count = syntax.ref_count;
+  p.max_transform = syntax.max_transform;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -89,7 +93,8 @@ int near_lossless_delta(const SequenceInfo& info, double max_error_mm) {
 Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
                                   const EncoderOptions& options, uint32_t frame_number,
                                   const std::vector<SamplePlane>* reference,
-                                  const std::vector<SamplePlane>* reference1) {
+                                  const std::vector<SamplePlane>* reference1,
+                                  const std::vector<const std::vector<SamplePlane>*>* older) {
   const std::string name = "frame " + std::to_string(frame_number);
   if (image.xyz_mm.rows != info.height || image.xyz_mm.cols != info.width)
     return invalid_argument(name + ": size differs from the sequence's");
@@ -122,6 +127,19 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                            (p_frame && options.td_prediction ? format::kFrameTdPrediction : 0) |
                            (reference && options.subpel ? format::kFrameQuarterPel : 0));
   if (p_frame && options.shared_motion) header.flags2 |= format::kFrame2SharedMotion;
+  // Multiple reference frames (format 1.6): the nearest options.reference_frames() anchors
+  // since the last I frame (reference, then `older`, nearest first).
+  if (p_frame && options.reference_frames() > 1 && older && !older->empty()) {
+    syntax.ref_count =
+        std::min<int>(options.reference_frames(), 1 + static_cast<int>(older->size()));
+    for (int k = 0; k + 1 < syntax.ref_count; ++k)
+      GVKIT_CHECK((*older)[k] && (*older)[k]->size() == planes.size());
+    header.flags2 |= format::kFrame2MultiRef;
+  }
+  if (options.large_transforms()) {
+    header.flags2 |= format::kFrame2LargeTransforms;
+    syntax.max_transform = options.max_transform;
+  }
   if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
@@ -173,6 +191,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       p.skip_check = options.skip_check;
       if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;
+      // Multiple references: this plane of references 1 .. ref_count - 1 (value prediction
+      // maps reference 0 only).
+      std::vector<const SamplePlane*> more;
+      for (int k = 0; k + 1 < syntax.ref_count; ++k) more.push_back(&(*(*older)[k])[i]);
       // Shared motion: X's vectors are searched on the prediction error of X, Y and Z together.
       JointSearchPlanes joint;
       if (shared_motion && (options.joint_motion_search || bypass) && i == 0 && ref)
@@ -180,11 +202,15 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
           joint.sources.push_back(&planes[j]);
           joint.references.push_back(&(*ref)[j]);
         }
+      if (!joint.sources.empty())
+        for (int k = 0; k + 1 < syntax.ref_count; ++k)
+          joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
       const CrossPlaneLinks links = cross_links(i);
       if (bidirectional)
         coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links);
       else
-        coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint, &links);
+        coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint,
+                                more.empty() ? nullptr : &more, &links);
     };
     if (!shared_motion && !cross_plane) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
@@ -232,6 +258,9 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     write_value_transform(payload, syntax.value_transform);
   if (header.flags & format::kFramePlaneQp)
     for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
+  if (header.flags2 & format::kFrame2MultiRef) payload.u8(static_cast<uint8_t>(syntax.ref_count));
+  if (header.flags2 & format::kFrame2LargeTransforms)
+    payload.u8(static_cast<uint8_t>(syntax.max_transform));
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
@@ -248,11 +277,32 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   return out;
 }
 
-Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
-                                          int64_t frame_number,
-                                          const std::vector<SamplePlane>* reference,
-                                          std::vector<SamplePlane>* planes_out,
-                                          const std::vector<SamplePlane>* reference1) {
+Result<int> packet_reference_count(std::string_view packet) {
+  GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
+  if (header.type == format::FrameType::kIntra) return 0;
+  if (header.type == format::FrameType::kBidirectional) return 2;
+  if (!(header.flags2 & format::kFrame2MultiRef)) return 1;
+  if (packet.size() - format::kPacketHeaderSize < header.payload_size)
+    return corrupt_data("payload truncated");
+  ByteReader r(packet.substr(format::kPacketHeaderSize, header.payload_size));
+  r.u8();  // plane count
+  if (header.flags & format::kFrameNearLossless) r.u16();
+  if (header.flags & format::kFrameValuePrediction) {
+    auto transform = read_value_transform(r);
+    if (!transform.is_ok()) return transform.status();
+  }
+  if (header.flags & format::kFramePlaneQp)
+    for (int i = 0; i < 3; ++i) r.u8();
+  const int ref_count = r.u8();
+  if (!r.ok()) return corrupt_data("ref_count missing");
+  return ref_count;
+}
+
+Result<GeometryImage> decode_frame_packet(
+    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
+    const std::vector<SamplePlane>* reference, std::vector<SamplePlane>* planes_out,
+    const std::vector<SamplePlane>* reference1,
+    const std::vector<const std::vector<SamplePlane>*>* older) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
   if (packet.size() - format::kPacketHeaderSize < header.payload_size)
     return corrupt_data("payload truncated");
@@ -290,6 +340,11 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   if (shared_motion && !predicted)
     return corrupt_data("frame flags2: shared motion in an intra frame");
+  const bool multi_ref = (header.flags2 & format::kFrame2MultiRef) != 0;
+  if (multi_ref && !predicted)
+    return corrupt_data("frame flags2: multiple reference frames in an intra frame");
+  if ((header.flags2 & format::kFrame2LargeTransforms) && lossless)
+    return corrupt_data("frame flags2: larger transforms in a lossless frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -323,6 +378,31 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
       if (!r.ok() || syntax.plane_qp_offset[i] < -12 || syntax.plane_qp_offset[i] > 12)
         return corrupt_data("plane QP offset missing or out of range (-12..12)");
     }
+  // Multiple reference frames (format 1.6): ref_count 2..5, each an anchor the caller holds.
+  std::vector<std::vector<const SamplePlane*>> more(plane_count);
+  if (multi_ref) {
+    syntax.ref_count = r.u8();
+    if (!r.ok()) return corrupt_data("ref_count missing");
+    if (syntax.ref_count < 2 || syntax.ref_count > format::kMaxReferenceFrames)
+      return corrupt_data("ref_count " + std::to_string(syntax.ref_count) + " out of range (2.." +
+                          std::to_string(format::kMaxReferenceFrames) + ")");
+    const size_t available = 1 + (older ? older->size() : 0);
+    if (static_cast<size_t>(syntax.ref_count) > available)
+      return corrupt_data("ref_count " + std::to_string(syntax.ref_count) + " names more " +
+                          "reference frames than the " + std::to_string(available) +
+                          " anchor frames since the last intra frame");
+    for (int k = 0; k + 1 < syntax.ref_count; ++k) {
+      const std::vector<SamplePlane>* refk = (*older)[k];
+      if (!refk || refk->size() != expected_planes)
+        return corrupt_data("reference frame " + std::to_string(k + 1) + " missing");
+      for (size_t i = 0; i < plane_count; ++i) more[i].push_back(&(*refk)[i]);
+    }
+  }
+  if (header.flags2 & format::kFrame2LargeTransforms) {
+    syntax.max_transform = r.u8();
+    if (!r.ok() || (syntax.max_transform != 8 && syntax.max_transform != 16))
+      return corrupt_data("max transform missing or not 8 or 16 (larger transforms)");
+  }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   for (int l = 0; l < 2 && predicted; ++l) {
     const std::vector<SamplePlane>* refs = l ? reference1 : reference;
@@ -331,6 +411,10 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
       if (plane.width != pw || plane.height != ph)
         return corrupt_data("reference frame size differs");
   }
+  for (const auto& list : more)
+    for (const SamplePlane* plane : list)
+      if (plane->width != pw || plane->height != ph)
+        return corrupt_data("reference frame size differs");
   std::vector<SamplePlane> planes;
   MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
@@ -350,7 +434,8 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)
             : decode_plane(bytes, pw, ph, params, prediction_ref ? &(*prediction_ref)[i] : nullptr,
                            shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
-                           shared_motion && i == 0 ? &x_motion : nullptr, &links);
+                           shared_motion && i == 0 ? &x_motion : nullptr,
+                           multi_ref ? &more[i] : nullptr, &links);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
   }

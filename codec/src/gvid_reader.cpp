@@ -100,13 +100,17 @@ Result<int64_t> GvidReader::neighbour_anchor(int64_t index, int direction,
 
 Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* ref0,
                                                 const Decoded* ref1,
-                                                std::vector<SamplePlane>* planes) const {
+                                                std::vector<SamplePlane>* planes,
+                                                const std::vector<const Decoded*>& older) const {
+  std::vector<const std::vector<SamplePlane>*> older_planes;
+  for (const Decoded* d : older) older_planes.push_back(&d->planes);
   const format::IndexEntry& e = entry(index);
   const std::string_view packet = std::string_view(bytes_).substr(
       e.offset,
       std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
   return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
-                             ref1 ? &ref1->planes : nullptr);
+                             ref1 ? &ref1->planes : nullptr,
+                             older_planes.empty() ? nullptr : &older_planes);
 }
 
 Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
@@ -116,23 +120,48 @@ Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
       if (d->index == j) return d;
     return nullptr;
   };
-  // Back along the chain of references to a decoded anchor or an intra frame.
+  // Back along the anchors (newest first) until every anchor to decode has its references in
+  // the chain: one anchor before a P frame, up to kMaxReferenceFrames before one with several
+  // references (flags2 bit 1), never past an intra frame. With one reference per P frame the
+  // chain stops at the first decoded anchor.
+  const auto references_of = [&](int64_t j) {
+    const format::IndexEntry& e = entry(j);
+    if (e.type == format::FrameType::kIntra) return 0;
+    auto header = format::read_packet_header(
+        std::string_view(bytes_).substr(e.offset, format::kPacketHeaderSize));
+    return header.is_ok() && (header->flags2 & format::kFrame2MultiRef)
+               ? format::kMaxReferenceFrames
+               : 1;
+  };
   std::vector<int64_t> chain;
-  std::shared_ptr<const Decoded> base;
+  std::vector<std::shared_ptr<const Decoded>> held;  // per chain entry: decoded, or null
+  int reach = 0;  // anchors further back that the chain's frames to decode still need
   for (int64_t j = index;;) {
-    if ((base = cached(j))) break;
     chain.push_back(j);
-    if (entry(j).type == format::FrameType::kIntra) break;
+    held.push_back(cached(j));
+    if (!held.back()) reach = std::max(reach, references_of(j));
+    if (reach == 0 || entry(j).type == format::FrameType::kIntra) break;
     GVKIT_ASSIGN_OR_RETURN(const int64_t before, neighbour_anchor(j, -1, where));
     if (before < 0) return corrupt_data(where + ": no intra frame before it");
     j = before;
+    --reach;
   }
-  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-    const int64_t j = *it;
+  for (size_t q = chain.size(); q-- > 0;) {
+    if (held[q]) continue;
+    const int64_t j = chain[q];
     auto d = std::make_shared<Decoded>();
     d->index = j;
     const bool intra = entry(j).type == format::FrameType::kIntra;
-    auto frame = decode_packet(j, intra ? nullptr : base.get(), nullptr, &d->planes);
+    // References: the anchors before it in the chain (held, decoded or just decoded).
+    std::vector<const Decoded*> older;
+    for (size_t r = q + 2; !intra && r < chain.size() && r <= q + format::kMaxReferenceFrames;
+         ++r) {
+      if (!held[r]) break;
+      older.push_back(held[r].get());
+    }
+    const Decoded* ref0 = !intra && q + 1 < chain.size() ? held[q + 1].get() : nullptr;
+    if (!intra && !ref0) return corrupt_data(where + ": no intra frame before it");
+    auto frame = decode_packet(j, ref0, nullptr, &d->planes, older);
     if (!frame.is_ok()) {
       if (j == requested) return frame.status().with_context(where);
       return frame.status().with_context(where + ": reference frame " + std::to_string(j));
@@ -140,9 +169,9 @@ Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
     d->image = std::move(frame).value();
     anchors_.push_back(d);
     if (anchors_.size() > kCachedAnchors) anchors_.pop_front();
-    base = std::move(d);
+    held[q] = std::move(d);
   }
-  return base;
+  return held.front();
 }
 
 Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
@@ -174,13 +203,16 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   return deep_copy(d->image);
 }
 
-Result<format::PacketHeader> GvidReader::frame_header(int64_t index) const {
-  if (index < 0 || index >= frame_count())
-    return invalid_argument(name_ + ": frame " + std::to_string(index) + " out of range");
-  const uint64_t offset = entry(index).offset;
-  if (offset + format::kPacketHeaderSize > bytes_.size())
-    return corrupt_data(name_ + ": frame " + std::to_string(index) + ": packet header truncated");
-  return format::read_packet_header(std::string_view(bytes_).substr(offset));
+int GvidReader::frame_references(int64_t index) const {
+  const format::IndexEntry& e = entry(index);
+  auto refs = packet_reference_count(std::string_view(bytes_).substr(
+      e.offset,
+      std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset)));
+  return refs.is_ok() ? *refs : -1;
+}
+
+Result<format::PacketHeader> GvidReader::packet_header(int64_t index) const {
+  return format::read_packet_header(std::string_view(bytes_).substr(entry(index).offset));
 }
 
 int64_t GvidReader::frame_bits(int64_t index) const {

@@ -106,19 +106,20 @@ const QualityController* GvidWriter::quality_controller() const {
   return encoder_->quality_controller();
 }
 
-Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
-                                           const EncoderOptions& options, uint32_t number,
-                                           const std::vector<SamplePlane>& reference,
-                                           RateController* rate, int* qp_used,
-                                           const std::vector<SamplePlane>* reference1,
-                                           QualityController* quality) {
+Result<EncodedFrame> encode_sequence_frame(
+    const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
+    uint32_t number, const std::vector<SamplePlane>& reference, RateController* rate, int* qp_used,
+    const std::vector<SamplePlane>* reference1, QualityController* quality,
+    const std::vector<const std::vector<SamplePlane>*>* older) {
   const bool intra = options.is_intra(number);
   GVKIT_CHECK(!intra || !reference1, "a B frame at an intra frame's position");
   const format::FrameType type =
       intra ? format::FrameType::kIntra
             : (reference1 ? format::FrameType::kBidirectional : format::FrameType::kPredicted);
   const std::vector<SamplePlane>* ref = intra ? nullptr : &reference;
-  if (quality) return quality->encode(frame, info, options, number, ref, reference1, qp_used);
+  if (reference1 || intra) older = nullptr;  // several references: P frames only
+  if (quality)
+    return quality->encode(frame, info, options, number, ref, reference1, qp_used, older);
   EncoderOptions o = options;
   if (rate) {
     o.qp = rate->next_qp(type);
@@ -129,7 +130,7 @@ Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const Seq
   if (qp_used) *qp_used = o.bypass() ? 0 : std::min(51, o.qp + offset);
   for (;;) {
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frame, info, o, number, ref, reference1));
+                           encode_frame(frame, info, o, number, ref, reference1, older));
     if (!rate) return encoded;
     const auto bits = static_cast<int64_t>(encoded.packet.size()) * 8;
     if (!rate->overflows(bits) || o.qp >= 51) {
@@ -174,6 +175,9 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
+  if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
+    return format::kMinorVersionMultiRef;
+  if (options.large_transforms()) return format::kMinorVersionLargeTransforms;
   if (options.cross_plane) return format::kMinorVersionCrossPlane;
   return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
              ? format::kMinorVersion

@@ -17,6 +17,8 @@
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
+#include "gvkit/codec/transform16x16.hpp"
+#include "reference_index_syntax.hpp"
 
 namespace gvkit::codec::detail {
 
@@ -38,9 +40,10 @@ struct ContextSet {
   CabacContext rem_mode[1];
   CabacContext cbp[4];
   CabacContext cbf[4];
-  CabacContext sig[2][16];
-  CabacContext last[2][16];
-  CabacContext level[2][10];
+  // Residual categories: 0 = 4x4, 1 = 8x8, 2 = 16x16 (format 1.6, larger transforms).
+  CabacContext sig[3][16];
+  CabacContext last[3][16];
+  CabacContext level[3][10];
   CabacContext is_inter[3];
   CabacContext skip[3];
   CabacContext mvd_zero[2];
@@ -49,13 +52,18 @@ struct ContextSet {
   CabacContext shared_skip[2];  // ... then skip, by whether the co-located MB is a skip
   // Format 1.5, B planes: direct (bin 0), else bi (bin 1), else L1 (bin 2).
   CabacContext b_pred[3];
+  // Format 1.6, P planes with several references: ref_idx as truncated unary; bin 0 by the
+  // left and top macroblocks' ref_idx > 0 (0..2), bin 1 context 3, later bins context 4.
+  CabacContext ref_idx[kRefIdxContexts];
+  // Format 1.6 (larger transforms): bin 0 "larger than 4x4", bin 1 "16x16", by neighbours.
+  CabacContext transform_size[2][3];
   // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
   CabacContext cross_scale[4];
   CabacContext cross_sign[1];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
-  uint32_t level_mean16[2] = {};
+  uint32_t level_mean16[3] = {};
 };
 
 // A CabacEncoder that also adds each bin's ideal code length to the current syntax group of a
@@ -115,12 +123,15 @@ struct PlaneState {
   std::vector<int16_t> mv_x, mv_y;  // per macroblock, inter only (units of the plane)
   std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
+  std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
   // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
   // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
   bool bidirectional = false;
   std::vector<uint8_t> lists;         // per macroblock: bit 0 uses list 0, bit 1 list 1
   std::vector<int16_t> mv_x1, mv_y1;  // per macroblock: list 1 vectors
+  // Per macroblock, format 1.6: the residual's transform (0: 4x4, 1: 8x8 or I8x8, 2: 16x16).
+  std::vector<uint8_t> transform;
   // Format 1.6, Y and Z planes: the residual predicted from (X's), or null (tool off).
   const CrossPlaneResidual* cross = nullptr;
 
@@ -136,9 +147,11 @@ struct PlaneState {
         mv_y(mb_type.size()),
         td(mb_type.size()),
         shared(mb_type.size()),
+        ref_idx(mb_type.size()),
         lists(mb_type.size()),
         mv_x1(mb_type.size()),
-        mv_y1(mb_type.size()) {}
+        mv_y1(mb_type.size()),
+        transform(mb_type.size()) {}
   // Format 1.6: whether a non-skip macroblock codes a cross-plane scale (the co-located
   // source macroblock has a nonzero residual).
   bool codes_cross_scale(int mb_x, int mb_y) const { return cross && cross->nonzero(mb_x, mb_y); }
@@ -153,15 +166,33 @@ struct PlaneState {
     out.skip = skip;
     out.mv_x = mv_x;
     out.mv_y = mv_y;
+    out.ref_idx = ref_idx;
   }
-  // Motion vector predictor of a macroblock: the left one's if inter, else the top one's if
-  // inter, else zero.
-  void mv_predictor(int mb_x, int mb_y, int* px, int* py) const {
+  // The reference of the co-located first-plane macroblock (shared motion).
+  int colocated_ref(size_t i) const {
+    return colocated && i < colocated->ref_idx.size() ? colocated->ref_idx[i] : 0;
+  }
+  // Motion vector predictor of a macroblock that predicts from reference `ref`: the left one's
+  // if inter from the same reference, else the top one's if so, else the left one's if inter,
+  // else the top one's if inter, else zero (with one reference: the left one's if inter, else
+  // the top one's if inter, else zero).
+  void mv_predictor(int mb_x, int mb_y, int* px, int* py, int ref = 0) const {
     *px = *py = 0;
     const auto inter = [&](int x, int y) {
       return x >= 0 && y >= 0 && mb_type[static_cast<size_t>(y) * mbs_x + x] == kMbInter;
     };
-    if (inter(mb_x - 1, mb_y)) {
+    const auto same_ref = [&](int x, int y) {
+      return inter(x, y) && ref_idx[static_cast<size_t>(y) * mbs_x + x] == ref;
+    };
+    if (same_ref(mb_x - 1, mb_y)) {
+      const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    } else if (same_ref(mb_x, mb_y - 1)) {
+      const size_t i = static_cast<size_t>(mb_y - 1) * mbs_x + mb_x;
+      *px = mv_x[i];
+      *py = mv_y[i];
+    } else if (inter(mb_x - 1, mb_y)) {
       const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x - 1;
       *px = mv_x[i];
       *py = mv_y[i];
@@ -207,11 +238,16 @@ struct MacroblockData {
   int8_t modes[16] = {};        // I4x4: per block in z-order; I8x8: modes[0..3] per 8x8 block
   uint8_t cbp = 0;              // bit q: 8x8 quadrant q has a nonzero level
   int32_t levels[16][16] = {};  // 4x4 blocks in z-order (I4x4, I16x16)
-  int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8)
-  bool skip = false;            // inter: motion = predictor, no residual
-  bool td = false;              // inter: temporal-difference prediction with modes[0..15]
-  bool shared = false;          // inter: the co-located first-plane vector (format 1.4)
-  int mv_x = 0, mv_y = 0;       // inter: motion vector (samples, or quarter samples)
+  int32_t levels8[4][64] = {};  // 8x8 blocks (I8x8, and 8x8 transforms of format 1.6)
+  // Format 1.6 (larger transforms), inter and I16x16: the residual's transform (4, 8 or 16;
+  // 16: cbp is 0 or 15, one block) and the 16x16 block's levels.
+  int transform = 4;
+  int32_t levels16[256] = {};
+  bool skip = false;       // inter: motion = predictor, no residual
+  bool td = false;         // inter: temporal-difference prediction with modes[0..15]
+  bool shared = false;     // inter: the co-located first-plane vector (format 1.4)
+  int mv_x = 0, mv_y = 0;  // inter: motion vector (samples, or quarter samples)
+  int ref_idx = 0;         // inter, P planes: index into the reference list (format 1.6)
   // B planes: the prediction of an inter macroblock and its list 1 vector (mv_x, mv_y being
   // the list 0 one). Skip is a direct macroblock without residual.
   BPred b_pred = kBDirect;
@@ -262,18 +298,34 @@ void write_exp_golomb0(Coder& coder, uint32_t value, int k = 0) {
   while (k--) coder.encode_bypass((value >> k) & 1);
 }
 
+// Raster index of scan position i of an n x n block (n = 4, 8, 16); residual category and
+// significance-map context of scan position i.
+inline int scan_position(int n, int i) {
+  return n == 4 ? kZigzag4x4[i] : (n == 8 ? kZigzag8x8[i] : kZigzag16x16[i]);
+}
+inline int residual_category(int n) { return n == 4 ? 0 : (n == 8 ? 1 : 2); }
+// 16x16: the anti-diagonal x + y of the position, capped at 15 (on the ICT face 2.1 % fewer bits
+// than i >> 4 at QP 0 in the slow preset, 0.3 % in the fast one; docs/benchmarks.md).
+inline int sig_context(int n, int i) {
+  if (n == 16) {
+    const int r = kZigzag16x16[static_cast<size_t>(i)];
+    return std::min(15, r % 16 + r / 16);
+  }
+  return n == 4 ? i : (n == 8 ? i >> 2 : i >> 4);
+}
+
 // Residual block of n*n levels in raster order (at least one nonzero).
 template <class Coder>
 void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n) {
-  const int count = n * n, cat = n == 8 ? 1 : 0;
-  const uint8_t* scan = n == 8 ? kZigzag8x8 : kZigzag4x4;
+  const int count = n * n, cat = residual_category(n);
+  const auto scan = [n](int i) { return scan_position(n, i); };
   int last = -1;
   for (int i = 0; i < count; ++i)
-    if (levels[scan[i]]) last = i;
+    if (levels[scan(i)]) last = i;
   set_group(coder, kSyntaxSigMap);
   for (int i = 0; i < count - 1; ++i) {
-    const int c = n == 8 ? i >> 2 : i;
-    const int sig = levels[scan[i]] != 0;
+    const int c = sig_context(n, i);
+    const int sig = levels[scan(i)] != 0;
     coder.encode(ctx.sig[cat][c], sig);
     if (sig) {
       coder.encode(ctx.last[cat][c], i == last);
@@ -283,7 +335,7 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
   set_group(coder, kSyntaxLevels);
   int num_gt1 = 0, num_eq1 = 0;
   for (int i = last; i >= 0; --i) {
-    const int32_t v = levels[scan[i]];
+    const int32_t v = levels[scan(i)];
     if (!v) continue;
     const uint32_t abs_minus1 = static_cast<uint32_t>(std::abs(v)) - 1;
     coder.encode(ctx.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)], abs_minus1 > 0);
@@ -307,10 +359,37 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
   }
 }
 
-// Coded block pattern, then the residual blocks (8x8 for I8x8, else 4x4 with coded_block_flag).
+// ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
+// Whether macroblock `mb` codes transform_size: plain inter (not TD) and I16x16 macroblocks of a
+// plane with max_transform > 4, when their cbp is nonzero.
+inline bool has_transform_size(const MacroblockData& mb, const PlaneCodingParams& p) {
+  return p.max_transform > 4 && mb.cbp != 0 &&
+         ((mb.type == kMbInter && !mb.td) || mb.type == kMbI16x16);
+}
+inline int transform_code(int size) { return size == 16 ? 2 : (size == 8 ? 1 : 0); }
+
+// transform_size after the cbp: bin 0 (size > 4, context: left and top macroblocks with
+// transform code >= 1), then with max_transform 16 and cbp 15 bin 1 (16x16, context: the
+// neighbours with code 2). Records the code for later contexts.
+template <class Coder>
+void write_transform_size(Coder& coder, ContextSet& ctx, const PlaneState& st, int mb_x, int mb_y,
+                          int size, int cbp, int max_transform) {
+  const size_t i = static_cast<size_t>(mb_y) * st.mbs_x + mb_x;
+  const auto count = [&](int code) {
+    return (mb_x > 0 && st.transform[i - 1] >= code ? 1 : 0) +
+           (mb_y > 0 && st.transform[i - st.mbs_x] >= code ? 1 : 0);
+  };
+  coder.encode(ctx.transform_size[0][count(1)], size > 4);
+  if (size > 4 && max_transform == 16 && cbp == 15)
+    coder.encode(ctx.transform_size[1][count(2)], size == 16);
+}
+// ---- end of larger transforms ----
+
+// Coded block pattern, then the residual blocks (8x8 for I8x8, else 4x4 with coded_block_flag;
+// format 1.6: transform_size, then 8x8 blocks per cbp quadrant or one 16x16 block).
 template <class Coder>
 void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
-                                 const MacroblockData& mb) {
+                                 const MacroblockData& mb, const PlaneCodingParams& params) {
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   const int cx0 = mb_x * 2, cy0 = mb_y * 2;
   if (st.codes_cross_scale(mb_x, mb_y)) {  // format 1.6
@@ -326,7 +405,20 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
     coder.encode(ctx.cbp[left + 2 * top], bit);
     st.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
   }
-  if (mb.type == kMbI8x8) {
+  const size_t mb_index = static_cast<size_t>(mb_y) * st.mbs_x + mb_x;
+  int size = mb.type == kMbI8x8 ? 8 : 4;
+  if (has_transform_size(mb, params)) {
+    size = mb.transform;
+    set_group(coder, kSyntaxMbType);
+    write_transform_size(coder, ctx, st, mb_x, mb_y, size, mb.cbp, params.max_transform);
+  }
+  st.transform[mb_index] = static_cast<uint8_t>(transform_code(size));
+  if (size == 16) {
+    for (int i = 0; i < 16; ++i) st.cbf_at(gx0 + i % 4, gy0 + i / 4) = 1;
+    write_residual(coder, ctx, mb.levels16, 16);
+    return;
+  }
+  if (size == 8) {
     for (int q = 0; q < 4; ++q) {
       const int bit = (mb.cbp >> q) & 1;
       for (int i = 0; i < 4; ++i)
@@ -400,7 +492,7 @@ void write_intra_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int m
       st.mode_at(gx, gy) = mb.modes[b];
     }
   }
-  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
 }
 
 // Writes one macroblock of a B plane (format 1.5): skip (direct, no residual), else is_inter;
@@ -464,7 +556,7 @@ void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x,
     for (int q = 0; q < 4; ++q) st.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
     return;
   }
-  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+  write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
 }
 
 // Writes one macroblock at (mb_x, mb_y) and records its state for later contexts.
@@ -499,12 +591,20 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       else
         coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
       st.skip[mb_index] = mb.skip;
+      // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
+      const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
+      if (!mb.skip && !shared && params.ref_count > 1) {
+        set_group(coder, kSyntaxMotion);
+        write_ref_idx(coder, ctx.ref_idx, ref_idx_context(st.ref_idx, st.mbs_x, mb_x, mb_y), ref,
+                      params.ref_count);
+      }
+      st.ref_idx[mb_index] = static_cast<uint8_t>(ref);
       int px, py;
       if (shared) {
         px = st.colocated->mv_x[mb_index];
         py = st.colocated->mv_y[mb_index];
       } else {
-        st.mv_predictor(mb_x, mb_y, &px, &py);
+        st.mv_predictor(mb_x, mb_y, &px, &py, ref);
       }
       if (!mb.skip && !shared) {
         write_mvd(coder, ctx, 0, mb.mv_x - px);
@@ -533,11 +633,12 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
         for (int q = 0; q < 4; ++q) st.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
         return;
       }
-      write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb);
+      write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
       return;
     }
     st.skip[mb_index] = 0;
     st.td[mb_index] = 0;
+    st.ref_idx[mb_index] = 0;
   }
   write_intra_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
 }
@@ -556,7 +657,7 @@ inline bool is_coded(int px, int py, int width, int mb_x, int mb_y, int block) {
 inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
                               const PlaneCodingParams& p, uint16_t* plane, int stride, int x0,
                               int y0) {
-  int64_t residual[64];
+  int64_t residual[256];
   const int count = n * n;
   if (p.lossless) {
     // Near-lossless: a level counts 2 near + 1 samples (|level| < 2^24, so no overflow).
@@ -565,13 +666,18 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
   } else if (!any_nonzero(levels, count)) {
     std::fill(residual, residual + count, 0);
   } else {
-    int64_t coeffs[64];
-    int32_t transformed[64];
-    dequantize(n, levels, p.qp_prime, coeffs);
-    if (n == 4)
-      inverse_transform4x4(coeffs, transformed);
-    else
-      inverse_transform8x8(coeffs, transformed);
+    int64_t coeffs[256];
+    int32_t transformed[256];
+    if (n == 16) {
+      dequantize16x16(levels, p.qp_prime, coeffs);
+      inverse_transform16x16(coeffs, transformed);
+    } else {
+      dequantize(n, levels, p.qp_prime, coeffs);
+      if (n == 4)
+        inverse_transform4x4(coeffs, transformed);
+      else
+        inverse_transform8x8(coeffs, transformed);
+    }
     std::copy(transformed, transformed + count, residual);
   }
   const int max_value = (1 << p.bit_depth) - 1;
@@ -581,6 +687,27 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
       plane[static_cast<size_t>(y0 + y) * stride + x0 + x] =
           static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
     }
+}
+
+// The residual of an inter or I16x16 macroblock added to its 16x16 prediction pred16 at
+// (x0, y0): sixteen 4x4 blocks, four 8x8 blocks or one 16x16 block by mb.transform.
+inline void reconstruct_macroblock_residual(const int32_t* pred16, const MacroblockData& mb,
+                                            const PlaneCodingParams& p, uint16_t* plane, int stride,
+                                            int x0, int y0) {
+  if (mb.transform == 16) {
+    reconstruct_block(16, pred16, mb.levels16, p, plane, stride, x0, y0);
+    return;
+  }
+  const int n = mb.transform == 8 ? 8 : 4;
+  for (int b = 0; b < (n == 8 ? 4 : 16); ++b) {
+    const int bx = n == 8 ? (b & 1) * 8 : block_x(b) * 4,
+              by = n == 8 ? (b >> 1) * 8 : block_y(b) * 4;
+    int32_t sub[64];
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) sub[y * n + x] = pred16[(by + y) * 16 + bx + x];
+    reconstruct_block(n, sub, n == 8 ? mb.levels8[b] : mb.levels[b], p, plane, stride, x0 + bx,
+                      y0 + by);
+  }
 }
 
 // Inter prediction of the 16x16 macroblock at (x0, y0): the reference block displaced by the

@@ -2,6 +2,7 @@
 // macroblock_syntax.hpp) and reconstructs it. Every decoded value is range-checked, so any byte
 // string either decodes or fails with the macroblock and field named.
 #include <string>
+#include <vector>
 
 #include "cross_plane_residual.hpp"
 #include "gvkit/codec/cabac_decoder.hpp"
@@ -42,12 +43,23 @@ class MacroblockReader {
                 ? dec_.decode(ctx_.shared_skip[st_.colocated->skip[mb_index]])
                 : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
         st_.skip[mb_index] = mb.skip;
+        // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
+        mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
+        if (!mb.skip && !mb.shared && p_.ref_count > 1)
+          mb.ref_idx =
+              read_ref_idx(dec_, ctx_.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x, mb_y),
+                           p_.ref_count);
+        if (mb.ref_idx >= p_.ref_count)
+          return corrupt_data("ref_idx " + std::to_string(mb.ref_idx) + " of the co-located " +
+                              "macroblock exceeds the frame's " + std::to_string(p_.ref_count) +
+                              " references");
+        st_.ref_idx[mb_index] = static_cast<uint8_t>(mb.ref_idx);
         int px, py;
         if (mb.shared) {
           px = st_.colocated->mv_x[mb_index];
           py = st_.colocated->mv_y[mb_index];
         } else {
-          st_.mv_predictor(mb_x, mb_y, &px, &py);
+          st_.mv_predictor(mb_x, mb_y, &px, &py, mb.ref_idx);
         }
         mb.mv_x = px;
         mb.mv_y = py;
@@ -74,6 +86,7 @@ class MacroblockReader {
         }
         if (mb.skip) {
           mb.cbp = 0;
+          mb.transform = 4;
           for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
           for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
           for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
@@ -83,7 +96,9 @@ class MacroblockReader {
       }
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
+      st_.ref_idx[mb_index] = 0;
     }
+    mb.ref_idx = 0;
     return read_intra(mb_x, mb_y, mb);
   }
 
@@ -147,6 +162,7 @@ class MacroblockReader {
     for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
     if (mb.skip) {
       mb.cbp = 0;
+      mb.transform = 4;
       for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
       for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
       for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
@@ -221,7 +237,29 @@ class MacroblockReader {
       mb.cbp |= static_cast<uint8_t>(bit << q);
       st_.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
     }
-    if (mb.type == kMbI8x8) {
+    // Format 1.6: transform_size (docs/bitstream.md 4.8).
+    int size = mb.type == kMbI8x8 ? 8 : 4;
+    if (has_transform_size(mb, p_)) {
+      const size_t i = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
+      const auto count = [&](int code) {
+        return (mb_x > 0 && st_.transform[i - 1] >= code ? 1 : 0) +
+               (mb_y > 0 && st_.transform[i - st_.mbs_x] >= code ? 1 : 0);
+      };
+      if (dec_.decode(ctx_.transform_size[0][count(1)]))
+        size =
+            p_.max_transform == 16 && mb.cbp == 15 && dec_.decode(ctx_.transform_size[1][count(2)])
+                ? 16
+                : 8;
+    }
+    mb.transform = size == 8 && mb.type == kMbI8x8 ? 4 : size;
+    st_.transform[static_cast<size_t>(mb_y) * st_.mbs_x + mb_x] =
+        static_cast<uint8_t>(transform_code(size));
+    if (size == 16) {
+      for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 1;
+      std::fill(mb.levels16, mb.levels16 + 256, 0);
+      return read_residual(mb.levels16, 16);
+    }
+    if (size == 8) {
       for (int q = 0; q < 4; ++q) {
         const int bit = (mb.cbp >> q) & 1;
         for (int i = 0; i < 4; ++i)
@@ -278,13 +316,12 @@ class MacroblockReader {
   }
 
   Status read_residual(int32_t* levels, int n) {
-    const int count = n * n, cat = n == 8 ? 1 : 0;
-    const uint8_t* scan = n == 8 ? kZigzag8x8 : kZigzag4x4;
-    int sig_pos[64];
+    const int count = n * n, cat = residual_category(n);
+    int sig_pos[256];
     int num_sig = 0;
     bool ended = false;
     for (int i = 0; i < count - 1; ++i) {
-      const int c = n == 8 ? i >> 2 : i;
+      const int c = sig_context(n, i);
       if (dec_.decode(ctx_.sig[cat][c])) {
         sig_pos[num_sig++] = i;
         if (dec_.decode(ctx_.last[cat][c])) {
@@ -326,7 +363,7 @@ class MacroblockReader {
         }
       }
       const int32_t magnitude = static_cast<int32_t>(abs_minus1) + 1;
-      levels[scan[sig_pos[s]]] = dec_.decode_bypass() ? -magnitude : magnitude;
+      levels[scan_position(n, sig_pos[s])] = dec_.decode_bypass() ? -magnitude : magnitude;
       if (abs_minus1 == 0)
         ++num_eq1;
       else
@@ -342,9 +379,14 @@ class MacroblockReader {
 };
 
 void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
-                            const PlaneCodingParams& p, const SamplePlane* reference,
-                            const SamplePlane* reference1, const CrossPlaneResidual* cross) {
+                            const PlaneCodingParams& p, const SamplePlane* reference0,
+                            const SamplePlane* reference1,
+                            const std::vector<const SamplePlane*>* more_references,
+                            const CrossPlaneResidual* cross) {
   const int max_value = (1 << p.bit_depth) - 1;
+  // P planes: the macroblock's own reference (format 1.6).
+  const SamplePlane* reference =
+      mb.type == kMbInter && mb.ref_idx > 0 ? (*more_references)[mb.ref_idx - 1] : reference0;
   int32_t pred[256];
   // Format 1.6: the cross-plane term joins the prediction of each block (so of what I4x4 and
   // I8x8 blocks predict the next block from).
@@ -355,14 +397,8 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
     predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
                     mb.mv_x1, mb.mv_y1, p.subpel != 0, p.bit_depth, pred);
     add_cross(mb_x * 16, mb_y * 16, 16);
-    for (int b = 0; b < 16; ++b) {
-      const int bx = block_x(b) * 4, by = block_y(b) * 4;
-      int32_t sub[16];
-      for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
-      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
-                        mb_y * 16 + by);
-    }
+    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                    mb_y * 16);
   } else if (mb.type == kMbInter && mb.td) {
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
@@ -381,14 +417,8 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       predict_intra(16, mb.i16_mode, nb, max_value, pred);
     }
     add_cross(mb_x * 16, mb_y * 16, 16);
-    for (int b = 0; b < 16; ++b) {
-      const int bx = block_x(b) * 4, by = block_y(b) * 4;
-      int32_t sub[16];
-      for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 4; ++x) sub[y * 4 + x] = pred[(by + y) * 16 + bx + x];
-      reconstruct_block(4, sub, mb.levels[b], p, plane.samples.data(), plane.width, mb_x * 16 + bx,
-                        mb_y * 16 + by);
-    }
+    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                    mb_y * 16);
   } else if (mb.type == kMbI8x8) {
     for (int q = 0; q < 4; ++q) {
       const int x0 = mb_x * 16 + (q & 1) * 8, y0 = mb_y * 16 + (q >> 1) * 8;
@@ -415,8 +445,17 @@ namespace {
 Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int height,
                                       const PlaneCodingParams& params, const SamplePlane* reference,
                                       const MotionField* shared, MotionField* motion_out,
-                                      const SamplePlane* reference1, const CrossPlaneLinks* cross) {
+                                      const SamplePlane* reference1,
+                                      const std::vector<const SamplePlane*>* more_references,
+                                      const CrossPlaneLinks* cross) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
+  GVKIT_CHECK(params.ref_count >= 1 && params.ref_count <= 5);
+  GVKIT_CHECK(params.ref_count == 1 ||
+              (reference && !reference1 && more_references &&
+               more_references->size() + 1 >= static_cast<size_t>(params.ref_count)));
+  if (params.ref_count > 1)
+    for (int k = 0; k + 1 < params.ref_count; ++k)
+      GVKIT_CHECK((*more_references)[k]->width == width && (*more_references)[k]->height == height);
   GVKIT_CHECK(!reference || (reference->width == width && reference->height == height));
   GVKIT_CHECK(!reference1 ||
               (reference && reference1->width == width && reference1->height == height && !shared));
@@ -453,7 +492,8 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
       const Status status = reader.read(mb_x, mb_y, mb);
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
-      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, cross_source);
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, more_references,
+                             cross_source);
       if (residual_out)
         record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
     }
@@ -468,16 +508,19 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params, const SamplePlane* reference,
                                  const MotionField* shared, MotionField* motion_out,
+                                 const std::vector<const SamplePlane*>* more_references,
                                  const CrossPlaneLinks* cross) {
   return decode_plane_impl(bytes, width, height, params, reference, shared, motion_out, nullptr,
-                           cross);
+                           more_references, cross);
 }
 
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,
                                    const SamplePlane& reference1, const CrossPlaneLinks* cross) {
-  return decode_plane_impl(bytes, width, height, params, &reference0, nullptr, nullptr, &reference1,
-                           cross);
+  PlaneCodingParams p = params;
+  p.ref_count = 1;
+  return decode_plane_impl(bytes, width, height, p, &reference0, nullptr, nullptr, &reference1,
+                           nullptr, cross);
 }
 
 }  // namespace gvkit::codec

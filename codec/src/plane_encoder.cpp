@@ -25,7 +25,9 @@ using namespace detail;
 // BD-rate against 1).
 constexpr double kMotionLambdaScale = 4.0;
 
-// An inter candidate at a given vector instead of the motion search's.
+// An inter candidate at a given vector instead of the motion search's (kGiven: a vector and
+// reference found before: another reference's search, format 1.6, or the candidate coded again
+// with a cross-plane scale).
 enum class Forced { kNone, kShared, kPredictor, kGiven };
 
 class MacroblockEncoder {
@@ -33,6 +35,7 @@ class MacroblockEncoder {
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
                     const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr,
+                    const std::vector<const SamplePlane*>* more_references = nullptr,
                     const CrossPlaneResidual* cross = nullptr)
       : src_(source),
         recon_(recon),
@@ -52,6 +55,22 @@ class MacroblockEncoder {
         joint_planes_.push_back({joint->sources[j], &joint_interp_.back()});
       }
     }
+    // Multiple reference frames (format 1.6): references 1 .. ref_count - 1 and, under joint
+    // search, the other planes' references of the same index.
+    const int more = reference && !reference1 ? p.ref_count - 1 : 0;
+    more_interp_.reserve(more);
+    for (int k = 0; k < more; ++k)
+      more_interp_.emplace_back(*(*more_references)[k], p.bit_depth, p.search_range + 4);
+    if (more > 0 && joint && !joint->references.empty()) {
+      more_joint_interp_.reserve(static_cast<size_t>(more) * joint->sources.size());
+      more_joint_planes_.resize(more);
+      for (int k = 0; k < more; ++k)
+        for (size_t j = 0; j < joint->sources.size(); ++j) {
+          more_joint_interp_.emplace_back(*joint->more_references[k][j], p.bit_depth,
+                                          p.search_range + 4);
+          more_joint_planes_[k].push_back({joint->sources[j], &more_joint_interp_.back()});
+        }
+    }
     if (p.lossless && p.near_lossless > 0) {
       // As H.264's lambda for a quantizer of the same step (0.85 2^((QP-12)/3) = 0.136 step^2).
       const double step = 2.0 * p.near_lossless + 1.0;
@@ -69,6 +88,8 @@ class MacroblockEncoder {
   MacroblockData encode(int mb_x, int mb_y, const ContextSet& ctx) {
     mb_x_ = mb_x;
     mb_y_ = mb_y;
+    own_.fill(Searched{});
+    cur_ref_ = 0;
     Candidate best;
     const auto consider = [&](MbType type, bool td = false, Forced forced = Forced::kNone) {
       consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
@@ -86,10 +107,25 @@ class MacroblockEncoder {
     const auto skip_found = [&] { return !p_.rdo && best.mb.skip; };
     if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, Forced::kShared);
     if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
-    if (ref_ && !(p_.skip_check && skip_found())) consider(kMbInter);
+    if (ref_ && !(p_.skip_check && skip_found())) {
+      consider(kMbInter);
+      own_[0] = {mv_x_, mv_y_, whole_mv_x_, whole_mv_y_, last_cost_};
+    }
+    // Format 1.6: the other references (fast preset: only when reference 0 gave no skip, and
+    // only the one whose searched vector is cheapest by SATD + lambda * bits is coded).
+    if (ref_ && p_.ref_count > 1 && !skip_found()) consider_more_references(best, ctx);
     const bool early_skip = ref_ && skip_found();
     if (!early_skip) {
       if (ref_ && p_.td_prediction) {
+        // TD at the reference whose own-search candidate was cheapest (ties: the nearest).
+        int td_ref = 0;
+        for (int k = 1; k < p_.ref_count; ++k)
+          if (own_[k].cost < own_[td_ref].cost) td_ref = k;
+        cur_ref_ = td_ref;
+        mv_x_ = own_[td_ref].mv_x;
+        mv_y_ = own_[td_ref].mv_y;
+        whole_mv_x_ = own_[td_ref].whole_x;
+        whole_mv_y_ = own_[td_ref].whole_y;
         consider(kMbInter, true);
         // The sub-sample vector suits plain inter prediction; the temporal difference from a
         // whole-sample vector is often smoother, so TD also tries the whole-sample search result
@@ -105,7 +141,10 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
+    // Cross-plane prediction first (its retries code 4x4 residuals in the fast preset), then the
+    // fast preset's transform size for the chosen candidate (with its cross-plane term).
     try_cross_plane(&best, ctx);
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -152,7 +191,10 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
+    // Cross-plane prediction first (its retries code 4x4 residuals in the fast preset), then the
+    // fast preset's transform size for the chosen candidate (with its cross-plane term).
     try_cross_plane(&best, ctx);
+    if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
   }
@@ -213,14 +255,17 @@ class MacroblockEncoder {
       mb.type = base.type;
       if (st_.bidirectional && base.type == kMbInter)
         return try_b_inter(mb, trial, base.b_pred, base.mv_x, base.mv_y, base.mv_x1, base.mv_y1);
+      // P planes: the same vector on the same reference (format 1.6, several references).
       if (base.type == kMbInter && base.td) {
+        cur_ref_ = base.ref_idx;
         mv_x_ = base.mv_x;
         mv_y_ = base.mv_y;
         return try_td(mb, trial);
       }
       if (base.type == kMbInter) {
-        given_mv_x_ = base.mv_x;
-        given_mv_y_ = base.mv_y;
+        const int unit = p_.subpel != 0 ? 4 : 1;
+        given_ = {base.mv_x, base.mv_y, base.mv_x / unit * unit, base.mv_y / unit * unit};
+        given_ref_ = base.ref_idx;
         return try_inter(mb, trial, Forced::kGiven);
       }
       return base.type == kMbI16x16
@@ -249,11 +294,122 @@ class MacroblockEncoder {
     if (alpha_) add_cross_plane_term(alpha_, *cross_, x0, y0, n, pred);
   }
 
+  // ---- Larger transforms (format 1.6), fast preset ----
+  // The fast preset codes its candidates' residuals as 4x4 blocks and decides the transform size
+  // once, for the chosen candidate when it is a plain inter or I16x16 MB with a residual: the
+  // residual is coded again by code_residual_sizes (4x4 or max_transform, by SSD + lambda x
+  // bits); a P or B candidate that then has no residual at the skip vector becomes a skip.
+  void choose_transform_size(Candidate& best, const ContextSet& ctx) {
+    MacroblockData& mb = best.mb;
+    if (p_.max_transform <= 4 || p_.lossless || mb.skip || mb.td ||
+        (mb.type != kMbInter && mb.type != kMbI16x16))
+      return;
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int32_t pred[256];
+    if (mb.type == kMbI16x16) {
+      const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
+      predict_intra(16, mb.i16_mode, nb, max_value_, pred);
+    } else if (st_.bidirectional) {
+      b_prediction(mb.b_pred, mb.mv_x, mb.mv_y, mb.mv_x1, mb.mv_y1, pred);
+    } else {
+      interp(mb.ref_idx).predict(x0, y0, 16, 16, mb.mv_x, mb.mv_y, p_.subpel != 0, pred);
+    }
+    // Cross-plane prediction (format 1.6): the candidate's term joins the prediction.
+    if (mb.cross_scale) add_cross_plane_term(mb.cross_scale, *cross_, x0, y0, 16, pred);
+    ContextSet trial = ctx;
+    code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0) {
+      int px, py;
+      st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+      // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
+      mb.skip = st_.bidirectional
+                    ? mb.b_pred == kBDirect
+                    : mb.shared || (mb.ref_idx == 0 && mb.mv_x == px && mb.mv_y == py);
+    }
+  }
+  // ---- end of larger transforms ----
+
   // Puts the chosen candidate's samples back into recon_ (later candidates overwrote them).
   void restore(const Candidate& best) {
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x)
         recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y) = best.recon[y * 16 + x];
+  }
+
+  // The motion search of a P macroblock against reference `ref` around the predictor (px, py).
+  MotionSearchResult search_reference(int ref, int px, int py) const {
+    MotionSearchParams search;
+    search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
+    search.range = p_.search_range;
+    search.subpel = p_.subpel;
+    search.lossless = p_.lossless;
+    search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
+    search.max_abs_mv = 4 * kMaxMotion;
+    set_shared(search, ref);
+    if (ref == 0)
+      search.joint = joint_planes_;
+    else if (!more_joint_planes_.empty())
+      search.joint = more_joint_planes_[ref - 1];
+    return search_motion_16x16(src_, interp(ref), mb_x_ * 16, mb_y_ * 16, px, py, search);
+  }
+
+  // Format 1.6: the motion search on references 1 .. ref_count - 1. Slow preset: each result is
+  // a candidate decided by RDO (ref_idx bits included); fast preset: the results are compared
+  // by SATD + lambda * (motion + ref_idx bits), and only the cheapest one is coded as a
+  // candidate, when it beats the best so far by that measure.
+  void consider_more_references(Candidate& best, const ContextSet& ctx) {
+    int chosen = -1;
+    double chosen_cost = best.cost;
+    for (int k = 1; k < p_.ref_count; ++k) {
+      int px, py;
+      st_.mv_predictor(mb_x_, mb_y_, &px, &py, k);
+      const MotionSearchResult found = search_reference(k, px, py);
+      own_[k] = {found.mv_x, found.mv_y, found.whole_mv_x, found.whole_mv_y,
+                 std::numeric_limits<double>::infinity()};
+      given_ = own_[k];
+      given_ref_ = k;
+      if (p_.rdo) {
+        consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+          mb.type = kMbInter;
+          return try_inter(mb, trial, Forced::kGiven);
+        });
+        own_[k].cost = last_cost_;
+        continue;
+      }
+      int32_t pred[256];
+      interp(k).predict(mb_x_ * 16, mb_y_ * 16, 16, 16, found.mv_x, found.mv_y, p_.subpel != 0,
+                        pred);
+      const bool shared = is_shared_vector(found.mv_x, found.mv_y, k);
+      const double bits =
+          motion_bits(found.mv_x, found.mv_y, px, py, k) + (shared ? 0 : ref_idx_bits(ctx, k));
+      own_[k].cost = static_cast<double>(distortion_estimate(16, pred, mb_x_ * 16, mb_y_ * 16)) +
+                     lambda_sad_ * bits;
+      if (own_[k].cost < chosen_cost) {
+        chosen = k;
+        chosen_cost = own_[k].cost;
+      }
+    }
+    if (chosen < 0) return;
+    given_ = own_[chosen];
+    given_ref_ = chosen;
+    consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+      mb.type = kMbInter;
+      return try_inter(mb, trial, Forced::kGiven);
+    });
+  }
+
+  // Estimated CABAC bits of ref_idx `ref` with the current contexts (0 with one reference).
+  double ref_idx_bits(const ContextSet& ctx, int ref) const {
+    if (p_.ref_count <= 1) return 0.0;
+    return detail::ref_idx_bits(ctx.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x_, mb_y_),
+                                ref, p_.ref_count);
+  }
+
+  // P planes: the interpolated reference `ref` (0 = the nearest).
+  const InterpolatedReference& interp(int ref) const {
+    return ref == 0 ? *interp_ : more_interp_[ref - 1];
   }
 
   // B planes: the motion search of one list around its predictor (px, py).
@@ -266,6 +422,19 @@ class MacroblockEncoder {
     search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
     search.max_abs_mv = 4 * kMaxMotion;
     return search_motion_16x16(src_, ref, mb_x_ * 16, mb_y_ * 16, px, py, search);
+  }
+
+  // B planes: the prediction of kind `kind` with the list 0 vector (m0x, m0y) and the list 1
+  // vector (m1x, m1y).
+  void b_prediction(BPred kind, int m0x, int m0y, int m1x, int m1y, int32_t* pred) const {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool qpel = p_.subpel != 0;
+    const int lists = b_pred_lists(kind);
+    int32_t pred1[256];
+    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
+    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
+    if (lists == 3)
+      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
   }
 
   // B planes: an inter candidate of prediction `kind` with the list 0 vector (m0x, m0y) and the
@@ -282,11 +451,8 @@ class MacroblockEncoder {
     mb.mv_x1 = m1x;
     mb.mv_y1 = m1y;
     const int lists = b_pred_lists(kind);
-    int32_t pred[256], pred1[256];
-    if (lists & 1) interp_->predict(x0, y0, 16, 16, m0x, m0y, qpel, pred);
-    if (lists & 2) interp1_->predict(x0, y0, 16, 16, m1x, m1y, qpel, lists == 2 ? pred : pred1);
-    if (lists == 3)
-      for (int i = 0; i < 256; ++i) pred[i] = (pred[i] + pred1[i] + 1) >> 1;
+    int32_t pred[256];
+    b_prediction(kind, m0x, m0y, m1x, m1y, pred);
     add_cross(16, x0, y0, pred);
     // Side information: skip, is_inter and prediction flags, then the vector differences.
     double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
@@ -316,22 +482,24 @@ class MacroblockEncoder {
 
   // Motion bits of vector (mx, my): the flag and nothing else for the co-located first-plane
   // vector (shared motion), else the two differences to the predictor (px, py).
-  double motion_bits(int mx, int my, int px, int py) const {
+  // (With several references the co-located vector is shared only with its reference.)
+  double motion_bits(int mx, int my, int px, int py, int ref = 0) const {
     MotionSearchParams shared;
-    set_shared(shared);
+    set_shared(shared, ref);
     return motion_vector_bits(mx, my, px, py, shared);
   }
-  void set_shared(MotionSearchParams& params) const {
+  void set_shared(MotionSearchParams& params, int ref = 0) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-    params.has_shared = st_.can_share(i);
+    params.has_shared = st_.can_share(i) && st_.colocated_ref(i) == ref;
     if (params.has_shared) {
       params.shared_mv_x = st_.colocated->mv_x[i];
       params.shared_mv_y = st_.colocated->mv_y[i];
     }
   }
-  bool is_shared_vector(int mx, int my) const {
+  bool is_shared_vector(int mx, int my, int ref = 0) const {
     const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
-    return st_.can_share(i) && mx == st_.colocated->mv_x[i] && my == st_.colocated->mv_y[i];
+    return st_.can_share(i) && st_.colocated_ref(i) == ref && mx == st_.colocated->mv_x[i] &&
+           my == st_.colocated->mv_y[i];
   }
 
   // Inter candidate: integer motion within the search range around zero by SAD + lambda * motion
@@ -339,15 +507,24 @@ class MacroblockEncoder {
   // then the predictor, the co-located first-plane vector (shared motion) and the eight
   // half-sample (and then quarter-sample) neighbours of the best vector by SATD (SAD when
   // lossless) + lambda * motion bits (motion_search.hpp); then the residual as sixteen 4x4 blocks.
-  // A forced candidate takes the co-located vector or the predictor without a search.
+  // A forced candidate takes the co-located vector (and its reference), the predictor, or a
+  // vector searched on another reference before (kGiven, format 1.6) without a search.
   double try_inter(MacroblockData& mb, ContextSet& trial, Forced forced = Forced::kNone) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const size_t mb_index = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
+    const int ref = forced == Forced::kShared ? st_.colocated_ref(mb_index)
+                                              : (forced == Forced::kGiven ? given_ref_ : 0);
     int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, ref);
     const bool qpel = p_.subpel != 0;
     const int unit = qpel ? 4 : 1;  // vector units per sample
     int best_x, best_y;
-    if (forced == Forced::kShared) {
+    if (forced == Forced::kGiven) {
+      best_x = given_.mv_x;
+      best_y = given_.mv_y;
+      whole_mv_x_ = given_.whole_x;
+      whole_mv_y_ = given_.whole_y;
+    } else if (forced == Forced::kShared) {
       // The first plane's vector as it is; its whole-sample part serves the TD candidate.
       const size_t i = static_cast<size_t>(mb_y_) * st_.mbs_x + mb_x_;
       best_x = st_.colocated->mv_x[i];
@@ -358,22 +535,8 @@ class MacroblockEncoder {
       best_x = px;
       best_y = py;
       whole_mv_x_ = whole_mv_y_ = 0;
-    } else if (forced == Forced::kGiven) {
-      best_x = given_mv_x_;
-      best_y = given_mv_y_;
-      whole_mv_x_ = best_x / unit * unit;
-      whole_mv_y_ = best_y / unit * unit;
     } else {
-      MotionSearchParams search;
-      search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
-      search.range = p_.search_range;
-      search.subpel = p_.subpel;
-      search.lossless = p_.lossless;
-      search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
-      search.max_abs_mv = 4 * kMaxMotion;
-      set_shared(search);
-      search.joint = joint_planes_;
-      const MotionSearchResult found = search_motion_16x16(src_, *interp_, x0, y0, px, py, search);
+      const MotionSearchResult found = search_reference(0, px, py);
       best_x = found.mv_x;
       best_y = found.mv_y;
       whole_mv_x_ = found.whole_mv_x;
@@ -382,10 +545,12 @@ class MacroblockEncoder {
     int32_t pred[256];
     mb.mv_x = mv_x_ = best_x;
     mb.mv_y = mv_y_ = best_y;
-    mb.shared = is_shared_vector(best_x, best_y);
-    interp_->predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
+    mb.ref_idx = cur_ref_ = ref;
+    mb.shared = is_shared_vector(best_x, best_y, ref);
+    interp(ref).predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
     add_cross(16, x0, y0, pred);
-    const double mv_bits = motion_bits(best_x, best_y, px, py);
+    const double mv_bits =
+        motion_bits(best_x, best_y, px, py, ref) + (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
     double cost;
     if (p_.rdo) {
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
@@ -393,15 +558,17 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = mb.cbp == 0 && alpha_ == 0 && (mb.shared || (best_x == px && best_y == py));
+    mb.skip =
+        mb.cbp == 0 && alpha_ == 0 && (mb.shared || (ref == 0 && best_x == px && best_y == py));
     if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
+    last_cost_ = cost;
     return cost;
   }
 
   // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
   bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels,
                    bool inter_dead_zone = false) const {
-    int32_t residual[64];
+    int32_t residual[256];
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         residual[y * n + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - pred[y * n + x];
@@ -414,6 +581,10 @@ class MacroblockEncoder {
       }
     } else if (p_.lossless) {
       std::copy(residual, residual + n * n, levels);
+    } else if (n == 16) {
+      int32_t coeffs[256];
+      forward_transform16x16(residual, coeffs);
+      quantize16x16(coeffs, p_.qp_prime, inter_dead_zone, levels);
     } else {
       int32_t coeffs[64];
       if (n == 4)
@@ -562,17 +733,19 @@ class MacroblockEncoder {
   // Inter with temporal-difference prediction, at the motion vector of the inter candidate.
   double try_td(MacroblockData& mb, ContextSet& trial) {
     int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py);
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, cur_ref_);
     mb.mv_x = mv_x_;
     mb.mv_y = mv_y_;
     mb.td = true;
-    mb.shared = is_shared_vector(mv_x_, mv_y_);
-    const double mv_bits = motion_bits(mv_x_, mv_y_, px, py) + 3;
+    mb.ref_idx = cur_ref_;
+    mb.shared = is_shared_vector(mv_x_, mv_y_, cur_ref_);
+    const double mv_bits = motion_bits(mv_x_, mv_y_, px, py, cur_ref_) + 3 +
+                           (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_));
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     // The motion-compensated reference over the macroblock and the samples its blocks' TD
     // neighbours read (one column left, one row above, up to 4 beyond the right edge).
-    interp_->predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_, p_.subpel != 0,
-                     td_mc_);
+    interp(cur_ref_).predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_,
+                             p_.subpel != 0, td_mc_);
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
@@ -634,6 +807,118 @@ class MacroblockEncoder {
   // coded_block_pattern / coded_block_flag / level bits cost more than the error they remove.
   double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                            bool inter = false) {
+    if (p_.max_transform > 4 && !p_.lossless && p_.rdo)
+      return code_residual_sizes(mb, pred16, trial, inter);
+    return code_residual_4x4(mb, pred16, trial, inter, p_.rdo);
+  }
+
+  // ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
+  // The residual coded with each transform size up to max_transform (4x4, 8x8, 16x16), the
+  // cheapest by SSD + lambda x CABAC bits (residual and transform_size bins, counted on copies of
+  // the trial contexts) kept: its levels, cbp, transform, reconstruction and contexts. The slow
+  // preset decides so for every candidate; the fast one once per MB, for the chosen candidate
+  // and between 4x4 and max_transform only (choose_transform_size).
+  double code_residual_sizes(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                             bool inter) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_size = 4;
+    uint8_t best_cbp = 0;
+    ContextSet best_ctx;
+    std::array<uint16_t, 256> best_recon;
+    for (int size = 4; size <= p_.max_transform; size *= 2) {
+      // Fast preset: 4x4 or the largest size only (8x8 as well would cost ~10 % of its speed).
+      if (!p_.rdo && size != 4 && size != p_.max_transform) continue;
+      ContextSet t = trial;
+      double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter, true)
+                    : size == 8 ? code_residual_8x8(mb, pred16, t, inter)
+                                : code_residual_16x16(mb, pred16, t, inter);
+      if (mb.cbp != 0) {
+        CabacBitCounter counter;
+        write_transform_size(counter, t, st_, mb_x_, mb_y_, size, mb.cbp, p_.max_transform);
+        cost += lambda_ * counter.bits();
+      }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_size = size;
+        best_cbp = mb.cbp;
+        best_ctx = t;
+        for (int y = 0; y < 16; ++y)
+          for (int x = 0; x < 16; ++x) best_recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+      }
+    }
+    mb.cbp = best_cbp;
+    mb.transform = best_cbp ? best_size : 4;
+    trial = best_ctx;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(x0 + x, y0 + y) = best_recon[y * 16 + x];
+    for (int i = 0; i < 16; ++i) {
+      const int gx = mb_x_ * 4 + block_x(i), gy = mb_y_ * 4 + block_y(i);
+      st_.cbf_at(gx, gy) = best_size == 4
+                               ? any_nonzero(mb.levels[i], 16)
+                               : (best_size == 8 ? (best_cbp >> (i >> 2)) & 1 : best_cbp != 0);
+    }
+    return best_cost;
+  }
+
+  // The residual as four 8x8 blocks (inter: the inter dead zone and x264's 8x8 decimation, a
+  // block scoring < 4 and a macroblock scoring < 6 coded as zero).
+  double code_residual_8x8(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                           bool inter) {
+    double cost = lambda_ * 3;
+    mb.cbp = 0;
+    int32_t preds[4][64];
+    const bool decimate = inter && p_.inter_decimation;
+    for (int q = 0; q < 4; ++q) {
+      const int bx = (q & 1) * 8, by = (q >> 1) * 8;
+      for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) preds[q][y * 8 + x] = pred16[(by + y) * 16 + bx + x];
+      make_levels(8, preds[q], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels8[q], decimate);
+    }
+    if (decimate) {
+      int total = 0;
+      for (int q = 0; q < 4; ++q) {
+        const int score = decimation_score(mb.levels8[q], 8);
+        if (score < 4)
+          std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+        else
+          total += score;
+      }
+      if (total < 6)
+        for (int q = 0; q < 4; ++q) std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+    }
+    for (int q = 0; q < 4; ++q) {
+      const int x0 = mb_x_ * 16 + (q & 1) * 8, y0 = mb_y_ * 16 + (q >> 1) * 8;
+      const bool coded = any_nonzero(mb.levels8[q], 64);
+      const int64_t ssd = reconstruct(8, preds[q], mb.levels8[q], x0, y0);
+      if (coded) mb.cbp |= static_cast<uint8_t>(1 << q);
+      const double bits = count_block_bits(trial, 8, -1, 0, 0, mb.levels8[q], coded, 0, 0);
+      for (int i = 0; i < 4; ++i) st_.cbf_at(x0 / 4 + (i & 1), y0 / 4 + (i >> 1)) = coded ? 1 : 0;
+      cost += static_cast<double>(ssd) + lambda_ * bits;
+    }
+    return cost;
+  }
+
+  // The residual as one 16x16 block (inter: the inter dead zone, and a block scoring < 6 is
+  // coded as zero).
+  double code_residual_16x16(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                             bool inter) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    const bool decimate = inter && p_.inter_decimation;
+    make_levels(16, pred16, x0, y0, mb.levels16, decimate);
+    if (decimate && decimation_score(mb.levels16, 16) < 6) std::fill_n(mb.levels16, 256, 0);
+    const bool coded = any_nonzero(mb.levels16, 256);
+    mb.cbp = coded ? 15 : 0;
+    const int64_t ssd = reconstruct(16, pred16, mb.levels16, x0, y0);
+    const double bits = count_block_bits(trial, 16, -1, 0, 0, mb.levels16, coded, 0, 0);
+    for (int i = 0; i < 16; ++i) st_.cbf_at(x0 / 4 + i % 4, y0 / 4 + i / 4) = coded ? 1 : 0;
+    return lambda_ * 3 + static_cast<double>(ssd) + lambda_ * bits;
+  }
+  // ---- end of larger transforms ----
+
+  // The residual as sixteen 4x4 blocks (count_bits: with the CABAC bits, else SSD only).
+  double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial, bool inter,
+                           bool count_bits) {
     double cost = lambda_ * 3;
     mb.cbp = 0;
     int32_t preds[16][16];
@@ -648,7 +933,7 @@ class MacroblockEncoder {
       int total = 0;
       for (int q = 0; q < 4; ++q) {
         int score = 0;
-        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b]);
+        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b], 4);
         if (score < 4)
           for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
         else
@@ -663,32 +948,33 @@ class MacroblockEncoder {
       const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
       if (coded) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
       double bits = 0;
-      if (p_.rdo) bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
+      if (count_bits)
+        bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
       st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
       cost += static_cast<double>(ssd) + lambda_ * bits;
     }
     return cost;
   }
 
-  // x264's decimation score of a 4x4 block (levels in raster order): large (9) when any level
+  // x264's decimation score of an n x n block (levels in raster order): large (9) when any level
   // exceeds 1, else the sum over the nonzero levels of a weight that falls with the run of
   // zeros before it in scan order (3, 2, 2, 1, 1, 1, then 0).
-  static int decimation_score(const int32_t* levels) {
-    static const int kWeight[16] = {3, 2, 2, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  static int decimation_score(const int32_t* levels, int n) {
+    static const int kWeight[6] = {3, 2, 2, 1, 1, 1};
     int score = 0, run = 0;
     bool seen = false;
-    for (int i = 15; i >= 0; --i) {
-      const int32_t v = levels[kZigzag4x4[i]];
+    for (int i = n * n - 1; i >= 0; --i) {
+      const int32_t v = levels[scan_position(n, i)];
       if (!v) {
         if (seen) ++run;
         continue;
       }
       if (std::abs(v) > 1) return 9;
-      if (seen) score += kWeight[run];
+      if (seen) score += run < 6 ? kWeight[run] : 0;
       seen = true;
       run = 0;
     }
-    return seen ? score + kWeight[run] : 0;
+    return seen ? score + (run < 6 ? kWeight[run] : 0) : 0;
   }
 
   const SamplePlane& src_;
@@ -701,13 +987,25 @@ class MacroblockEncoder {
   const CrossPlaneResidual* cross_;
   int alpha_ = 0;
   double extra_cost_ = 0;
-  int given_mv_x_ = 0, given_mv_y_ = 0;           // Forced::kGiven: the vector of the candidate
   std::optional<InterpolatedReference> interp_;   // of ref_, for P planes (list 0 of B planes)
   std::optional<InterpolatedReference> interp1_;  // B planes: list 1
   // Joint motion search: the other planes' interpolated references (reserved once, so the
   // pointers in joint_planes_ stay valid) and the planes the search adds up.
   std::vector<InterpolatedReference> joint_interp_;
   std::vector<JointMotionPlane> joint_planes_;
+  // Multiple reference frames (format 1.6): references 1.. and their joint-search planes.
+  std::vector<InterpolatedReference> more_interp_, more_joint_interp_;
+  std::vector<std::vector<JointMotionPlane>> more_joint_planes_;
+  // Per reference: the own search's vector, its whole-sample part and the candidate's cost.
+  struct Searched {
+    int mv_x = 0, mv_y = 0, whole_x = 0, whole_y = 0;
+    double cost = std::numeric_limits<double>::infinity();
+  };
+  std::array<Searched, 5> own_;
+  Searched given_;     // the vector a Forced::kGiven candidate takes
+  int given_ref_ = 0;  // ... and its reference
+  int cur_ref_ = 0;    // reference of the inter candidate (reused by try_td)
+  double last_cost_ = 0;
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
   int mb_x_ = 0, mb_y_ = 0;
@@ -727,6 +1025,7 @@ namespace {
 PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingParams& params,
                                     const SamplePlane* reference, const MotionField* shared,
                                     const JointSearchPlanes* joint, const SamplePlane* reference1,
+                                    const std::vector<const SamplePlane*>* more_references,
                                     const CrossPlaneLinks* cross) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
@@ -760,9 +1059,20 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
+  GVKIT_CHECK(params.ref_count >= 1 && params.ref_count <= 5);
+  if (params.ref_count > 1) {
+    GVKIT_CHECK(reference && !reference1 && more_references &&
+                    more_references->size() + 1 >= static_cast<size_t>(params.ref_count),
+                "encode_plane: fewer references than ref_count");
+    for (int k = 0; k + 1 < params.ref_count; ++k)
+      GVKIT_CHECK((*more_references)[k]->width == plane.width &&
+                  (*more_references)[k]->height == plane.height);
+    GVKIT_CHECK(!joint || joint->references.empty() ||
+                joint->more_references.size() + 1 >= static_cast<size_t>(params.ref_count));
+  }
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
                                reference && !reference1 ? joint : nullptr, reference1,
-                               cross_source);
+                               more_references, cross_source);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb =
@@ -772,6 +1082,8 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
       if (st.codes_cross_scale(mb_x, mb_y) && !(mb.type == kMbInter && mb.skip))
         ++result.stats.cross_scale_mbs[cross_scale_index(mb.cross_scale)];
+      if (has_transform_size(mb, params) && mb.transform > 4)
+        ++(mb.transform == 16 ? result.stats.transform16_mbs : result.stats.transform8_mbs);
       if (mb.type != kMbInter)
         ++result.stats.intra_mbs;
       else if (mb.skip)
@@ -791,8 +1103,11 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
 
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference, const MotionField* shared,
-                               const JointSearchPlanes* joint, const CrossPlaneLinks* cross) {
-  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, cross);
+                               const JointSearchPlanes* joint,
+                               const std::vector<const SamplePlane*>* more_references,
+                               const CrossPlaneLinks* cross) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references,
+                           cross);
 }
 
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
@@ -800,7 +1115,8 @@ PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingPara
                                  const CrossPlaneLinks* cross) {
   PlaneCodingParams p = params;
   p.td_prediction = false;
-  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, cross);
+  p.ref_count = 1;
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr, cross);
 }
 
 }  // namespace gvkit::codec

@@ -54,11 +54,11 @@ bool QualityController::meets(const GeometryError& error, bool intra) const {
   return error.rms_mm <= target_rms(intra);
 }
 
-Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const SequenceInfo& info,
-                                               const EncoderOptions& options, uint32_t number,
-                                               const std::vector<SamplePlane>* reference,
-                                               const std::vector<SamplePlane>* reference1,
-                                               int* qp_used) {
+Result<EncodedFrame> QualityController::encode(
+    const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
+    uint32_t number, const std::vector<SamplePlane>* reference,
+    const std::vector<SamplePlane>* reference1, int* qp_used,
+    const std::vector<const std::vector<SamplePlane>*>* older) {
   const bool intra = reference == nullptr;
   GVKIT_CHECK(!intra || !reference1, "a B frame needs both references");
   const int type = intra ? 0 : (reference1 ? 2 : 1);
@@ -81,7 +81,7 @@ Result<EncodedFrame> QualityController::encode(const GeometryImage& frame, const
     o.qp = qp;
     ++encodes;
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frame, info, o, number, reference, reference1));
+                           encode_frame(frame, info, o, number, reference, reference1, older));
     const GeometryError error = geometry_error(frame, encoded.reconstruction);
     last_rms_mm = error.rms_mm;
     if (meets(error, intra)) {

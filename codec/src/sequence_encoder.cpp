@@ -29,9 +29,11 @@ Result<SequenceFrame> SequenceEncoder::code(const GeometryImage& frame, uint32_t
                  ? format::FrameType::kIntra
                  : (reference1 ? format::FrameType::kBidirectional : format::FrameType::kPredicted);
   GVKIT_CHECK(intra == options_.is_intra(number));
+  std::vector<const std::vector<SamplePlane>*> older;
+  for (const auto& a : older_anchors_) older.push_back(&a);
   GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
                          encode_sequence_frame(frame, info_, options_, number, anchor_, rate_.get(),
-                                               &out.qp, reference1, quality_.get()));
+                                               &out.qp, reference1, quality_.get(), &older));
   out.packet = std::move(encoded.packet);
   out.reconstruction = std::move(encoded.reconstruction);
   out.stats.intra = intra;
@@ -65,8 +67,20 @@ Result<std::vector<SequenceFrame>> SequenceEncoder::push(const GeometryImage& fr
     done.push_back(std::move(b));
   }
   pending_.clear();
-  anchor_ = std::move(anchor);
+  set_anchor(std::move(anchor), number);
   return done;
+}
+
+void SequenceEncoder::set_anchor(std::vector<SamplePlane> planes, uint32_t number) {
+  // The reference list never reaches past the last I frame.
+  if (options_.is_intra(number)) {
+    older_anchors_.clear();
+  } else if (options_.reference_frames() > 1 && !anchor_.empty()) {
+    older_anchors_.push_front(std::move(anchor_));
+    while (older_anchors_.size() > static_cast<size_t>(options_.reference_frames() - 1))
+      older_anchors_.pop_back();
+  }
+  anchor_ = std::move(planes);
 }
 
 Result<std::vector<SequenceFrame>> SequenceEncoder::flush() {
@@ -75,7 +89,7 @@ Result<std::vector<SequenceFrame>> SequenceEncoder::flush() {
     std::vector<SamplePlane> planes;
     GVKIT_ASSIGN_OR_RETURN(SequenceFrame coded, code(p.frame, p.number, false, nullptr, &planes));
     done.push_back(std::move(coded));
-    anchor_ = std::move(planes);
+    set_anchor(std::move(planes), p.number);
   }
   pending_.clear();
   return done;

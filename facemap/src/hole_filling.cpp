@@ -23,9 +23,9 @@ Status HoleFillingOptions::check() const {
   if (max_min_weight_edges < 0)
     return invalid_argument("hole filling: max_min_weight_edges must be >= 0, got " +
                             std::to_string(max_min_weight_edges));
-  if (solve_iterations < 1 || solve_iterations > 10)
-    return invalid_argument("hole filling: solve_iterations must be in [1, 10], got " +
-                            std::to_string(solve_iterations));
+  if (continuity < 1 || continuity > 2)
+    return invalid_argument("hole filling: continuity must be 1 or 2, got " +
+                            std::to_string(continuity));
   return Status::ok();
 }
 
@@ -300,6 +300,145 @@ void refine_liepa(Mesh* mesh, const std::vector<Mesh::HalfedgeHandle>& loop, int
   }
 }
 
+// Places the vertices appended from first_new_vertex on by the fairing solve of order k =
+// continuity + 1: (L M^-1)^(k-1) L x = 0 on the new vertices, with every vertex within k rings
+// of them fixed (the rim and continuity rings beyond). Cotangent weights L, mixed Voronoi areas
+// M. Fails when the system is singular or every choice of weights leaves the fixed hull.
+Status fair_new_vertices(Mesh* mesh, int first_new_vertex, int continuity, bool colors) {
+  const int n_new = static_cast<int>(mesh->n_vertices()) - first_new_vertex;
+  const int order = continuity + 1;
+  // Local indices in rings: the new vertices first, then each ring of neighbours in turn;
+  // ring_end[r] is the number of vertices within r rings (ring_end[0] = n_new).
+  std::vector<int> local(mesh->n_vertices(), -1);
+  std::vector<Mesh::VertexHandle> vertex_of;
+  for (int i = first_new_vertex; i < static_cast<int>(mesh->n_vertices()); ++i) {
+    local[i] = static_cast<int>(vertex_of.size());
+    vertex_of.push_back(mesh->vertex_handle(i));
+  }
+  std::vector<int> ring_end = {n_new};
+  for (int r = 0; r < order; ++r) {
+    const int begin = r == 0 ? 0 : ring_end[r - 1];
+    for (int k = begin; k < ring_end[r]; ++k)
+      for (auto w : mesh->vv_range(vertex_of[k]))
+        if (local[w.idx()] < 0) {
+          local[w.idx()] = static_cast<int>(vertex_of.size());
+          vertex_of.push_back(w);
+        }
+    ring_end.push_back(static_cast<int>(vertex_of.size()));
+  }
+  const int n_rows = ring_end[order - 1];  // vertices whose Laplacian enters the operator
+  const int n_t = ring_end[order];
+
+  // The hull of the fixed vertices, grown by its diagonal: a solution outside it is garbage
+  // from a near-singular cotan system (rims that are walls along the line of sight, slivers).
+  Point lo = mesh->point(vertex_of[n_new]), hi = lo;
+  for (int k = n_new; k < n_t; ++k) {
+    lo.minimize(mesh->point(vertex_of[k]));
+    hi.maximize(mesh->point(vertex_of[k]));
+  }
+  const double grow = (hi - lo).norm();
+  lo -= Point(grow, grow, grow);
+  hi += Point(grow, grow, grow);
+  // Triangles without area among the fixed ones (a surface seen edge-on, collapsed scan
+  // triangles): their signed cotangents are +-22 whatever the shape nearby.
+  bool degenerate = false;
+  for (int k = n_new; k < n_rows && !degenerate; ++k)
+    for (auto h : mesh->voh_range(vertex_of[k])) {
+      if (mesh->is_boundary(h)) continue;
+      const Point& p0 = mesh->point(mesh->from_vertex_handle(h));
+      const Point e1 = mesh->point(mesh->to_vertex_handle(h)) - p0;
+      const Point e2 = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(h))) - p0;
+      if (!((e1 % e2).norm() > 1e-6 * e1.norm() * e2.norm())) degenerate = true;
+    }
+  // Weights, in order of preference: cotangent weights with the mixed Voronoi areas (signed,
+  // as in Liepa's and CGAL's fairing); the same with each edge's weight kept positive, where
+  // the rings hold triangles without area or the signed solve leaves the hull; uniform weights
+  // (the graph operator, well posed with the fixed rings) when the solve still leaves the hull
+  // or is not finite.
+  enum class Weights { kSignedCotan, kPositiveCotan, kUniform };
+  for (Weights weights = degenerate ? Weights::kPositiveCotan : Weights::kSignedCotan;;
+       weights = weights == Weights::kSignedCotan ? Weights::kPositiveCotan : Weights::kUniform) {
+    const bool uniform = weights == Weights::kUniform;
+    std::vector<Eigen::Triplet<double>> l_triplets;
+    Eigen::VectorXd inverse_mass(n_rows);
+    for (int k = 0; k < n_rows; ++k) {
+      const auto v = vertex_of[k];
+      for (auto h : mesh->voh_range(v)) {
+        const auto w = mesh->to_vertex_handle(h);
+        double weight = 1.0;
+        if (!uniform) {
+          weight = 0.0;
+          for (auto hh : {h, mesh->opposite_halfedge_handle(h)}) {
+            if (mesh->is_boundary(hh)) continue;
+            const Point& p = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(hh)));
+            weight += 0.5 * clamped_cotan(mesh->point(v) - p, mesh->point(w) - p);
+          }
+          if (weights == Weights::kPositiveCotan) weight = std::max(weight, 1e-6);
+        }
+        l_triplets.emplace_back(k, local[w.idx()], -weight);
+        l_triplets.emplace_back(k, k, weight);
+      }
+      inverse_mass[k] = 1.0 / (uniform ? 1.0 : std::max(mixed_voronoi_area(*mesh, v), 1e-12));
+    }
+    Eigen::SparseMatrix<double> l(n_rows, n_t);
+    l.setFromTriplets(l_triplets.begin(), l_triplets.end());
+    // B = L[0, 1] M^-1 L[1, 2] ... M^-1 L[k-1, k], L[r, r+1] the rows within r rings and the
+    // columns within r + 1 rings: n_new x n_t.
+    Eigen::SparseMatrix<double> b = l.topRows(n_new).leftCols(ring_end[1]);
+    for (int r = 1; r < order; ++r) {
+      const Eigen::SparseMatrix<double> step = inverse_mass.head(ring_end[r]).asDiagonal() *
+                                               l.topRows(ring_end[r]).leftCols(ring_end[r + 1]);
+      b = (b * step).pruned();
+    }
+    const Eigen::SparseMatrix<double> b_uu = b.leftCols(n_new);
+    const Eigen::SparseMatrix<double> b_uk = b.rightCols(n_t - n_new);
+    const int channels = colors ? 7 : 3;
+    Eigen::MatrixXd known(n_t - n_new, channels);
+    for (int k = n_new; k < n_t; ++k) {
+      const auto v = vertex_of[k];
+      for (int c = 0; c < 3; ++c) known(k - n_new, c) = mesh->point(v)[c];
+      if (colors)
+        for (int c = 0; c < 4; ++c) known(k - n_new, 3 + c) = mesh->color(v)[c];
+    }
+    const Eigen::MatrixXd rhs = -(b_uk * known);
+    Eigen::MatrixXd x;
+    // B is symmetric only for order 2 (L symmetric): an LDLT there, LU otherwise or on failure.
+    bool solved = false;
+    if (order == 2) {
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(b_uu);
+      if (ldlt.info() == Eigen::Success) {
+        x = ldlt.solve(rhs);
+        solved = true;
+      }
+    }
+    if (!solved) {
+      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(b_uu);
+      if (lu.info() != Eigen::Success) {
+        if (uniform) return failed_precondition("the fairing system is singular");
+        continue;
+      }
+      x = lu.solve(rhs);
+    }
+    bool inside = x.allFinite();
+    for (int k = 0; k < n_new && inside; ++k)
+      for (int c = 0; c < 3; ++c) inside = inside && x(k, c) >= lo[c] && x(k, c) <= hi[c];
+    if (!inside) {
+      if (uniform) return failed_precondition("the fill leaves the rim's hull");
+      continue;
+    }
+    for (int k = 0; k < n_new; ++k) {
+      const auto v = vertex_of[k];
+      mesh->set_point(v, Point(x(k, 0), x(k, 1), x(k, 2)));
+      if (colors) {
+        Mesh::Color c;
+        for (int j = 0; j < 4; ++j) c[j] = std::clamp(static_cast<float>(x(k, 3 + j)), 0.0f, 1.0f);
+        mesh->set_color(v, c);
+      }
+    }
+    return Status::ok();
+  }
+}
+
 }  // namespace
 
 Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
@@ -334,131 +473,16 @@ Status fill_hole(Mesh* mesh, Mesh::HalfedgeHandle boundary_halfedge,
   const bool colors = options.fill_colors && mesh->has_vertex_colors();
   refine_liepa(mesh, loop, first_new_face, std::sqrt(2.0) / options.density_factor, colors);
 
-  // Bi-Laplacian solve for the new vertices. Local indices: new vertices first, then the rest of
-  // the vertices within two rings of them (the rim and one ring beyond, held fixed).
   const int n_new = static_cast<int>(mesh->n_vertices()) - first_new_vertex;
   if (n_new > 0) {
-    std::vector<int> local(mesh->n_vertices(), -1);
-    std::vector<Mesh::VertexHandle> vertex_of;
-    for (int i = first_new_vertex; i < static_cast<int>(mesh->n_vertices()); ++i) {
-      local[i] = static_cast<int>(vertex_of.size());
-      vertex_of.push_back(mesh->vertex_handle(i));
-    }
-    // S: new vertices and their neighbours (the rim); T: S and the neighbours of S.
-    std::vector<Mesh::VertexHandle> s_set(vertex_of.begin(), vertex_of.end());
-    auto add_local = [&](Mesh::VertexHandle w) {
-      if (local[w.idx()] >= 0) return false;
-      local[w.idx()] = static_cast<int>(vertex_of.size());
-      vertex_of.push_back(w);
-      return true;
-    };
-    for (int i = 0; i < n_new; ++i)
-      for (auto w : mesh->vv_range(vertex_of[i]))
-        if (add_local(w)) s_set.push_back(w);
-    for (size_t k = n_new; k < s_set.size(); ++k)
-      for (auto w : mesh->vv_range(s_set[k])) add_local(w);
-    const int n_s = static_cast<int>(s_set.size()), n_t = static_cast<int>(vertex_of.size());
-    // s_set and vertex_of share the first n_s entries (S is added before the outer ring).
-
-    // The hull of the fixed vertices, grown by its diagonal: a solution outside it is garbage
-    // from a near-singular cotan system (rims that are walls along the line of sight, slivers).
-    Point lo = mesh->point(vertex_of[n_new]), hi = lo;
-    for (int k = n_new; k < n_t; ++k) {
-      lo.minimize(mesh->point(vertex_of[k]));
-      hi.maximize(mesh->point(vertex_of[k]));
-    }
-    const double grow = (hi - lo).norm();
-    lo -= Point(grow, grow, grow);
-    hi += Point(grow, grow, grow);
-    // Triangles without area among the fixed ones (a surface seen edge-on, collapsed scan
-    // triangles): their signed cotangents are +-22 whatever the shape nearby.
-    bool degenerate = false;
-    for (int k = n_new; k < n_s && !degenerate; ++k)
-      for (auto h : mesh->voh_range(s_set[k])) {
-        if (mesh->is_boundary(h)) continue;
-        const Point& p0 = mesh->point(mesh->from_vertex_handle(h));
-        const Point e1 = mesh->point(mesh->to_vertex_handle(h)) - p0;
-        const Point e2 = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(h))) - p0;
-        if (!((e1 % e2).norm() > 1e-6 * e1.norm() * e2.norm())) degenerate = true;
-      }
-    // Weights, in order of preference: cotangent weights with the mixed Voronoi areas (signed,
-    // as in Liepa's and CGAL's fairing); the same with each edge's weight kept positive, where
-    // the two rings hold triangles without area or the signed solve leaves the hull; uniform
-    // weights (the graph bi-Laplacian, always well posed with two fixed rings) when the solve
-    // still leaves the hull or is not finite.
-    enum class Weights { kSignedCotan, kPositiveCotan, kUniform };
-    Weights weights = degenerate ? Weights::kPositiveCotan : Weights::kSignedCotan;
-    for (int solve = 0; solve < options.solve_iterations; ++solve) {
-      const bool uniform = weights == Weights::kUniform;
-      std::vector<Eigen::Triplet<double>> l_triplets;
-      Eigen::VectorXd mass = Eigen::VectorXd::Zero(n_s);
-      for (int k = 0; k < n_s; ++k) {
-        const auto v = s_set[k];
-        for (auto h : mesh->voh_range(v)) {
-          const auto w = mesh->to_vertex_handle(h);
-          double weight = 1.0;
-          if (!uniform) {
-            weight = 0.0;
-            for (auto hh : {h, mesh->opposite_halfedge_handle(h)}) {
-              if (mesh->is_boundary(hh)) continue;
-              const Point& p = mesh->point(mesh->to_vertex_handle(mesh->next_halfedge_handle(hh)));
-              weight += 0.5 * clamped_cotan(mesh->point(v) - p, mesh->point(w) - p);
-            }
-            if (weights == Weights::kPositiveCotan) weight = std::max(weight, 1e-6);
-          }
-          l_triplets.emplace_back(k, local[w.idx()], -weight);
-          l_triplets.emplace_back(k, k, weight);
-        }
-        mass[k] = uniform ? 1.0 : std::max(mixed_voronoi_area(*mesh, v), 1e-12);
-      }
-      Eigen::SparseMatrix<double> l(n_s, n_t);
-      l.setFromTriplets(l_triplets.begin(), l_triplets.end());
-      const Eigen::SparseMatrix<double> l_us = l.topRows(n_new).leftCols(n_s);
-      Eigen::SparseMatrix<double> b = l_us * mass.cwiseInverse().asDiagonal() * l;  // n_new x n_t
-      const Eigen::SparseMatrix<double> b_uu = b.leftCols(n_new);
-      const Eigen::SparseMatrix<double> b_uk = b.rightCols(n_t - n_new);
-      const int channels = colors ? 7 : 3;
-      Eigen::MatrixXd known(n_t - n_new, channels);
-      for (int k = n_new; k < n_t; ++k) {
-        const auto v = vertex_of[k];
-        for (int c = 0; c < 3; ++c) known(k - n_new, c) = mesh->point(v)[c];
-        if (colors)
-          for (int c = 0; c < 4; ++c) known(k - n_new, 3 + c) = mesh->color(v)[c];
-      }
-      const Eigen::MatrixXd rhs = -(b_uk * known);
-      Eigen::MatrixXd x;
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(b_uu);
-      if (ldlt.info() == Eigen::Success) {
-        x = ldlt.solve(rhs);
-      } else {
-        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(b_uu);
-        if (lu.info() != Eigen::Success)
-          return failed_precondition("hole of " + std::to_string(loop.size()) +
-                                     " rim edges: bi-Laplacian system is singular");
-        x = lu.solve(rhs);
-      }
-      bool inside = x.allFinite();
-      for (int k = 0; k < n_new && inside; ++k)
-        for (int c = 0; c < 3; ++c) inside = inside && x(k, c) >= lo[c] && x(k, c) <= hi[c];
-      if (!inside) {
-        if (uniform)
-          return failed_precondition("hole of " + std::to_string(loop.size()) +
-                                     " rim edges: the fill leaves the rim's hull");
-        weights = weights == Weights::kSignedCotan ? Weights::kPositiveCotan : Weights::kUniform;
-        --solve;  // the same solve again with the next weights
-        continue;
-      }
-      for (int k = 0; k < n_new; ++k) {
-        const auto v = vertex_of[k];
-        mesh->set_point(v, Point(x(k, 0), x(k, 1), x(k, 2)));
-        if (colors) {
-          Mesh::Color c;
-          for (int j = 0; j < 4; ++j)
-            c[j] = std::clamp(static_cast<float>(x(k, 3 + j)), 0.0f, 1.0f);
-          mesh->set_color(v, c);
-        }
-      }
-    }
+    Status faired = fair_new_vertices(mesh, first_new_vertex, options.continuity, colors);
+    // A C2 fill needs two well-shaped rings beyond the rim; where they are not (a hole near the
+    // outer rim or another hole), the C1 fill of one ring is the fallback.
+    if (!faired.is_ok() && options.continuity > 1)
+      faired = fair_new_vertices(mesh, first_new_vertex, 1, colors);
+    if (!faired.is_ok())
+      return failed_precondition("hole of " + std::to_string(loop.size()) +
+                                 " rim edges: " + faired.message());
   }
 
   if (report) {

@@ -90,12 +90,12 @@ TEST(CrossPlane, CorrelatedPlaneCostsLessAndDecodesExactly) {
       p.rdo = rdo;
       CrossPlaneResidual x_residual, decoded_x_residual;
       CrossPlaneLinks x_links{nullptr, &x_residual};
-      const PlaneEncodeResult ex = encode_plane(x, p, nullptr, nullptr, nullptr, &x_links);
+      const PlaneEncodeResult ex = encode_plane(x, p, nullptr, nullptr, nullptr, nullptr, &x_links);
       int nonzero_mbs = 0;
       for (uint8_t n : x_residual.mb_nonzero) nonzero_mbs += n;
       EXPECT_EQ(nonzero_mbs, 16);
       CrossPlaneLinks y_links{&x_residual, nullptr};
-      const PlaneEncodeResult ey = encode_plane(y, p, nullptr, nullptr, nullptr, &y_links);
+      const PlaneEncodeResult ey = encode_plane(y, p, nullptr, nullptr, nullptr, nullptr, &y_links);
       const PlaneEncodeResult plain = encode_plane(y, p);
       const auto ssd = [&](const SamplePlane& r) {
         double e = 0;
@@ -112,11 +112,11 @@ TEST(CrossPlane, CorrelatedPlaneCostsLessAndDecodesExactly) {
       EXPECT_EQ(scales_coded(ey.stats, false), 16);  // every macroblock codes a scale
       // The decoder: X's residual as the encoder kept it, Y as the encoder reconstructed it.
       CrossPlaneLinks dx_links{nullptr, &decoded_x_residual};
-      auto dx = decode_plane(ex.bytes, 64, 64, p, nullptr, nullptr, nullptr, &dx_links);
+      auto dx = decode_plane(ex.bytes, 64, 64, p, nullptr, nullptr, nullptr, nullptr, &dx_links);
       ASSERT_TRUE(dx.is_ok()) << dx.status().message();
       EXPECT_EQ(dx->samples, ex.reconstruction.samples);
       EXPECT_EQ(decoded_x_residual.samples, x_residual.samples);
-      auto dy = decode_plane(ey.bytes, 64, 64, p, nullptr, nullptr, nullptr, &y_links);
+      auto dy = decode_plane(ey.bytes, 64, 64, p, nullptr, nullptr, nullptr, nullptr, &y_links);
       ASSERT_TRUE(dy.is_ok()) << dy.status().message();
       EXPECT_EQ(dy->samples, ey.reconstruction.samples);
       if (lossless) {
@@ -286,6 +286,8 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.preset = Preset::kFast;
   o.intra_period = 3;
   o.bframes = 0;
+  o.refs = 1;  // without the other format 1.6 tools
+  o.max_transform = 4;
   o.cross_plane = false;
   auto bytes = encode_gvid(frames, info, o);
   ASSERT_TRUE(bytes.is_ok());
@@ -331,6 +333,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
+  o.max_transform = 4;  // flags2 then holds the cross-plane bit alone
   o.cross_plane = true;
   auto stream = encode_gvid(frames, info, o);
   ASSERT_TRUE(stream.is_ok());
@@ -338,8 +341,8 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   ASSERT_TRUE(reader.is_ok());
   const std::string packet = first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The other unknown flags2 bits stay rejected; shared motion in an intra frame too.
-  for (const uint8_t bits : {2, 4, 16, 128}) {
+  // The unknown flags2 bits stay rejected.
+  for (const uint8_t bits : {16, 32, 64, 128}) {
     auto d = decode_frame_packet(with_flags2(packet, format::kFrame2CrossPlane | bits), info, 0);
     ASSERT_FALSE(d.is_ok());
     EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)

@@ -33,17 +33,45 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless, cross_fast, cross_near;
-  // The streams before 1.6 were written without cross-plane prediction.
+      bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near;
+  refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
+  refs_fast.preset = Preset::kFast;
+  refs_fast.bframes = 0;
+  refs_fast.refs = 3;
+  refs_fast.max_transform = 4;
+  refs_lossless.lossless = true;  // version 1.6: two references with B frames, shared motion
+  refs_lossless.preset = Preset::kSlow;
+  refs_lossless.bframes = 1;
+  refs_lossless.refs = 2;
+  refs_lossless.shared_motion = true;
+  tx16_fast.qp = 0;  // version 1.6: larger transforms up to 16x16, fast preset, I, P and B
+  tx16_fast.preset = Preset::kFast;
+  tx16_fast.bframes = 1;
+  tx16_fast.max_transform = 16;
+  tx16_fast.refs = 1;
+  tx8_slow.qp = -6;  // version 1.6: larger transforms up to 8x8, slow preset, I and P
+  tx8_slow.preset = Preset::kSlow;
+  tx8_slow.bframes = 0;
+  tx8_slow.intra_period = 3;
+  tx8_slow.max_transform = 8;
+  tx8_slow.refs = 1;
+  // The streams before 1.6 and those of the other 1.6 tools were written without cross-plane
+  // prediction.
   for (EncoderOptions* o :
        {&lossless, &fast, &slow_no_gv, &eight_bit, &inter, &lossless_inter, &near_affine, &plane_qp,
-        &qpel_td, &hpel_lossless, &shared_fast, &shared_lossless, &bframes_fast, &bframes_lossless})
+        &qpel_td, &hpel_lossless, &shared_fast, &shared_lossless, &bframes_fast, &bframes_lossless,
+        &refs_fast, &refs_lossless, &tx16_fast, &tx8_slow})
     o->cross_plane = false;
   cross_fast.qp = 0;  // version 1.6: cross-plane prediction, one B frame, fast preset
   cross_fast.preset = Preset::kFast;
   cross_fast.bframes = 1;
   cross_near.max_error_mm = 0.05;  // version 1.6: cross-plane prediction, near-lossless, slow
   cross_near.preset = Preset::kSlow;
+  // ... without the other 1.6 tools.
+  for (EncoderOptions* o : {&cross_fast, &cross_near}) {
+    o->refs = 1;
+    o->max_transform = 4;
+  }
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -98,6 +126,10 @@ std::vector<GoldenCase> cases() {
           {"analytic_shared_lossless_ipp_v1_4_48.gvid", 48, 3, shared_lossless, 0.5},
           {"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 48, 5, bframes_fast, 0.75},
           {"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 48, 5, bframes_lossless, 0.5},
+          {"analytic_refs3_qp0_ipppp_v1_6_48.gvid", 48, 5, refs_fast, 0.75},
+          {"analytic_refs2_lossless_ibpbpbp_v1_6_48.gvid", 48, 7, refs_lossless, 0.5},
+          {"analytic_tx16_qp0_ibpbp_v1_6_48.gvid", 48, 5, tx16_fast, 0.75},
+          {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75},
           {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
           {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5}};
 }

@@ -294,6 +294,36 @@ TEST(GvidStream, CorruptPFrameCostsFramesUpToTheNextIntraFrame) {
   EXPECT_TRUE(reader2->decode_frame(0).is_ok());
 }
 
+// Format 1.6: with several reference frames a damaged anchor fails every frame whose references
+// reach it (named as the reference frame), but never across an intra frame.
+TEST(GvidStream, CorruptAnchorFailsTheFramesThatReferenceIt) {
+  const auto frames = small_video(6);
+  EncoderOptions options;
+  options.preset = Preset::kFast;
+  options.bframes = 0;
+  options.refs = 3;
+  options.intra_period = 3;  // I P P I P P
+  auto bytes = encode_gvid(frames, info_for(frames), options);
+  ASSERT_TRUE(bytes.is_ok());
+  auto clean = open_bytes(*bytes);
+  ASSERT_TRUE(clean);
+  EXPECT_EQ(clean->frame_references(2), 2);  // frames 1 and 0
+  EXPECT_EQ(clean->frame_references(4), 1);  // frame 3 only: not past the intra frame
+  EXPECT_EQ(clean->frame_references(5), 2);
+  const size_t frame1 = static_cast<size_t>(clean->header_bytes() + clean->frame_bits(0) / 8);
+  std::string bad = *bytes;
+  bad[frame1 + format::kPacketHeaderSize + 5] ^= 0x10;
+  auto reader = open_bytes(bad);
+  ASSERT_TRUE(reader);
+  auto f2 = reader->decode_frame(2);
+  ASSERT_FALSE(f2.is_ok());
+  EXPECT_NE(f2.status().message().find("frame 2: reference frame 1: payload CRC mismatch"),
+            std::string::npos)
+      << f2.status().message();
+  EXPECT_TRUE(reader->decode_frame(0).is_ok());
+  for (int f = 3; f < 6; ++f) EXPECT_TRUE(reader->decode_frame(f).is_ok()) << f;
+}
+
 class DamagedStream : public ::testing::Test {
  protected:
   void SetUp() override {

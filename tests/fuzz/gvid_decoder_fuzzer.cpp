@@ -1,13 +1,14 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
-// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P or B, with or
-//    without a cross-plane source residual), decoded directly, so that mutations reach the
-//    macroblock layer without getting past the CRCs.
+// 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
+//    references or B, with or without a cross-plane source residual), decoded directly, so
+//    that mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -34,6 +35,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Bit 3 of byte 1: quarter-sample motion vectors in a P plane (format 1.3).
     params.subpel = (data[1] & 8) ? 4 : 0;
     params.qp_prime = (data[3] >> 2) % (52 + 6 * (params.bit_depth - 8));
+    // Bits 4..5 of byte 1: larger transforms of a lossy plane (format 1.6): 0 = 4x4 only, 1 = up
+    // to 8x8, 2 and 3 = up to 16x16.
+    const int transforms = (data[1] >> 4) & 3;
+    params.max_transform = params.lossless || transforms == 0 ? 4 : (transforms == 1 ? 8 : 16);
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
     SamplePlane reference;
@@ -42,8 +47,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     reference.samples.resize(static_cast<size_t>(width) * height);
     for (size_t i = 0; i < reference.samples.size(); ++i)
       reference.samples[i] = static_cast<uint16_t>((i * 37) & ((1u << params.bit_depth) - 1));
-    // Bit 6 of byte 0: a Y or Z plane with cross-plane prediction (format 1.6) from a source
-    // residual that is nonzero in every other macroblock (the plane's residual is kept too).
+    // Bit 6 of byte 0 (intra and B planes; P planes: see below): a Y or Z plane with cross-plane
+    // prediction (format 1.6) from a source residual that is nonzero in every other macroblock
+    // (the plane's residual is kept too).
     CrossPlaneResidual source, own;
     source.reset(width, height);
     for (int y = 0; y < height; ++y)
@@ -65,9 +71,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             static_cast<uint16_t>((i * 11 + 5) & ((1u << params.bit_depth) - 1));
       (void)decode_b_plane(std::string_view(bytes).substr(4), width, height, params, reference,
                            reference1, &links);
+    } else if ((data[0] & 0x40) && (data[2] & 0x80)) {
+      // Bit 6 of byte 0 with bit 7 of byte 2: a P plane with 2 + (byte 1 >> 4) % 4 references
+      // (format 1.6), the older ones more ramps; bit 6 of byte 1: with the cross-plane source
+      // residual too (all three 1.6 tools together with larger transforms).
+      params.ref_count = 2 + (data[1] >> 4) % 4;
+      std::vector<SamplePlane> older(params.ref_count - 1, reference);
+      std::vector<const SamplePlane*> more;
+      for (size_t k = 0; k < older.size(); ++k) {
+        for (size_t i = 0; i < older[k].samples.size(); ++i)
+          older[k].samples[i] =
+              static_cast<uint16_t>((i * (13 + 6 * k) + k) & ((1u << params.bit_depth) - 1));
+        more.push_back(&older[k]);
+      }
+      (void)decode_plane(std::string_view(bytes).substr(4), width, height, params, &reference,
+                         nullptr, nullptr, &more, (data[1] & 0x40) ? &links : nullptr);
     } else {
       (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
-                         (data[2] & 0x80) ? &reference : nullptr, nullptr, nullptr, &links);
+                         (data[2] & 0x80) ? &reference : nullptr, nullptr, nullptr, nullptr,
+                         &links);
     }
   }
   return 0;

@@ -121,9 +121,9 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   EXPECT_TRUE(contains(info.output, "(packet 0)  cross-plane")) << info.output;
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  // --no-cross-plane: no cross-plane frames, version 1.5.
+  // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
   auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset fast --no-cross-plane");
+                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -222,6 +222,28 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   EXPECT_NE(lossless_rate.exit_code, 0);
   EXPECT_TRUE(contains(lossless_rate.output, "rate control needs lossy coding"))
       << lossless_rate.output;
+}
+
+TEST(CliCodec, MaxTransformIsAnOptionAndInfoShowsTheLargerTransforms) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string in = (dir / "in").string(), gvid = (dir / "t.gvid").string();
+  for (const int max_transform : {4, 16}) {
+    auto enc = run_gvkit("encode " + in + " -o " + gvid + " --qp 0 --preset fast --max-transform " +
+                         std::to_string(max_transform));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["max_transform"], max_transform);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_EQ(contains(info.output, "transforms      8x8 / 16x16 in 3 of 3 frames (format 1.6)"),
+              max_transform == 16)
+        << info.output;
+  }
+  auto bad = run_gvkit("encode " + in + " -o " + gvid + " --max-transform 32");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "max transform 32 is not 4, 8 or 16")) << bad.output;
 }
 
 TEST(CliCodec, TargetPsnrMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {

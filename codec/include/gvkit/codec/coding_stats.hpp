@@ -32,6 +32,8 @@ struct PlaneCodingStats {
   int64_t inter_mbs = 0;  // inter, not skip, not TD
   int64_t td_mbs = 0;     // inter with temporal-difference prediction
   int64_t skip_mbs = 0;   // inter skip
+  // Format 1.6 (larger transforms): inter and I16x16 macroblocks coded with 8x8 / 16x16.
+  int64_t transform8_mbs = 0, transform16_mbs = 0;
   // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,
   // per scale in the order of kCrossScales (-8, -4, -2, -1, 0, 1, 2, 4, 8).
   int64_t cross_scale_mbs[9] = {};

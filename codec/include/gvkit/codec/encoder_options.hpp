@@ -80,11 +80,24 @@ struct EncoderOptions {
   double target_rms_mm = 0;
   // Constant quality: I frames aim this many dB above the target (0..20).
   double intra_target_offset_db = 0;
+  // P frames: reference frames (format 1.6): each P frame predicts from up to this many of the
+  // nearest anchors since the last I frame, choosing per macroblock; 1..5 (1 = one reference,
+  // no 1.6 syntax), or -1 = automatic: 3 in lossy streams (ICT face, docs/benchmarks.md: -0.60 %
+  // BD-rate fast, -0.18 % slow, fast encode still >= 30 frames/s; main-job video -10.7 % fast),
+  // 1 in lossless and near-lossless ones (where 2..5 cost 0.8-1.4 % more rate on the ICT face).
+  int refs = -1;
+  // Larger transforms (format 1.6, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks of lossy frames code their residual with an 8x8 or 16x16 transform (chosen per
+  // macroblock by rate-distortion cost); 4 = 4x4 only, a stream without the 1.6 syntax (byte for
+  // byte the 1.5 encoder's). Default 16: on the ICT face -25 % BD-rate in the slow preset and
+  // -8 to -10 % in the fast one against 4, at the fast preset's speed (docs/benchmarks.md).
+  // Lossless and near-lossless streams do not use it.
+  int max_transform = 16;
   // Cross-plane residual prediction (format 1.6, docs/bitstream.md 4.9): each Y and Z
   // macroblock may add a scaled copy (0, +-1/8 .. +-1) of the X plane's reconstructed residual
-  // to its own. false writes the 1.4 / 1.5 stream (no flags2 bit 3). On by default: on the ICT
-  // face it gives -0.73 % BD-rate in the fast preset and -0.90 % in the slow one (-1.7 % and
-  // -2.3 % intra only), -0.18 % lossless (docs/benchmarks.md, format 1.6).
+  // to its own. false writes no flags2 bit 3. On by default: on the ICT face, measured alone
+  // (refs 1, max-transform 4), it gives -0.73 % BD-rate in the fast preset and -0.90 % in the
+  // slow one (-1.7 % and -2.3 % intra only), -0.18 % lossless (docs/benchmarks.md, format 1.6).
   bool cross_plane = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
@@ -108,6 +121,10 @@ struct EncoderOptions {
     if (is_intra(frame_number) || b <= 0) return true;
     return frame_number % intra_period % (b + 1) == 0;
   }
+  // The reference frames the encoder gives P frames: refs, or its automatic value.
+  int reference_frames() const { return refs >= 1 ? refs : (bypass() ? 1 : 3); }
+  // Whether lossy frames use the larger transforms (format 1.6).
+  bool large_transforms() const { return max_transform > 4 && !bypass(); }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

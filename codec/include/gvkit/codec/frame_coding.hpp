@@ -23,17 +23,25 @@ struct EncodedFrame {
 
 // Encodes an intra frame, a P frame predicted from `reference` (the previous anchor's
 // reconstructed planes) when given, or with `reference1` too (the next anchor's planes) a B
-// frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). Fails (naming the frame) when its size
-// differs from the header's.
-Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
-                                  const EncoderOptions& options, uint32_t frame_number,
-                                  const std::vector<SamplePlane>* reference = nullptr,
-                                  const std::vector<SamplePlane>* reference1 = nullptr);
+// frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). A P frame with options.reference_frames()
+// > 1 and `older` (the reconstructed planes of the anchors before `reference` since the last I
+// frame, nearest first) predicts from up to that many of them (format 1.6, flags2 bit 1). Fails
+// (naming the frame) when its size differs from the header's.
+Result<EncodedFrame> encode_frame(
+    const GeometryImage& image, const SequenceInfo& info, const EncoderOptions& options,
+    uint32_t frame_number, const std::vector<SamplePlane>* reference = nullptr,
+    const std::vector<SamplePlane>* reference1 = nullptr,
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
 
 // Near-lossless residual bound (samples) that keeps the point error within max_error_mm at the
 // sequence's quantization step: 0 when off (or when only exact coding fits), -1 when even the
 // input quantization exceeds it.
 int near_lossless_delta(const SequenceInfo& info, double max_error_mm);
+
+// The reference frames a packet predicts from: 0 for an I frame, 2 for a B frame, 1 for a P
+// frame, or its ref_count with several references (format 1.6). Fails on a damaged header or
+// payload prefix.
+Result<int> packet_reference_count(std::string_view packet);
 
 // Limits a decoder puts on what a stream may ask of it.
 struct DecoderLimits {
@@ -45,11 +53,15 @@ struct DecoderLimits {
 // A P packet needs `reference` (the previous anchor's decoded planes), a B packet `reference`
 // and `reference1` (the anchors before and after it in display order; "B frame without the
 // anchor frame after it" otherwise); planes_out (optional) receives this frame's decoded planes,
-// the reference of the next.
-Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
-                                          int64_t frame_number,
-                                          const std::vector<SamplePlane>* reference = nullptr,
-                                          std::vector<SamplePlane>* planes_out = nullptr,
-                                          const std::vector<SamplePlane>* reference1 = nullptr);
+// the reference of the next. A P packet with several references (format 1.6) also needs
+// `older`: the anchors before `reference` since the last intra frame, nearest first (at least
+// ref_count - 1 of them; "ref_count 3 names more reference frames than the 2 anchor frames
+// since the last intra frame" otherwise).
+Result<GeometryImage> decode_frame_packet(
+    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
+    const std::vector<SamplePlane>* reference = nullptr,
+    std::vector<SamplePlane>* planes_out = nullptr,
+    const std::vector<SamplePlane>* reference1 = nullptr,
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
 
 }  // namespace gvkit::codec

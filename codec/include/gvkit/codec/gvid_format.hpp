@@ -21,6 +21,12 @@ inline constexpr uint8_t kMajorVersion = 1;
 inline constexpr uint8_t kMinorVersion = 5;
 // A stream without B frames is written as version 1.4 (it uses no 1.5 syntax).
 inline constexpr uint8_t kMinorVersionWithoutBFrames = 4;
+// Format 1.6 (multiple reference frames): written only when the encoder's options turn it on.
+inline constexpr uint8_t kMinorVersionMultiRef = 6;
+// P frames with multiple reference frames (1.6): at most this many references.
+inline constexpr int kMaxReferenceFrames = 5;
+// A stream with larger transforms (format 1.6, docs/bitstream.md 4.8) is written as 1.6.
+inline constexpr uint8_t kMinorVersionLargeTransforms = 6;
 // A stream with cross-plane residual prediction (flags2 bit 3) is written as version 1.6.
 inline constexpr uint8_t kMinorVersionCrossPlane = 6;
 
@@ -48,8 +54,12 @@ enum FrameFlag : uint8_t {
 // Packet header byte 7 (reserved, 0, before 1.4): more frame flags.
 enum FrameFlag2 : uint8_t {
   kFrame2SharedMotion = 1,  // since 1.4: P frames, Y and Z may take over X's motion per MB
-  kFrame2CrossPlane = 8,    // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
-  kFrame2Known = 1 | 8,     // every bit a reader understands
+  kFrame2MultiRef = 2,      // since 1.6: P frames, 2..5 reference frames (payload: u8 ref_count)
+  // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
+  // max transform, 8 or 16; docs/bitstream.md 4.8)
+  kFrame2LargeTransforms = 4,
+  kFrame2CrossPlane = 8,         // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
+  kFrame2Known = 1 | 2 | 4 | 8,  // every bit a reader understands
 };
 
 struct PacketHeader {

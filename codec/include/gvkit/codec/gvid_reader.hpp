@@ -33,17 +33,20 @@ class GvidReader {
   // Decodes frame `index` (0-based, display order; the packets are in decode order). A P frame
   // needs the anchors (I and P frames) from the previous intra frame on, a B frame also the
   // anchor after it; the last few decoded anchors are kept, so that reading in display order
-  // decodes each frame once. A damaged frame fails this frame and the frames that depend on it
-  // (the P frames after it up to the next intra frame, the B frames around them), whose
-  // messages name it ("frame 3: reference frame 4: payload CRC mismatch").
+  // decodes each frame once. A P frame with several references (format 1.6) gets the up to 5
+  // nearest anchors since the previous intra frame. A damaged frame fails this frame and the frames
+  // that depend on it (the P frames after it up to the next intra frame, the B frames around them),
+  // whose messages name it ("frame 3: reference frame 4: payload CRC mismatch").
   Result<GeometryImage> decode_frame(int64_t index);
   // Bits of the frame's packet (header + payload); 0 for an index out of range.
   int64_t frame_bits(int64_t index) const;
-  // The packet header of frame `index` (display order; flags, flags2, QP); fails for an index
-  // out of range or a damaged header.
-  Result<format::PacketHeader> frame_header(int64_t index) const;
+  // The packet header of frame `index` (display order; contract: 0 <= index < frame_count());
+  // fails when it is damaged.
+  Result<format::PacketHeader> packet_header(int64_t index) const;
   // Type of frame `index` (display order; contract: 0 <= index < frame_count()).
   format::FrameType frame_type(int64_t index) const { return entry(index).type; }
+  // Reference frames of frame `index` (packet_reference_count; -1 when its packet is damaged).
+  int frame_references(int64_t index) const;
   // Position of frame `index` (display order) in the stream's decode order.
   int64_t decode_position(int64_t index) const { return static_cast<int64_t>(order_.at(index)); }
   // True when the seek index was missing or damaged and the packets were found by a scan.
@@ -76,8 +79,10 @@ class GvidReader {
   // The anchor before (direction -1) or after (+1) frame `index`, or -1; fails when a frame
   // between them is missing (a packet lost from a rebuilt index).
   Result<int64_t> neighbour_anchor(int64_t index, int direction, const std::string& where) const;
+  // `older` (P frames): the anchors before ref0 since the last intra frame, nearest first.
   Result<GeometryImage> decode_packet(int64_t index, const Decoded* ref0, const Decoded* ref1,
-                                      std::vector<SamplePlane>* planes) const;
+                                      std::vector<SamplePlane>* planes,
+                                      const std::vector<const Decoded*>& older = {}) const;
 
   std::string bytes_, name_;
   SequenceInfo info_;
@@ -85,8 +90,9 @@ class GvidReader {
   std::vector<format::IndexEntry> index_;  // decode order
   std::vector<size_t> order_;              // display order -> position in index_
   bool index_rebuilt_ = false;
-  // The anchors decoded last (at most kCachedAnchors, oldest first) and the last B frame.
-  static constexpr size_t kCachedAnchors = 3;
+  // The anchors decoded last (at most kCachedAnchors, oldest first: the 5 references of a P
+  // frame, the anchor itself and the one after a B frame) and the last B frame.
+  static constexpr size_t kCachedAnchors = format::kMaxReferenceFrames + 2;
   std::deque<std::shared_ptr<const Decoded>> anchors_;
   std::shared_ptr<const Decoded> last_b_;
 };

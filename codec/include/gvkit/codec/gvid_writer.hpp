@@ -82,16 +82,18 @@ class GvidWriter {
 // Encodes frame `number` (intra or P from `reference` as options.is_intra says, or B from
 // `reference` and `reference1` when reference1 is given) at options.qp and its offsets, or with
 // rate control when `rate` is given, or at constant quality when `quality` is given (the QP used
-// is in *qp_used).
-Result<EncodedFrame> encode_sequence_frame(const GeometryImage& frame, const SequenceInfo& info,
-                                           const EncoderOptions& options, uint32_t number,
-                                           const std::vector<SamplePlane>& reference,
-                                           RateController* rate, int* qp_used = nullptr,
-                                           const std::vector<SamplePlane>* reference1 = nullptr,
-                                           QualityController* quality = nullptr);
+// is in *qp_used). `older` (P frames with options.reference_frames() > 1): the anchors before
+// `reference` since the last I frame, nearest first (encode_frame).
+Result<EncodedFrame> encode_sequence_frame(
+    const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
+    uint32_t number, const std::vector<SamplePlane>& reference, RateController* rate,
+    int* qp_used = nullptr, const std::vector<SamplePlane>* reference1 = nullptr,
+    QualityController* quality = nullptr,
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
 
-// The minor version a stream with these options is written as: 5 when it may hold B frames,
-// else 4 (a stream without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
+// The minor version a stream with these options is written as: 6 when P frames may use several
+// reference frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a
+// stream without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
 uint8_t stream_minor_version(const EncoderOptions& options);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;

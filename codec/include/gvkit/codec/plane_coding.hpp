@@ -34,6 +34,14 @@ struct PlaneCodingParams {
   // interpolation, docs/bitstream.md 4.4), which the encoder refines to half (2) or quarter (4)
   // sample precision around the best whole-sample vector. The decoder only tests != 0.
   int subpel = 0;
+  // P planes, multiple reference frames (format 1.6, docs/bitstream.md 4.7): the number of
+  // references (1..5); with more than one, every inter macroblock that is not a skip codes
+  // ref_idx. The references are passed to encode_plane / decode_plane, nearest first.
+  int ref_count = 1;
+  // Format 1.6 (larger transforms, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
+  // macroblocks code their residual with an 8x8 (or a 16x16) transform, chosen per macroblock;
+  // 4 = sixteen 4x4 blocks only (the syntax before 1.6). Lossy planes only.
+  int max_transform = 4;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).
@@ -60,6 +68,7 @@ struct MotionField {
   std::vector<uint8_t> inter;       // 1: inter (plain, skip or TD), 0: intra
   std::vector<uint8_t> skip;        // 1: skip
   std::vector<int16_t> mv_x, mv_y;  // the vector the macroblock used (inter only)
+  std::vector<uint8_t> ref_idx;     // its reference (format 1.6; 0 with one reference)
 };
 
 struct PlaneEncodeResult {
@@ -74,30 +83,38 @@ struct PlaneEncodeResult {
 // of them (the first plane's search under shared motion).
 struct JointSearchPlanes {
   std::vector<const SamplePlane*> sources, references;
+  // Multiple reference frames: more_references[k - 1][j] is reference k of plane sources[j].
+  std::vector<std::vector<const SamplePlane*>> more_references;
 };
 
 // plane.width and plane.height must be positive multiples of 16 (contract). With a reference
 // (the previous frame's reconstruction of this plane, same size) the plane is coded as a P plane:
 // each macroblock is intra or inter (motion, skip, TD). With `shared` (the motion of the frame's
 // first plane, same macroblock grid; P planes only) a macroblock whose co-located one is inter
-// may take over its vector with one context-coded flag (format 1.4). With cross->source (Y and
-// Z planes, format 1.6; the X plane's residual, same size) a macroblock may add a scaled copy of
-// it to its residual (cross_plane.hpp); cross->residual_out receives the plane's own residual.
+// may take over its vector with one context-coded flag (format 1.4). With params.ref_count > 1
+// (format 1.6), more_references holds references 1 .. ref_count - 1 (the older anchors'
+// reconstructions of this plane, nearest first, same size); `reference` is reference 0. With
+// cross->source (Y and Z planes, format 1.6; the X plane's residual, same size) a macroblock may
+// add a scaled copy of it to its residual (cross_plane.hpp); cross->residual_out receives the
+// plane's own residual.
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference = nullptr,
                                const MotionField* shared = nullptr,
                                const JointSearchPlanes* joint = nullptr,
+                               const std::vector<const SamplePlane*>* more_references = nullptr,
                                const CrossPlaneLinks* cross = nullptr);
 
 // Decodes a segment made by encode_plane with the same bit depth, QP, flags, shared motion and
 // cross-plane source. Fails with a message naming the macroblock and the field when the data
 // cannot be a valid segment. motion_out (optional, P planes) receives the plane's motion,
-// cross->residual_out (optional) the plane's residual.
+// cross->residual_out (optional) the plane's residual. With params.ref_count > 1,
+// more_references must hold ref_count - 1 planes (as for encode_plane; contract).
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params,
                                  const SamplePlane* reference = nullptr,
                                  const MotionField* shared = nullptr,
                                  MotionField* motion_out = nullptr,
+                                 const std::vector<const SamplePlane*>* more_references = nullptr,
                                  const CrossPlaneLinks* cross = nullptr);
 
 // B planes (format 1.5): each macroblock is intra, skip (direct without residual) or inter from

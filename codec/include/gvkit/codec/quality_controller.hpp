@@ -54,7 +54,8 @@ class QualityController {
                               const EncoderOptions& options, uint32_t number,
                               const std::vector<SamplePlane>* reference,
                               const std::vector<SamplePlane>* reference1 = nullptr,
-                              int* qp_used = nullptr);
+                              int* qp_used = nullptr,
+                              const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
 
   // Whether a frame's error meets the target (of an I frame when intra).
   bool meets(const GeometryError& error, bool intra) const;

@@ -7,6 +7,7 @@
 // frames by flush(). With bframes = 0 every frame is coded when it arrives, as in format 1.4.
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,11 @@ class SequenceEncoder {
   std::unique_ptr<RateController> rate_;
   std::unique_ptr<QualityController> quality_;
   std::vector<SamplePlane> anchor_;  // the last anchor's reconstructed planes
+  // options.reference_frames() > 1: the anchors before anchor_ since the last I frame, nearest
+  // first (at most refs - 1).
+  std::deque<std::vector<SamplePlane>> older_anchors_;
+  // Makes `planes` (frame `number`, an anchor) the last anchor.
+  void set_anchor(std::vector<SamplePlane> planes, uint32_t number);
   struct Pending {
     uint32_t number;
     GeometryImage frame;

@@ -4,12 +4,14 @@
 // minimal-weight triangulation of its rim polygon (largest dihedral angle, then area; greedy ear
 // clipping for rims over max_min_weight_edges), refined to the edge density of its rim (centroid
 // splits while a face is larger than the local scale, circumsphere edge flips), and its new
-// vertices are placed by a bi-Laplacian (thin-plate) solve, L M^-1 L x = 0, with the rim and one
-// ring of neighbours fixed: cotangent weights L, mixed Voronoi areas M. That is the seed's
-// minimal surface with positions and gradients matching at the rim (C1). Where the two rings
-// hold triangles without area, or the cotangent solve leaves the rim's hull (slivers, rims seen
-// edge-on), the weights are kept positive, and the solve is redone with uniform weights when it
-// still leaves the hull. Vertex colours (texture) are filled by the same solve.
+// vertices are placed by a fairing solve with cotangent weights L and mixed Voronoi areas M: by
+// default the tri-Laplacian (L M^-1)^2 L x = 0 with the rim and two rings of neighbours fixed
+// (C2: positions, tangent planes and curvature match at the rim), or the seed's bi-Laplacian
+// minimal surface L M^-1 L x = 0 with the rim and one ring fixed (C1, `continuity = 1`; also the
+// fallback where a C2 system cannot be solved). Where the rings hold triangles without area, or
+// the cotangent solve leaves the rim's hull (slivers, rims seen edge-on), the weights are kept
+// positive, and the solve is redone with uniform weights when it still leaves the hull. Vertex
+// colours (texture) are filled by the same solve.
 
 #include <vector>
 
@@ -29,9 +31,12 @@ struct HoleFillingOptions {
   // Rims with up to this many edges get the minimal-weight triangulation (O(n^3) time, O(n^2)
   // memory), larger ones greedy ear clipping.
   int max_min_weight_edges = 200;
-  // Bi-Laplacian solves; the weights of the patch are recomputed on the faired patch between
-  // them (1: weights of the flat initial patch, as CGAL).
-  int solve_iterations = 1;
+  // Smoothness of the fill where it meets the rim: 1 = the seed's minimal surface, a
+  // bi-Laplacian solve with the rim and one ring beyond fixed (positions and tangent planes
+  // match, C1); 2 = a tri-Laplacian solve with the rim and two rings fixed (curvature matches
+  // too, C2), closer to the true surface on every hole of facemap_hole_filling_peers_bench
+  // (docs/benchmarks.md); a C2 fill that cannot be solved (too few rings) falls back to C1.
+  int continuity = 2;
   bool fill_colors = true;  // when the mesh has vertex colours
   // A hole that shares a vertex with the outer rim is a pinch of the rim, not an interior hole.
   // true: fail; false: leave it open and count it (the clean stage crops to the face mask

@@ -1,0 +1,351 @@
+// Format 1.6: multiple reference frames (flags2 bit 1, docs/bitstream.md 4.7). The decoder
+// (GvidReader, in display order and by random access) reproduces the encoder's reconstruction
+// exactly in every configuration; content that returns after a frame is predicted from two
+// frames back; corrupt ref_count syntax is rejected with a message; refs = 1 writes the older
+// stream.
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/crc32.hpp"
+#include "gvkit/codec/frame_coding.hpp"
+#include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/sequence_encoder.hpp"
+#include "gvkit/core/atomic_file.hpp"
+
+namespace gvkit::codec {
+namespace {
+
+// The analytic surface moving by (0.75, 0.375) pixels per frame.
+std::vector<GeometryImage> video(int size, int frames) {
+  testing::GeometryVideoOptions o;
+  o.size = size;
+  o.frames = frames;
+  auto video = testing::make_analytic_video(o);
+  for (size_t f = 0; f < video.size(); ++f) {
+    const double shift = 0.75 * static_cast<double>(f);
+    const double m[6] = {1, 0, -shift, 0, 1, -0.5 * shift};
+    cv::Mat moved;
+    cv::warpAffine(video[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                   video[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+    video[f].xyz_mm = moved;
+  }
+  return video;
+}
+
+SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
+  auto info = make_sequence_info(frames, 16, 30.0);
+  GVKIT_CHECK(info.is_ok(), info.status().message());
+  return std::move(info).value();
+}
+
+bool same_samples(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() &&
+         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+}
+
+// Encodes with SequenceEncoder (reconstructions by display index) and with encode_gvid (the
+// stream); expects the packets to agree and GvidReader to reproduce every reconstruction, in
+// display order and then by random access.
+void expect_round_trip(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
+                       const EncoderOptions& o, const std::string& what) {
+  auto encoder = SequenceEncoder::create(info, o);
+  ASSERT_TRUE(encoder.is_ok()) << what;
+  std::vector<GeometryImage> recon(frames.size());
+  std::string packets;
+  const auto keep = [&](std::vector<SequenceFrame> done) {
+    for (SequenceFrame& f : done) {
+      packets += f.packet;
+      recon[f.number] = std::move(f.reconstruction);
+    }
+  };
+  for (const GeometryImage& f : frames) {
+    auto done = (*encoder)->push(f);
+    ASSERT_TRUE(done.is_ok()) << what << ": " << done.status().message();
+    keep(std::move(done).value());
+  }
+  auto rest = (*encoder)->flush();
+  ASSERT_TRUE(rest.is_ok()) << what;
+  keep(std::move(rest).value());
+  auto bytes = encode_gvid(frames, info, o);
+  ASSERT_TRUE(bytes.is_ok()) << what << ": " << bytes.status().message();
+  const std::string header = format::write_file_header(info, stream_minor_version(o));
+  ASSERT_EQ(bytes->substr(header.size(), packets.size()), packets) << what;
+  auto reader = GvidReader::open_memory(*bytes, what);
+  ASSERT_TRUE(reader.is_ok()) << what << ": " << reader.status().message();
+  int multi = 0;
+  for (int64_t f = 0; f < (*reader)->frame_count(); ++f) {
+    if ((*reader)->frame_references(f) > 1 &&
+        (*reader)->frame_type(f) == format::FrameType::kPredicted)
+      ++multi;
+    auto image = (*reader)->decode_frame(f);
+    ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
+    ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
+    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " texture " << f;
+  }
+  EXPECT_GT(multi, 0) << what << ": no P frame with several references";
+  auto again = GvidReader::open_memory(*bytes, what);
+  ASSERT_TRUE(again.is_ok());
+  for (int64_t f : {7, 3, 6, 0, 5, 1, 4, 2}) {
+    if (f >= (*again)->frame_count()) continue;
+    auto image = (*again)->decode_frame(f);
+    ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
+    ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " random frame " << f;
+    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " random texture " << f;
+  }
+}
+
+TEST(MultiRef, DecoderReproducesTheEncoderInEveryConfiguration) {
+  const auto frames = video(48, 8);
+  const SequenceInfo info = info_for(frames);
+  for (Preset preset : {Preset::kFast, Preset::kSlow})
+    for (int mode = 0; mode < 3; ++mode)  // lossy, lossless, near-lossless
+      for (int refs : {2, 5})
+        for (int bframes : {0, 1})
+          for (bool shared : {false, true}) {
+            if (shared && bframes) continue;
+            EncoderOptions o;
+            o.preset = preset;
+            o.qp = 0;
+            o.lossless = mode == 1;
+            o.max_error_mm = mode == 2 ? 0.05 : 0;
+            o.refs = refs;
+            o.bframes = bframes;
+            o.shared_motion = shared;
+            o.joint_motion_search = shared;
+            o.value_prediction = refs == 5 ? ValuePrediction::kAffine : ValuePrediction::kNone;
+            const std::string what = std::string(preset_name(preset)) + " mode " +
+                                     std::to_string(mode) + " refs " + std::to_string(refs) +
+                                     " bframes " + std::to_string(bframes) +
+                                     (shared ? " shared" : "");
+            expect_round_trip(frames, info, o, what);
+          }
+}
+
+// A sequence with a texture plane: T predicts from its references like X, Y and Z.
+TEST(MultiRef, TexturePlaneRoundTrips) {
+  auto frames = video(48, 6);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    GeometryImage& f = frames[i];
+    f.texture.create(f.xyz_mm.size(), CV_32F);
+    for (int y = 0; y < f.texture.rows; ++y)
+      for (int x = 0; x < f.texture.cols; ++x)
+        f.texture.at<float>(y, x) =
+            ((x * 7 + y * 3 + static_cast<int>(i) * (i % 2 ? 40 : 2)) % 256) / 255.0f;
+  }
+  const SequenceInfo info = info_for(frames);
+  ASSERT_TRUE(info.has_texture);
+  EncoderOptions o;
+  o.preset = Preset::kSlow;
+  o.qp = 0;
+  o.bframes = 0;
+  o.refs = 4;
+  expect_round_trip(frames, info, o, "texture refs 4");
+}
+
+// Frames alternate between two shapes: with two references each P frame finds its content two
+// frames back and costs far less than with one.
+TEST(MultiRef, ReturningContentIsPredictedFromTwoFramesBack) {
+  auto frames = video(48, 8);
+  const auto other = video(48, 1);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    if (f % 2 == 0) {
+      frames[f].xyz_mm = frames[0].xyz_mm.clone();
+    } else {
+      cv::Mat flipped;
+      cv::flip(other[0].xyz_mm, flipped, 1);
+      frames[f].xyz_mm = flipped;
+    }
+  }
+  const SequenceInfo info = info_for(frames);
+  for (Preset preset : {Preset::kFast, Preset::kSlow}) {
+    EncoderOptions o;
+    o.preset = preset;
+    o.qp = 6;
+    o.bframes = 0;
+    o.refs = 1;
+    auto one = encode_gvid(frames, info, o);
+    o.refs = 2;
+    auto two = encode_gvid(frames, info, o);
+    ASSERT_TRUE(one.is_ok() && two.is_ok());
+    EXPECT_LT(two->size() * 10, one->size() * 6) << preset_name(preset);  // I frame included
+    expect_round_trip(frames, info, o, std::string("alternating ") + preset_name(preset));
+  }
+}
+
+std::string with_payload(const std::string& packet, std::string payload) {
+  auto header = format::read_packet_header(packet);
+  GVKIT_CHECK(header.is_ok());
+  header->payload_size = static_cast<uint32_t>(payload.size());
+  header->payload_crc = crc32(payload);
+  return format::write_packet_header(*header) + payload;
+}
+
+TEST(MultiRef, CorruptSyntaxIsRejected) {
+  const auto frames = video(48, 3);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.preset = Preset::kFast;
+  o.qp = 0;
+  o.refs = 2;
+  o.max_transform = 4;  // flags2 then holds the multiple-reference bit alone
+  o.cross_plane = false;
+  auto i0 = encode_frame(frames[0], info, o, 0);
+  ASSERT_TRUE(i0.is_ok());
+  auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);
+  ASSERT_TRUE(p1.is_ok());
+  const std::vector<const std::vector<SamplePlane>*> older = {&i0->planes};
+  auto p2 = encode_frame(frames[2], info, o, 2, &p1->planes, nullptr, &older);
+  ASSERT_TRUE(p2.is_ok());
+  EXPECT_EQ(p1->packet[7], 0);  // one anchor since the intra frame: no 1.6 syntax
+  ASSERT_EQ(p2->packet[7], format::kFrame2MultiRef);
+  ASSERT_EQ(packet_reference_count(p2->packet).value(), 2);
+  auto good = decode_frame_packet(p2->packet, info, 2, &p1->planes, nullptr, nullptr, &older);
+  ASSERT_TRUE(good.is_ok()) << good.status().message();
+  const auto expect_error = [&](const std::string& packet,
+                                const std::vector<const std::vector<SamplePlane>*>* refs,
+                                const std::string& message) {
+    auto r = decode_frame_packet(packet, info, 2, &p1->planes, nullptr, nullptr, refs);
+    ASSERT_FALSE(r.is_ok()) << message;
+    EXPECT_NE(r.status().message().find(message), std::string::npos) << r.status().message();
+  };
+  expect_error(p2->packet, nullptr,
+               "ref_count 2 names more reference frames than the 1 anchor frames since the last "
+               "intra frame");
+  // The payload: plane count, then ref_count (no other optional fields in this frame).
+  const std::string payload = p2->packet.substr(format::kPacketHeaderSize);
+  for (int bad : {0, 1, 6, 255}) {
+    std::string p = payload;
+    p[1] = static_cast<char>(bad);
+    expect_error(with_payload(p2->packet, p), &older,
+                 "ref_count " + std::to_string(bad) + " out of range (2..5)");
+  }
+  std::string three = payload;
+  three[1] = 3;
+  expect_error(with_payload(p2->packet, three), &older, "ref_count 3 names more reference frames");
+  expect_error(with_payload(p2->packet, payload.substr(0, 1)), &older, "ref_count missing");
+  auto header = format::read_packet_header(i0->packet);
+  ASSERT_TRUE(header.is_ok());
+  header->flags2 = format::kFrame2MultiRef;
+  auto r = decode_frame_packet(
+      format::write_packet_header(*header) + i0->packet.substr(format::kPacketHeaderSize), info, 0);
+  ASSERT_FALSE(r.is_ok());
+  EXPECT_NE(r.status().message().find("multiple reference frames in an intra frame"),
+            std::string::npos)
+      << r.status().message();
+  // A damaged macroblock layer fails naming the plane (no crash with the reference list).
+  std::string cut = payload;
+  cut[2 + 4 + 3] ^= 0x5a;
+  auto damaged = decode_frame_packet(with_payload(p2->packet, cut), info, 2, &p1->planes, nullptr,
+                                     nullptr, &older);
+  if (!damaged.is_ok()) {
+    EXPECT_NE(damaged.status().message().find("plane"), std::string::npos)
+        << damaged.status().message();
+  }
+}
+
+TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
+  const auto frames = video(48, 4);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.preset = Preset::kFast;
+  o.bframes = 0;
+  o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
+  o.cross_plane = false;
+  EXPECT_EQ(o.reference_frames(), 3);  // automatic: 3 in lossy streams
+  o.refs = 1;
+  auto one = encode_gvid(frames, info, o);
+  ASSERT_TRUE(one.is_ok());
+  EXPECT_EQ((*one)[5], format::kMinorVersionWithoutBFrames);
+  o.refs = 3;
+  auto three = encode_gvid(frames, info, o);
+  ASSERT_TRUE(three.is_ok());
+  EXPECT_EQ((*three)[5], format::kMinorVersionMultiRef);
+  EXPECT_NE(*one, *three);
+  // The first P frame has one anchor before it: it is the same packet as with one reference.
+  auto r1 = GvidReader::open_memory(*one, "one"), r3 = GvidReader::open_memory(*three, "three");
+  ASSERT_TRUE(r1.is_ok() && r3.is_ok());
+  EXPECT_EQ((*r1)->frame_bits(1), (*r3)->frame_bits(1));
+  EXPECT_EQ((*r3)->frame_references(1), 1);
+  EXPECT_EQ((*r3)->frame_references(3), 3);
+  o.intra_only = true;
+  EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
+  EncoderOptions automatic;
+  automatic.lossless = true;
+  EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
+  automatic.lossless = false;
+  automatic.max_error_mm = 0.1;
+  EXPECT_EQ(automatic.reference_frames(), 1);
+  for (int bad : {0, -2, 6}) {
+    EncoderOptions b;
+    b.refs = bad;
+    const Status s = b.check();
+    ASSERT_FALSE(s.is_ok());
+    EXPECT_NE(s.message().find("refs " + std::to_string(bad)), std::string::npos) << s.message();
+  }
+}
+
+// refs = 1 keeps today's streams: the format 1.5 golden streams (written by the 1.5 encoder
+// from these frames and options) come out byte for byte; so do the 1.6 ones.
+TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
+  const std::filesystem::path golden = GVKIT_GOLDEN_DIR;
+  struct Case {
+    const char* file;
+    int frames;
+    double shift;
+    EncoderOptions options;
+  };
+  Case fast{"analytic_bframes_qp0_ibpbp_v1_5_48.gvid", 5, 0.75, {}};
+  fast.options.qp = 0;
+  fast.options.preset = Preset::kFast;
+  fast.options.bframes = 1;
+  Case lossless{"analytic_bframes_lossless_ibbpp_v1_5_48.gvid", 5, 0.5, {}};
+  lossless.options.lossless = true;
+  lossless.options.preset = Preset::kSlow;
+  lossless.options.bframes = 2;
+  lossless.options.refs = 1;
+  fast.options.refs = 1;
+  Case refs3{"analytic_refs3_qp0_ipppp_v1_6_48.gvid", 5, 0.75, {}};
+  refs3.options.qp = 0;
+  refs3.options.preset = Preset::kFast;
+  refs3.options.bframes = 0;
+  refs3.options.refs = 3;
+  Case refs2{"analytic_refs2_lossless_ibpbpbp_v1_6_48.gvid", 7, 0.5, {}};
+  refs2.options.lossless = true;
+  refs2.options.preset = Preset::kSlow;
+  refs2.options.bframes = 1;
+  refs2.options.refs = 2;
+  refs2.options.shared_motion = true;
+  // The streams were written without the larger transforms and cross-plane prediction of 1.6.
+  fast.options.max_transform = refs3.options.max_transform = 4;
+  for (Case* c : {&fast, &lossless, &refs3, &refs2}) c->options.cross_plane = false;
+  for (Case c : {fast, lossless, refs3, refs2}) {
+    testing::GeometryVideoOptions vo;
+    vo.size = 48;
+    vo.frames = c.frames;
+    auto frames = testing::make_analytic_video(vo);
+    for (size_t f = 0; f < frames.size(); ++f) {
+      const double m[6] = {1, 0, -c.shift * f, 0, 1, -0.5 * c.shift * f};
+      cv::Mat moved;
+      cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                     frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+      frames[f].xyz_mm = moved;
+    }
+    auto info = make_sequence_info(frames, 16, 30.0);
+    ASSERT_TRUE(info.is_ok());
+    auto bytes = encode_gvid(frames, *info, c.options);
+    ASSERT_TRUE(bytes.is_ok());
+    auto expected = read_file(golden / c.file);
+    ASSERT_TRUE(expected.is_ok()) << expected.status().message();
+    EXPECT_TRUE(*bytes == *expected) << c.file;
+  }
+}
+
+}  // namespace
+}  // namespace gvkit::codec
