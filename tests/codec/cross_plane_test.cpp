@@ -4,7 +4,8 @@
 // near-lossless, with and without threads); where Y's residual is a multiple of X's the tool
 // removes most of Y's rate; lossless stays exact and near-lossless keeps its bound; the tool off
 // writes the older streams byte for byte; bad scale syntax, flags2 bits and damaged segments
-// are rejected with a message.
+// are rejected with a message; with the other format 1.6 tools (several references, 8x8 / 16x16
+// transforms) on too, the round trip stays bit exact.
 #include <unistd.h>
 #include <cstring>
 #include <filesystem>
@@ -389,6 +390,136 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
   const std::string bytes = round_trip(frames, info, o, &stats);
   ASSERT_EQ(stats.size(), 3u);
   EXPECT_TRUE(stats[1].bidirectional);
+}
+
+// All three format 1.6 tools at once (cross-plane prediction, several reference frames, 8x8 /
+// 16x16 transforms): the decoder reproduces the encoder's reconstruction bit for bit in lossy
+// fast and slow coding with P and with B frames, and in lossless and near-lossless coding (where
+// the larger transforms do not apply and --refs is set explicitly); every tool is used.
+TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
+  const auto frames = moving_video(48, 7);
+  const SequenceInfo info = info_for(frames);
+  struct Case {
+    std::string name;
+    EncoderOptions o;
+  };
+  std::vector<Case> cases;
+  // QP 6 and 24 (at high QPs the encoder often tries a larger transform that quantizes to
+  // nothing: X's residual must then be the one the decoder sees).
+  for (const Preset preset : {Preset::kFast, Preset::kSlow})
+    for (const int bframes : {0, 2})
+      for (const int qp : {6, 24}) {
+        EncoderOptions o;
+        o.qp = qp;
+        o.preset = preset;
+        o.bframes = bframes;
+        o.b_qp_offset = 4;
+        o.refs = 3;
+        o.max_transform = 16;
+        o.cross_plane = true;
+        cases.push_back({std::string(preset_name(preset)) +
+                             (bframes ? ", B frames" : ", P frames") + ", qp " + std::to_string(qp),
+                         o});
+      }
+  EncoderOptions lossless;
+  lossless.lossless = true;
+  lossless.preset = Preset::kFast;
+  lossless.bframes = 0;
+  lossless.refs = 3;
+  lossless.cross_plane = true;
+  cases.push_back({"lossless, P frames", lossless});
+  EncoderOptions near = lossless;
+  near.lossless = false;
+  near.max_error_mm = 0.05;
+  near.preset = Preset::kSlow;
+  near.refs = 2;
+  near.shared_motion = true;
+  cases.push_back({"near-lossless, slow, shared motion", near});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<FrameCodingStats> stats;
+    const std::string bytes = round_trip(frames, info, c.o, &stats);
+    EXPECT_EQ(static_cast<uint8_t>(bytes[5]), 6);
+    // Which tools the packets announce, and what the Y and Z planes used.
+    auto reader = GvidReader::open_memory(bytes, "x.gvid");
+    ASSERT_TRUE(reader.is_ok());
+    uint8_t flags2 = 0;
+    for (int64_t f = 0; f < (*reader)->frame_count(); ++f) {
+      auto h = (*reader)->packet_header(f);
+      ASSERT_TRUE(h.is_ok());
+      EXPECT_TRUE(h->flags2 & format::kFrame2CrossPlane) << "frame " << f;
+      flags2 |= h->flags2;
+      if (c.o.max_error_mm > 0) {
+        auto d = (*reader)->decode_frame(f);
+        ASSERT_TRUE(d.is_ok());
+        EXPECT_LE(max_error(frames[f], *d), c.o.max_error_mm);
+      }
+    }
+    EXPECT_TRUE(flags2 & format::kFrame2MultiRef);
+    const bool bypass = c.o.lossless || c.o.max_error_mm > 0;
+    EXPECT_EQ((flags2 & format::kFrame2LargeTransforms) != 0, !bypass);
+    int64_t scales = 0, large = 0;
+    for (const auto& s : stats)
+      for (int p = 0; p < 3; ++p) {
+        if (p > 0) scales += scales_coded(s.planes[p], true);
+        large += s.planes[p].transform8_mbs + s.planes[p].transform16_mbs;
+      }
+    EXPECT_GT(scales, 0);
+    if (!bypass) {
+      EXPECT_GT(large, 0);
+    }
+  }
+}
+
+// Plane level: an I16x16 / inter macroblock with an 8x8 or 16x16 residual keeps X's residual
+// for Y and Z as the decoder reconstructs it, and Y's scales apply on top of its larger
+// transforms (P planes with two references).
+TEST(CrossPlane, LargerTransformResidualsAreTheSourceAndTheTarget) {
+  const SamplePlane x = noisy_plane(3), y = half_of(x);
+  const SamplePlane x0 = noisy_plane(4), y0 = half_of(x0), x1 = noisy_plane(5), y1 = half_of(x1);
+  int64_t large = 0;
+  for (const bool rdo : {false, true})
+    for (const bool inter : {false, true})
+      for (const int max_transform : {8, 16}) {
+        SCOPED_TRACE(std::string(rdo ? "slow" : "fast") + (inter ? " P" : " I") + " max " +
+                     std::to_string(max_transform));
+        PlaneCodingParams p;
+        p.qp_prime = 24;
+        p.rdo = rdo;
+        p.max_transform = max_transform;
+        p.ref_count = inter ? 2 : 1;
+        const std::vector<const SamplePlane*> more_x = {&x1}, more_y = {&y1};
+        const SamplePlane* ref_x = inter ? &x0 : nullptr;
+        const SamplePlane* ref_y = inter ? &y0 : nullptr;
+        CrossPlaneResidual x_residual, decoded_x_residual;
+        CrossPlaneLinks x_links{nullptr, &x_residual};
+        const PlaneEncodeResult ex =
+            encode_plane(x, p, ref_x, nullptr, nullptr, inter ? &more_x : nullptr, &x_links);
+        CrossPlaneLinks y_links{&x_residual, nullptr};
+        const PlaneEncodeResult ey =
+            encode_plane(y, p, ref_y, nullptr, nullptr, inter ? &more_y : nullptr, &y_links);
+        // (The fast preset's intra decision rarely takes I16x16 on this noise: larger
+        // transforms are counted over all cases below.)
+        large += ex.stats.transform8_mbs + ex.stats.transform16_mbs + ey.stats.transform8_mbs +
+                 ey.stats.transform16_mbs;
+        EXPECT_GT(scales_coded(ey.stats, true), 0);
+        CrossPlaneLinks dx_links{nullptr, &decoded_x_residual};
+        auto dx = decode_plane(ex.bytes, 64, 64, p, ref_x, nullptr, nullptr,
+                               inter ? &more_x : nullptr, &dx_links);
+        ASSERT_TRUE(dx.is_ok()) << dx.status().message();
+        EXPECT_EQ(dx->samples, ex.reconstruction.samples);
+        EXPECT_EQ(decoded_x_residual.samples, x_residual.samples);
+        // X's kept residual is what its reconstruction added to the prediction: where X is
+        // intra-coded with a larger transform, source - recon is small against the residual.
+        int64_t kept = 0;
+        for (int32_t v : x_residual.samples) kept += v != 0;
+        EXPECT_GT(kept, 64 * 64 / 2);
+        auto dy = decode_plane(ey.bytes, 64, 64, p, ref_y, nullptr, nullptr,
+                               inter ? &more_y : nullptr, &y_links);
+        ASSERT_TRUE(dy.is_ok()) << dy.status().message();
+        EXPECT_EQ(dy->samples, ey.reconstruction.samples);
+      }
+  EXPECT_GT(large, 0);
 }
 
 }  // namespace
