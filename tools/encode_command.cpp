@@ -43,6 +43,12 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   j["inter_mbs"] = s.inter_mbs;
   j["td_mbs"] = s.td_mbs;
   j["skip_mbs"] = s.skip_mbs;
+  int64_t cross = 0;
+  for (int64_t n : s.cross_scale_mbs) cross += n;
+  if (cross > 0) {  // format 1.6: macroblocks per cross-plane scale -8, -4, .., 8
+    j["cross_scale_mbs"] = nlohmann::json::array();
+    for (int64_t n : s.cross_scale_mbs) j["cross_scale_mbs"].push_back(n);
+  }
   return j;
 }
 
@@ -177,6 +183,7 @@ void run_encode(const EncodeArgs& args) {
         {"inter_decimation", options.inter_decimation},
         {"skip_check", options.skip_check},
         {"max_transform", options.max_transform},
+        {"cross_plane", options.cross_plane},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -269,6 +276,10 @@ void add_encode_command(CLI::App& app) {
   cmd->add_flag("--skip-check", args->options.skip_check,
                 "P frames: try the predicted vector first and take a skip found there at once "
                 "(fast preset: about 2x faster encoding, slightly lower quality)");
+  cmd->add_flag("--cross-plane,!--no-cross-plane", args->options.cross_plane,
+                "Let each Y and Z macroblock add a scaled copy of the X plane's residual to its "
+                "own (cross-plane residual prediction, format 1.6; on by default); "
+                "--no-cross-plane writes the 1.4 / 1.5 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -174,15 +174,21 @@ void describe_gvid(const fs::path& path) {
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const int64_t bits = reader->frame_bits(i);
     total += bits;
-    // Format 1.6: a P frame with several reference frames says how many.
+    // Frame-level tools of the packet's flags2 (format 1.4 shared motion, 1.6 cross-plane), and
+    // (format 1.6) how many reference frames a P frame with several has.
+    std::string tools;
+    if (auto h = reader->packet_header(i); h.is_ok()) {
+      if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
+      if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
+    }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)
                          : 1;
-    const std::string refs_note = refs > 1 ? "  refs " + std::to_string(refs) : "";
+    if (refs > 1) tools += "  refs " + std::to_string(refs);
     std::printf("  frame %6lld    %s  %9lld bytes  %8.4f bits/vertex  (packet %lld)%s\n",
                 static_cast<long long>(i), codec::format::frame_type_name(reader->frame_type(i)),
                 static_cast<long long>(bits / 8), bits / vertices,
-                static_cast<long long>(reader->decode_position(i)), refs_note.c_str());
+                static_cast<long long>(reader->decode_position(i)), tools.c_str());
   }
   if (reader->frame_count() > 0)
     std::printf("  mean            %.4f bits/vertex/frame, %.1f kbit/s\n",

@@ -12,7 +12,7 @@
 // Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
-//                            [--refs-only [--refs-preset fast|slow]]
+//                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -20,7 +20,10 @@
 // the BD-rates against 0 B frames and x265 (logged points with --no-peers); --refs-only: format
 // 1.6, --refs 1, 2, 3, 5 in both presets (or the one of --refs-preset), lossless, and the
 // BD-rates against --refs 1 and x265; --transform-only: format 1.6, --max-transform 4, 8, 16 in
-// both presets, with P and B frames and intra only)
+// both presets, with P and B frames and intra only; --cross-plane-only: format 1.6 cross-plane
+// residual prediction off / on (the other options at their defaults) in both presets, intra
+// only, lossless and near-lossless, the BD-rates against off and x265, and how often each scale
+// is coded)
 #include <time.h>
 
 #include <chrono>
@@ -325,6 +328,99 @@ void report_transforms(const Material& m, const EncoderOptions& base, const std:
 
 std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
 
+// Cross-plane scales coded by the Y and Z planes of a run, per scale (kCrossScales order).
+struct ScaleCounts {
+  int64_t n[kCrossScaleCount] = {};
+  void add(const std::vector<FrameCodingStats>& stats) {
+    for (const auto& f : stats)
+      for (size_t p = 1; p < 3 && p < f.planes.size(); ++p)
+        for (int i = 0; i < kCrossScaleCount; ++i) n[i] += f.planes[p].cross_scale_mbs[i];
+  }
+  std::string str() const {
+    int64_t total = 0;
+    for (int64_t v : n) total += v;
+    if (total == 0) return "none coded";
+    char buf[64];
+    std::snprintf(buf, sizeof buf,
+                  "%lld MBs coded a scale, %.1f %% nonzero:", static_cast<long long>(total),
+                  100.0 * (total - n[4]) / total);
+    std::string out = buf;
+    for (int i = 0; i < kCrossScaleCount; ++i) {
+      if (i == 4) continue;
+      std::snprintf(buf, sizeof buf, " %+d: %.1f %%", kCrossScales[i], 100.0 * n[i] / total);
+      out += buf;
+    }
+    return out;
+  }
+};
+
+// Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
+// presets), lossless and near-lossless; BD-rates on vs off and against x265, and the scales.
+void report_cross_plane(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                        const std::vector<RdPoint>& x265, const std::string& source) {
+  print_header();
+  struct Config {
+    std::string name;
+    EncoderOptions o;
+  };
+  std::vector<Config> configs;
+  for (const Preset preset : {Preset::kFast, Preset::kSlow})
+    for (const bool intra : {false, true}) {
+      EncoderOptions o = base;
+      o.preset = preset;
+      o.intra_only = intra;
+      configs.push_back({std::string(preset_name(preset)) + (intra ? ", intra only" : ""), o});
+    }
+  std::vector<std::vector<RdPoint>> curves[2];
+  std::vector<std::string> scale_lines;
+  for (const Config& c : configs)
+    for (const bool on : {false, true}) {
+      const std::string name = c.name + (on ? ", --cross-plane" : ", cross-plane off");
+      ScaleCounts counts;
+      std::vector<RdPoint> points;
+      for (int qp : qps) {
+        EncoderOptions o = c.o;
+        o.qp = qp;
+        o.cross_plane = on;
+        std::vector<FrameCodingStats> stats;
+        const Run r = run_ours(m, o, &stats);
+        print_row(name, "qp " + std::to_string(qp), r);
+        points.push_back(r.point);
+        counts.add(stats);
+      }
+      curves[on].push_back(points);
+      if (on) scale_lines.push_back(c.name + ": " + counts.str());
+    }
+  for (const double max_error : {0.0, 0.05})
+    for (const bool on : {false, true}) {
+      EncoderOptions o = base;
+      o.lossless = max_error == 0;
+      o.max_error_mm = max_error;
+      o.cross_plane = on;
+      std::vector<FrameCodingStats> stats;
+      const Run r = run_ours(m, o, &stats);
+      print_row(std::string(max_error == 0 ? "lossless" : "near-lossless E = 0.05 mm") + ", fast" +
+                    (on ? ", --cross-plane" : ", cross-plane off"),
+                "-", r);
+      if (on) {
+        ScaleCounts counts;
+        counts.add(stats);
+        scale_lines.push_back(std::string(max_error == 0 ? "lossless" : "near-lossless") + ": " +
+                              counts.str());
+      }
+    }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (size_t i = 0; i < configs.size(); ++i)
+    print_bd(configs[i].name + ": --cross-plane vs off", curves[0][i], curves[1][i]);
+  for (size_t i = 0; i < configs.size(); ++i)
+    for (int on = 0; on < 2; ++on)
+      print_bd(configs[i].name + (on ? ", --cross-plane" : ", off") + " vs x265 12-bit (" + source +
+                   " points)",
+               x265, curves[on][i]);
+  std::printf("\nCross-plane scales of the Y and Z planes (all QPs of the curve):\n");
+  for (const auto& line : scale_lines) std::printf("  %s\n", line.c_str());
+}
+
 // Format 1.6, multiple reference frames: --refs 1, 2, 3, 5 in the given presets (QP curves),
 // lossless (fast), and the BD-rates against --refs 1 and against x265.
 void report_refs(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -514,7 +610,7 @@ int main(int argc, char** argv) {
   using namespace gvkit::bench;
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
-       bframes_only = false, refs_only = false, transform_only = false;
+       bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
@@ -541,6 +637,8 @@ int main(int argc, char** argv) {
       motion_only = true;
     else if (a == "--bframes-only")
       bframes_only = true;
+    else if (a == "--cross-plane-only")
+      cross_plane_only = true;
     else if (a == "--transform-only")
       transform_only = true;
     else if (a == "--refs-only")
@@ -564,7 +662,7 @@ int main(int argc, char** argv) {
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only] [--motion-only] [--bframes-only] [--transform-only] "
-          "[--refs-only [--refs-preset P]]\n");
+          "[--refs-only [--refs-preset P]] [--cross-plane-only]\n");
       return 2;
     }
   }
@@ -616,6 +714,11 @@ int main(int argc, char** argv) {
   if (bframes_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_bframes(m, base, qps, x265, peers ? "this run" : "logged");
+    return 0;
+  }
+  if (cross_plane_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_cross_plane(m, base, qps, x265, peers ? "this run" : "logged");
     return 0;
   }
   if (refs_only) {

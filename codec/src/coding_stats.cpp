@@ -22,6 +22,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   skip_mbs += other.skip_mbs;
   transform8_mbs += other.transform8_mbs;
   transform16_mbs += other.transform16_mbs;
+  for (int i = 0; i < 9; ++i) cross_scale_mbs[i] += other.cross_scale_mbs[i];
   return *this;
 }
 

@@ -140,6 +140,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     header.flags2 |= format::kFrame2LargeTransforms;
     syntax.max_transform = options.max_transform;
   }
+  if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
                                       (bidirectional ? options.b_qp_offset : 0),
@@ -170,8 +171,17 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
     }
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
+  const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   const auto code_planes = [&](uint8_t flags, const std::vector<SamplePlane>* ref) {
     std::vector<PlaneEncodeResult> coded(planes.size());
+    // Cross-plane prediction: X keeps its residual, which Y and Z predict from.
+    CrossPlaneResidual x_residual;
+    const auto cross_links = [&](int i) {
+      CrossPlaneLinks links;
+      if (cross_plane && i == 0) links.residual_out = &x_residual;
+      if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
+      return links;
+    };
     const auto code = [&](int i) {
       PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
       p.rdo = options.preset == Preset::kSlow;
@@ -195,16 +205,18 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       if (!joint.sources.empty())
         for (int k = 0; k + 1 < syntax.ref_count; ++k)
           joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
+      const CrossPlaneLinks links = cross_links(i);
       if (bidirectional)
-        coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i]);
+        coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links);
       else
         coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint,
-                                more.empty() ? nullptr : &more);
+                                more.empty() ? nullptr : &more, &links);
     };
-    if (!shared_motion) {
+    if (!shared_motion && !cross_plane) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
     } else {
-      // Shared motion: X first (its motion is Y's and Z's candidate), then the rest in parallel.
+      // Shared motion and cross-plane prediction: X first (its motion is Y's and Z's candidate,
+      // its residual their cross-plane source), then the rest in parallel.
       code(0);
       run_parallel(static_cast<int>(planes.size()) - 1, options.threads,
                    [&](int i) { code(i + 1); });
@@ -405,6 +417,8 @@ Result<GeometryImage> decode_frame_packet(
         return corrupt_data("reference frame size differs");
   std::vector<SamplePlane> planes;
   MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
+  const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
+  CrossPlaneResidual x_residual;  // cross-plane prediction (1.6): X's, source of Y and Z
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
     const uint32_t size = r.u32();
@@ -412,13 +426,16 @@ Result<GeometryImage> decode_frame_packet(
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
     const PlaneCodingParams params =
         plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
+    CrossPlaneLinks links;
+    if (cross_plane && i == 0) links.residual_out = &x_residual;
+    if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
     auto plane =
         bidirectional
-            ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i])
+            ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)
             : decode_plane(bytes, pw, ph, params, prediction_ref ? &(*prediction_ref)[i] : nullptr,
                            shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
                            shared_motion && i == 0 ? &x_motion : nullptr,
-                           multi_ref ? &more[i] : nullptr);
+                           multi_ref ? &more[i] : nullptr, &links);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
   }

@@ -150,7 +150,9 @@ Result<std::vector<IndexEntry>> read_index(std::string_view file, size_t header_
   const std::string_view trailer = file.substr(file.size() - kTrailerSize);
   if (!magic_is(trailer.substr(8), kTrailerMagic)) return corrupt_data("index: no trailer");
   const uint64_t offset = ByteReader(trailer).u64();
-  if (offset < header_size || offset + 12 > file.size() - kTrailerSize)
+  // (Compared without offset + 12, which wraps for offsets near 2^64.)
+  if (offset < header_size || offset > file.size() - kTrailerSize ||
+      file.size() - kTrailerSize - offset < 12)
     return corrupt_data("index: offset out of range");
   const std::string_view block = file.substr(offset, file.size() - kTrailerSize - offset);
   if (!magic_is(block, kIndexMagic)) return corrupt_data("index: magic 'GVIX' missing");

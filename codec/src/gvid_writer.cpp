@@ -178,6 +178,7 @@ uint8_t stream_minor_version(const EncoderOptions& options) {
   if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
     return format::kMinorVersionMultiRef;
   if (options.large_transforms()) return format::kMinorVersionLargeTransforms;
+  if (options.cross_plane) return format::kMinorVersionCrossPlane;
   return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
              ? format::kMinorVersion
              : format::kMinorVersionWithoutBFrames;

@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <vector>
 
+#include "cross_plane_syntax.hpp"
 #include "gvkit/codec/cabac_context.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/coding_stats.hpp"
+#include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -55,6 +57,9 @@ struct ContextSet {
   CabacContext ref_idx[kRefIdxContexts];
   // Format 1.6 (larger transforms): bin 0 "larger than 4x4", bin 1 "16x16", by neighbours.
   CabacContext transform_size[2][3];
+  // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
+  CabacContext cross_scale[4];
+  CabacContext cross_sign[1];
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
@@ -127,6 +132,8 @@ struct PlaneState {
   std::vector<int16_t> mv_x1, mv_y1;  // per macroblock: list 1 vectors
   // Per macroblock, format 1.6: the residual's transform (0: 4x4, 1: 8x8 or I8x8, 2: 16x16).
   std::vector<uint8_t> transform;
+  // Format 1.6, Y and Z planes: the residual predicted from (X's), or null (tool off).
+  const CrossPlaneResidual* cross = nullptr;
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -145,6 +152,9 @@ struct PlaneState {
         mv_x1(mb_type.size()),
         mv_y1(mb_type.size()),
         transform(mb_type.size()) {}
+  // Format 1.6: whether a non-skip macroblock codes a cross-plane scale (the co-located
+  // source macroblock has a nonzero residual).
+  bool codes_cross_scale(int mb_x, int mb_y) const { return cross && cross->nonzero(mb_x, mb_y); }
   // Whether macroblock i may take over the co-located first-plane vector.
   bool can_share(size_t i) const { return colocated && colocated->inter[i]; }
   // Records the macroblock's motion into a MotionField (P planes).
@@ -242,6 +252,8 @@ struct MacroblockData {
   // the list 0 one). Skip is a direct macroblock without residual.
   BPred b_pred = kBDirect;
   int mv_x1 = 0, mv_y1 = 0;
+  // Format 1.6, Y and Z planes: cross-plane scale alpha (kCrossScales; 0 when not coded).
+  int cross_scale = 0;
 };
 
 inline int mode_count4(const PlaneCodingParams& p) {
@@ -380,6 +392,10 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
                                  const MacroblockData& mb, const PlaneCodingParams& params) {
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   const int cx0 = mb_x * 2, cy0 = mb_y * 2;
+  if (st.codes_cross_scale(mb_x, mb_y)) {  // format 1.6
+    set_group(coder, kSyntaxMbType);
+    write_cross_scale(coder, ctx.cross_scale, ctx.cross_sign[0], mb.cross_scale);
+  }
   set_group(coder, kSyntaxCbp);
   for (int q = 0; q < 4; ++q) {
     const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);

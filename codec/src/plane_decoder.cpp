@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cross_plane_residual.hpp"
 #include "gvkit/codec/cabac_decoder.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "macroblock_syntax.hpp"
@@ -18,6 +19,7 @@ class MacroblockReader {
       : dec_(dec), ctx_(ctx), st_(st), p_(p) {}
 
   Status read(int mb_x, int mb_y, MacroblockData& mb) {
+    mb.cross_scale = 0;
     if (st_.bidirectional) return read_b(mb_x, mb_y, mb);
     const int mb_index = mb_y * st_.mbs_x + mb_x;
     if (st_.predicted) {
@@ -225,6 +227,8 @@ class MacroblockReader {
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     mb.cbp = 0;
     const int cx0 = mb_x * 2, cy0 = mb_y * 2;
+    if (st_.codes_cross_scale(mb_x, mb_y))  // format 1.6
+      mb.cross_scale = read_cross_scale(dec_, ctx_.cross_scale, ctx_.cross_sign[0]);
     for (int q = 0; q < 4; ++q) {
       const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);
       const int left = cx > 0 ? st_.cbp_at(cx - 1, cy) : 0;
@@ -377,15 +381,22 @@ class MacroblockReader {
 void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const MacroblockData& mb,
                             const PlaneCodingParams& p, const SamplePlane* reference0,
                             const SamplePlane* reference1,
-                            const std::vector<const SamplePlane*>* more_references) {
+                            const std::vector<const SamplePlane*>* more_references,
+                            const CrossPlaneResidual* cross) {
   const int max_value = (1 << p.bit_depth) - 1;
   // P planes: the macroblock's own reference (format 1.6).
   const SamplePlane* reference =
       mb.type == kMbInter && mb.ref_idx > 0 ? (*more_references)[mb.ref_idx - 1] : reference0;
   int32_t pred[256];
+  // Format 1.6: the cross-plane term joins the prediction of each block (so of what I4x4 and
+  // I8x8 blocks predict the next block from).
+  const auto add_cross = [&](int x0, int y0, int n) {
+    if (mb.cross_scale) add_cross_plane_term(mb.cross_scale, *cross, x0, y0, n, pred);
+  };
   if (mb.type == kMbInter && reference1) {
     predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
                     mb.mv_x1, mb.mv_y1, p.subpel != 0, p.bit_depth, pred);
+    add_cross(mb_x * 16, mb_y * 16, 16);
     reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
                                     mb_y * 16);
   } else if (mb.type == kMbInter && mb.td) {
@@ -393,6 +404,7 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
       predict_td(plane, *reference, mb.mv_x, mb.mv_y, p.subpel != 0, x0, y0, mb_x, mb_y, b,
                  mb.modes[b], p.bit_depth, pred);
+      add_cross(x0, y0, 4);
       reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
     }
   } else if (mb.type == kMbI16x16 || mb.type == kMbInter) {
@@ -404,6 +416,7 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
           block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
       predict_intra(16, mb.i16_mode, nb, max_value, pred);
     }
+    add_cross(mb_x * 16, mb_y * 16, 16);
     reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
                                     mb_y * 16);
   } else if (mb.type == kMbI8x8) {
@@ -411,6 +424,7 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       const int x0 = mb_x * 16 + (q & 1) * 8, y0 = mb_y * 16 + (q >> 1) * 8;
       const IntraNeighbors nb = block_neighbors(plane, x0, y0, 8, mb_x, mb_y, q * 4, p.bit_depth);
       predict_intra(8, mb.modes[q], nb, max_value, pred);
+      add_cross(x0, y0, 8);
       reconstruct_block(8, pred, mb.levels8[q], p, plane.samples.data(), plane.width, x0, y0);
     }
   } else {
@@ -418,6 +432,7 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
       const IntraNeighbors nb = block_neighbors(plane, x0, y0, 4, mb_x, mb_y, b, p.bit_depth);
       predict_intra(4, mb.modes[b], nb, max_value, pred);
+      add_cross(x0, y0, 4);
       reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
     }
   }
@@ -431,7 +446,8 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
                                       const PlaneCodingParams& params, const SamplePlane* reference,
                                       const MotionField* shared, MotionField* motion_out,
                                       const SamplePlane* reference1,
-                                      const std::vector<const SamplePlane*>* more_references) {
+                                      const std::vector<const SamplePlane*>* more_references,
+                                      const CrossPlaneLinks* cross) {
   GVKIT_CHECK(width > 0 && height > 0 && width % 16 == 0 && height % 16 == 0);
   GVKIT_CHECK(params.ref_count >= 1 && params.ref_count <= 5);
   GVKIT_CHECK(params.ref_count == 1 ||
@@ -455,6 +471,14 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
                 "shared motion of another macroblock grid");
     st.colocated = shared;
   }
+  const CrossPlaneResidual* cross_source = cross ? cross->source : nullptr;
+  CrossPlaneResidual* residual_out = cross ? cross->residual_out : nullptr;
+  if (cross_source) {
+    GVKIT_CHECK(cross_source->width == width && cross_source->height == height,
+                "cross-plane source residual of another size");
+    st.cross = cross_source;
+  }
+  if (residual_out) residual_out->reset(width, height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacDecoder decoder(bytes);
@@ -468,7 +492,10 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
       const Status status = reader.read(mb_x, mb_y, mb);
       if (!status.is_ok()) return status.with_context(where());
       if (decoder.overrun()) return corrupt_data(where() + ": CABAC data ends early");
-      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, more_references);
+      reconstruct_macroblock(plane, mb_x, mb_y, mb, params, reference, reference1, more_references,
+                             cross_source);
+      if (residual_out)
+        record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
@@ -481,18 +508,19 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params, const SamplePlane* reference,
                                  const MotionField* shared, MotionField* motion_out,
-                                 const std::vector<const SamplePlane*>* more_references) {
+                                 const std::vector<const SamplePlane*>* more_references,
+                                 const CrossPlaneLinks* cross) {
   return decode_plane_impl(bytes, width, height, params, reference, shared, motion_out, nullptr,
-                           more_references);
+                           more_references, cross);
 }
 
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,
-                                   const SamplePlane& reference1) {
+                                   const SamplePlane& reference1, const CrossPlaneLinks* cross) {
   PlaneCodingParams p = params;
   p.ref_count = 1;
   return decode_plane_impl(bytes, width, height, p, &reference0, nullptr, nullptr, &reference1,
-                           nullptr);
+                           nullptr, cross);
 }
 
 }  // namespace gvkit::codec

@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 
+#include "cross_plane_residual.hpp"
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/motion_search.hpp"
@@ -24,8 +25,9 @@ using namespace detail;
 // BD-rate against 1).
 constexpr double kMotionLambdaScale = 4.0;
 
-// An inter candidate at a given vector instead of the motion search's (kGiven: a vector of
-// another reference found before, format 1.6).
+// An inter candidate at a given vector instead of the motion search's (kGiven: a vector and
+// reference found before: another reference's search, format 1.6, or the candidate coded again
+// with a cross-plane scale).
 enum class Forced { kNone, kShared, kPredictor, kGiven };
 
 class MacroblockEncoder {
@@ -33,12 +35,14 @@ class MacroblockEncoder {
   MacroblockEncoder(const SamplePlane& source, SamplePlane& recon, PlaneState& st,
                     const PlaneCodingParams& p, const SamplePlane* reference,
                     const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr,
-                    const std::vector<const SamplePlane*>* more_references = nullptr)
+                    const std::vector<const SamplePlane*>* more_references = nullptr,
+                    const CrossPlaneResidual* cross = nullptr)
       : src_(source),
         recon_(recon),
         st_(st),
         p_(p),
         ref_(reference),
+        cross_(cross),
         max_value_((1 << p.bit_depth) - 1) {
     // Half-sample planes over the search area (the predictor's vector may reach further: the
     // interpolation then falls back to the plain block-wise path).
@@ -137,6 +141,9 @@ class MacroblockEncoder {
       if (p_.allow_8x8) consider(kMbI8x8);
       consider(kMbI4x4);
     }
+    // Cross-plane prediction first (its retries code 4x4 residuals in the fast preset), then the
+    // fast preset's transform size for the chosen candidate (with its cross-plane term).
+    try_cross_plane(&best, ctx);
     if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
@@ -184,6 +191,9 @@ class MacroblockEncoder {
         return try_i4(mb, trial);
       });
     }
+    // Cross-plane prediction first (its retries code 4x4 residuals in the fast preset), then the
+    // fast preset's transform size for the chosen candidate (with its cross-plane term).
+    try_cross_plane(&best, ctx);
     if (!p_.rdo) choose_transform_size(best, ctx);
     restore(best);
     return best.mb;
@@ -204,14 +214,84 @@ class MacroblockEncoder {
   void consider_candidate(Candidate* best, const ContextSet& ctx, const Try& try_candidate) {
     Candidate c;
     ContextSet trial = ctx;
-    bound_ = best->cost;
-    c.cost = try_candidate(c.mb, trial);
+    bound_ = best->cost - extra_cost_;
+    c.cost = try_candidate(c.mb, trial) + extra_cost_;
+    c.mb.cross_scale = alpha_;
     if (c.cost < best->cost) {
       for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x)
           c.recon[y * 16 + x] = recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y);
       *best = c;
     }
+  }
+
+  // Cross-plane prediction (format 1.6, Y and Z planes): where the macroblock codes a scale, the
+  // least-squares scale of the chosen candidate's residual (its coded residual plus the
+  // remaining error) against the source plane's; the chosen type (same vector, modes searched
+  // again) is coded again with that scale, and in the slow preset also with its nonzero
+  // neighbours in kCrossScales; each cost counts the scale's bins, and the cheapest is kept.
+  // The fast preset's costs are SATD-based, so it keeps the scale when it lowers the SATD cost.
+  void try_cross_plane(Candidate* best, const ContextSet& ctx) {
+    if (!st_.codes_cross_scale(mb_x_, mb_y_) || (best->mb.type == kMbInter && best->mb.skip))
+      return;
+    int32_t r[256];
+    macroblock_residual(best->mb, p_, r);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        r[y * 16 + x] +=
+            static_cast<int32_t>(src_.at(mb_x_ * 16 + x, mb_y_ * 16 + y)) - best->recon[y * 16 + x];
+    const int fit = least_squares_cross_scale(r, *cross_, mb_x_, mb_y_);
+    if (fit == 0) return;
+    const double lambda = p_.rdo ? lambda_ : lambda_sad_;
+    const auto scale_bits = [&](int alpha) {
+      CabacBitCounter counter;
+      ContextSet scratch = ctx;
+      write_cross_scale(counter, scratch.cross_scale, scratch.cross_sign[0], alpha);
+      return counter.bits();
+    };
+    best->cost += lambda * scale_bits(0);
+    const MacroblockData base = best->mb;
+    const auto retry = [&](MacroblockData& mb, ContextSet& trial) {
+      mb.type = base.type;
+      if (st_.bidirectional && base.type == kMbInter)
+        return try_b_inter(mb, trial, base.b_pred, base.mv_x, base.mv_y, base.mv_x1, base.mv_y1);
+      // P planes: the same vector on the same reference (format 1.6, several references).
+      if (base.type == kMbInter && base.td) {
+        cur_ref_ = base.ref_idx;
+        mv_x_ = base.mv_x;
+        mv_y_ = base.mv_y;
+        return try_td(mb, trial);
+      }
+      if (base.type == kMbInter) {
+        const int unit = p_.subpel != 0 ? 4 : 1;
+        given_ = {base.mv_x, base.mv_y, base.mv_x / unit * unit, base.mv_y / unit * unit};
+        given_ref_ = base.ref_idx;
+        return try_inter(mb, trial, Forced::kGiven);
+      }
+      return base.type == kMbI16x16
+                 ? try_i16(mb, trial)
+                 : (base.type == kMbI8x8 ? try_i8(mb, trial) : try_i4(mb, trial));
+    };
+    int scales[3], count = 0;
+    scales[count++] = fit;
+    if (p_.rdo) {
+      const int i = cross_scale_index(fit);
+      if (i > 0 && kCrossScales[i - 1] != 0) scales[count++] = kCrossScales[i - 1];
+      if (i + 1 < kCrossScaleCount && kCrossScales[i + 1] != 0)
+        scales[count++] = kCrossScales[i + 1];
+    }
+    for (int k = 0; k < count; ++k) {
+      alpha_ = scales[k];
+      extra_cost_ = lambda * scale_bits(alpha_);
+      consider_candidate(best, ctx, retry);
+    }
+    alpha_ = 0;
+    extra_cost_ = 0;
+  }
+
+  // The current candidate's cross-plane term added to an n x n prediction at (x0, y0).
+  void add_cross(int n, int x0, int y0, int32_t* pred) const {
+    if (alpha_) add_cross_plane_term(alpha_, *cross_, x0, y0, n, pred);
   }
 
   // ---- Larger transforms (format 1.6), fast preset ----
@@ -234,11 +314,13 @@ class MacroblockEncoder {
     } else {
       interp(mb.ref_idx).predict(x0, y0, 16, 16, mb.mv_x, mb.mv_y, p_.subpel != 0, pred);
     }
+    // Cross-plane prediction (format 1.6): the candidate's term joins the prediction.
+    if (mb.cross_scale) add_cross_plane_term(mb.cross_scale, *cross_, x0, y0, 16, pred);
     ContextSet trial = ctx;
     code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
-    if (mb.type == kMbInter && mb.cbp == 0) {
+    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0) {
       int px, py;
       st_.mv_predictor(mb_x_, mb_y_, &px, &py);
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
@@ -371,6 +453,7 @@ class MacroblockEncoder {
     const int lists = b_pred_lists(kind);
     int32_t pred[256];
     b_prediction(kind, m0x, m0y, m1x, m1y, pred);
+    add_cross(16, x0, y0, pred);
     // Side information: skip, is_inter and prediction flags, then the vector differences.
     double side_bits = kind == kBDirect ? 3 : (kind == kBBi ? 3 : 4);
     if (kind != kBDirect) {
@@ -391,7 +474,7 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = kind == kBDirect && mb.cbp == 0;
+    mb.skip = kind == kBDirect && mb.cbp == 0 && alpha_ == 0;
     // A skip codes one flag: no prediction flags, no coded block pattern.
     if (mb.skip) cost -= p_.rdo ? lambda_ * (side_bits + 2) : lambda_sad_ * (side_bits - 1);
     return cost;
@@ -465,6 +548,7 @@ class MacroblockEncoder {
     mb.ref_idx = cur_ref_ = ref;
     mb.shared = is_shared_vector(best_x, best_y, ref);
     interp(ref).predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
+    add_cross(16, x0, y0, pred);
     const double mv_bits =
         motion_bits(best_x, best_y, px, py, ref) + (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
     double cost;
@@ -474,7 +558,8 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip = mb.cbp == 0 && (mb.shared || (ref == 0 && best_x == px && best_y == py));
+    mb.skip =
+        mb.cbp == 0 && alpha_ == 0 && (mb.shared || (ref == 0 && best_x == px && best_y == py));
     if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
     last_cost_ = cost;
     return cost;
@@ -581,6 +666,8 @@ class MacroblockEncoder {
       if (td)
         for (int mode = 0; mode < mode_count; ++mode)
           for (int i = 0; i < 16; ++i) preds[mode][i] += ref_block[i];
+      if (alpha_)
+        for (int mode = 0; mode < mode_count; ++mode) add_cross(4, x0, y0, preds[mode]);
       distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
                      src_.width, preds, mode_count, distortion);
       for (int mode = 0; mode < mode_count; ++mode) {
@@ -597,6 +684,7 @@ class MacroblockEncoder {
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
+      add_cross(n, x0, y0, pred);
       double cost;
       if (p_.rdo) {
         const bool coded = make_levels(n, pred, x0, y0, levels);
@@ -691,6 +779,7 @@ class MacroblockEncoder {
     int best_mode = kIntraDc;
     for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
       predict_intra(16, mode, nb, max_value_, pred);
+      add_cross(16, x0, y0, pred);
       double cost;
       if (p_.rdo) {
         MacroblockData m;
@@ -705,6 +794,7 @@ class MacroblockEncoder {
       }
     }
     predict_intra(16, best_mode, nb, max_value_, pred);
+    add_cross(16, x0, y0, pred);
     mb.i16_mode = best_mode;
     const double rd_cost = code_i16_residual(mb, pred, trial);
     return p_.rdo ? rd_cost : best_cost;
@@ -892,6 +982,11 @@ class MacroblockEncoder {
   PlaneState& st_;
   const PlaneCodingParams& p_;
   const SamplePlane* ref_;
+  // Cross-plane prediction (format 1.6): the source plane's residual (null when off), the scale
+  // of the candidate being coded, and the cost of its bins (added to the candidate's).
+  const CrossPlaneResidual* cross_;
+  int alpha_ = 0;
+  double extra_cost_ = 0;
   std::optional<InterpolatedReference> interp_;   // of ref_, for P planes (list 0 of B planes)
   std::optional<InterpolatedReference> interp1_;  // B planes: list 1
   // Joint motion search: the other planes' interpolated references (reserved once, so the
@@ -930,7 +1025,8 @@ namespace {
 PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingParams& params,
                                     const SamplePlane* reference, const MotionField* shared,
                                     const JointSearchPlanes* joint, const SamplePlane* reference1,
-                                    const std::vector<const SamplePlane*>* more_references) {
+                                    const std::vector<const SamplePlane*>* more_references,
+                                    const CrossPlaneLinks* cross) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -950,6 +1046,14 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
                 "shared motion of another macroblock grid");
     st.colocated = shared;
   }
+  const CrossPlaneResidual* cross_source = cross ? cross->source : nullptr;
+  CrossPlaneResidual* residual_out = cross ? cross->residual_out : nullptr;
+  if (cross_source) {
+    GVKIT_CHECK(cross_source->width == plane.width && cross_source->height == plane.height,
+                "cross-plane source residual of another size");
+    st.cross = cross_source;
+  }
+  if (residual_out) residual_out->reset(plane.width, plane.height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
   CabacEncoder encoder;
@@ -968,12 +1072,16 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   }
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
                                reference && !reference1 ? joint : nullptr, reference1,
-                               more_references);
+                               more_references, cross_source);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb =
           reference1 ? mb_encoder.encode_b(mb_x, mb_y, ctx) : mb_encoder.encode(mb_x, mb_y, ctx);
       write_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
+      if (residual_out)
+        record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
+      if (st.codes_cross_scale(mb_x, mb_y) && !(mb.type == kMbInter && mb.skip))
+        ++result.stats.cross_scale_mbs[cross_scale_index(mb.cross_scale)];
       if (has_transform_size(mb, params) && mb.transform > 4)
         ++(mb.transform == 16 ? result.stats.transform16_mbs : result.stats.transform8_mbs);
       if (mb.type != kMbInter)
@@ -996,16 +1104,19 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference, const MotionField* shared,
                                const JointSearchPlanes* joint,
-                               const std::vector<const SamplePlane*>* more_references) {
-  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references);
+                               const std::vector<const SamplePlane*>* more_references,
+                               const CrossPlaneLinks* cross) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references,
+                           cross);
 }
 
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                                 const SamplePlane& reference0, const SamplePlane& reference1) {
+                                 const SamplePlane& reference0, const SamplePlane& reference1,
+                                 const CrossPlaneLinks* cross) {
   PlaneCodingParams p = params;
   p.td_prediction = false;
   p.ref_count = 1;
-  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr);
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr, cross);
 }
 
 }  // namespace gvkit::codec

@@ -33,7 +33,7 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow;
+      bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near;
   refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
   refs_fast.preset = Preset::kFast;
   refs_fast.bframes = 0;
@@ -55,6 +55,23 @@ std::vector<GoldenCase> cases() {
   tx8_slow.intra_period = 3;
   tx8_slow.max_transform = 8;
   tx8_slow.refs = 1;
+  // The streams before 1.6 and those of the other 1.6 tools were written without cross-plane
+  // prediction.
+  for (EncoderOptions* o :
+       {&lossless, &fast, &slow_no_gv, &eight_bit, &inter, &lossless_inter, &near_affine, &plane_qp,
+        &qpel_td, &hpel_lossless, &shared_fast, &shared_lossless, &bframes_fast, &bframes_lossless,
+        &refs_fast, &refs_lossless, &tx16_fast, &tx8_slow})
+    o->cross_plane = false;
+  cross_fast.qp = 0;  // version 1.6: cross-plane prediction, one B frame, fast preset
+  cross_fast.preset = Preset::kFast;
+  cross_fast.bframes = 1;
+  cross_near.max_error_mm = 0.05;  // version 1.6: cross-plane prediction, near-lossless, slow
+  cross_near.preset = Preset::kSlow;
+  // ... without the other 1.6 tools.
+  for (EncoderOptions* o : {&cross_fast, &cross_near}) {
+    o->refs = 1;
+    o->max_transform = 4;
+  }
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -112,7 +129,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_refs3_qp0_ipppp_v1_6_48.gvid", 48, 5, refs_fast, 0.75},
           {"analytic_refs2_lossless_ibpbpbp_v1_6_48.gvid", 48, 7, refs_lossless, 0.5},
           {"analytic_tx16_qp0_ibpbp_v1_6_48.gvid", 48, 5, tx16_fast, 0.75},
-          {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75}};
+          {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75},
+          {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
+          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

@@ -369,6 +369,25 @@ TEST_F(DamagedStream, MissingIndexIsRebuiltByAScan) {
   for (int f = 0; f < 3; ++f) EXPECT_TRUE(reader->decode_frame(f).is_ok());
 }
 
+TEST_F(DamagedStream, TrailerOffsetNearTheTopOfTheRangeIsRejectedNotThrown) {
+  // A trailer whose index offset + 12 wraps around 2^64 (found by the fuzzer): the index is
+  // rejected ("index: offset out of range") and rebuilt by a scan instead of throwing.
+  for (const uint64_t offset : {~uint64_t{0}, ~uint64_t{0} - 5, uint64_t{1} << 63}) {
+    std::string bad = bytes_;
+    const size_t at = bad.size() - format::kTrailerSize;
+    for (int i = 0; i < 8; ++i) bad[at + i] = static_cast<char>((offset >> (8 * i)) & 0xff);
+    uint64_t index_offset = 0;
+    auto index = format::read_index(bad, header_size_, &index_offset);
+    ASSERT_FALSE(index.is_ok());
+    EXPECT_NE(index.status().message().find("index: offset out of range"), std::string::npos)
+        << index.status().message();
+    auto reader = open_bytes(bad);
+    ASSERT_TRUE(reader);
+    EXPECT_TRUE(reader->index_rebuilt());
+    EXPECT_EQ(reader->frame_count(), 3);
+  }
+}
+
 TEST_F(DamagedStream, DamagedPacketHeaderLosesOnePacketInTheScan) {
   std::string bad = bytes_.substr(0, bytes_.size() - format::kTrailerSize);  // no index either
   bad[header_size_ + frame_bytes_ + 9] ^= 0x01;  // frame 1's frame number: header CRC fails

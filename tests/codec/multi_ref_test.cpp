@@ -195,6 +195,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.qp = 0;
   o.refs = 2;
   o.max_transform = 4;  // flags2 then holds the multiple-reference bit alone
+  o.cross_plane = false;
   auto i0 = encode_frame(frames[0], info, o, 0);
   ASSERT_TRUE(i0.is_ok());
   auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);
@@ -243,9 +244,10 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   cut[2 + 4 + 3] ^= 0x5a;
   auto damaged = decode_frame_packet(with_payload(p2->packet, cut), info, 2, &p1->planes, nullptr,
                                      nullptr, &older);
-  if (!damaged.is_ok())
+  if (!damaged.is_ok()) {
     EXPECT_NE(damaged.status().message().find("plane"), std::string::npos)
         << damaged.status().message();
+  }
 }
 
 TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
@@ -254,7 +256,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.bframes = 0;
-  o.max_transform = 4;  // without the other 1.6 tool, one reference writes the 1.4 stream
+  o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
+  o.cross_plane = false;
   EXPECT_EQ(o.reference_frames(), 3);  // automatic: 3 in lossy streams
   o.refs = 1;
   auto one = encode_gvid(frames, info, o);
@@ -319,8 +322,9 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
   refs2.options.bframes = 1;
   refs2.options.refs = 2;
   refs2.options.shared_motion = true;
-  // The streams were written without the larger transforms of format 1.6.
+  // The streams were written without the larger transforms and cross-plane prediction of 1.6.
   fast.options.max_transform = refs3.options.max_transform = 4;
+  for (Case* c : {&fast, &lossless, &refs3, &refs2}) c->options.cross_plane = false;
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;
     vo.size = 48;

@@ -92,6 +92,7 @@ TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (bool shared : {false, true})
         for (bool decimation : {false, true}) {
           EncoderOptions o;
+          o.cross_plane = false;  // the format 1.4 syntax alone
           o.preset = preset;
           o.qp = 0;
           o.intra_period = 4;
@@ -120,6 +121,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
@@ -149,6 +151,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = true;
@@ -195,6 +198,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.cross_plane = false;  // the format 1.4 syntax alone
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = false;

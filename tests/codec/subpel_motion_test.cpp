@@ -180,6 +180,7 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   o.lossless = true;
   o.preset = Preset::kFast;
   ASSERT_EQ(o.subpel, 4);  // the default
+  o.cross_plane = false;   // the 1.4 header (1.6 with cross-plane prediction)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)

@@ -1,8 +1,8 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
-//    references or B), decoded
-//    directly, so that mutations reach the macroblock layer without getting past the CRCs.
+//    references or B, with or without a cross-plane source residual), decoded directly, so
+//    that mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +47,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     reference.samples.resize(static_cast<size_t>(width) * height);
     for (size_t i = 0; i < reference.samples.size(); ++i)
       reference.samples[i] = static_cast<uint16_t>((i * 37) & ((1u << params.bit_depth) - 1));
+    // Bit 6 of byte 0 (intra and B planes; P planes: see below): a Y or Z plane with cross-plane
+    // prediction (format 1.6) from a source residual that is nonzero in every other macroblock
+    // (the plane's residual is kept too).
+    CrossPlaneResidual source, own;
+    source.reset(width, height);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        if (((x / 16) + (y / 16)) % 2 == 0) {
+          source.samples[static_cast<size_t>(y) * width + x] = (x * 7 + y * 3) % 41 - 20;
+          source.mb_nonzero[static_cast<size_t>(y / 16) * (width / 16) + x / 16] = 1;
+        }
+    CrossPlaneLinks links;
+    if (data[0] & 0x40) {
+      links.source = &source;
+      links.residual_out = &own;
+    }
     // Bit 7 of byte 0 with bit 7 of byte 2: a B plane (format 1.5), list 1 a second ramp.
     if ((data[0] & 0x80) && (data[2] & 0x80)) {
       SamplePlane reference1 = reference;
@@ -54,10 +70,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         reference1.samples[i] =
             static_cast<uint16_t>((i * 11 + 5) & ((1u << params.bit_depth) - 1));
       (void)decode_b_plane(std::string_view(bytes).substr(4), width, height, params, reference,
-                           reference1);
+                           reference1, &links);
     } else if ((data[0] & 0x40) && (data[2] & 0x80)) {
       // Bit 6 of byte 0 with bit 7 of byte 2: a P plane with 2 + (byte 1 >> 4) % 4 references
-      // (format 1.6), the older ones more ramps.
+      // (format 1.6), the older ones more ramps; bit 6 of byte 1: with the cross-plane source
+      // residual too (all three 1.6 tools together with larger transforms).
       params.ref_count = 2 + (data[1] >> 4) % 4;
       std::vector<SamplePlane> older(params.ref_count - 1, reference);
       std::vector<const SamplePlane*> more;
@@ -68,10 +85,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         more.push_back(&older[k]);
       }
       (void)decode_plane(std::string_view(bytes).substr(4), width, height, params, &reference,
-                         nullptr, nullptr, &more);
+                         nullptr, nullptr, &more, (data[1] & 0x40) ? &links : nullptr);
     } else {
       (void)decode_plane(std::string_view(bytes).substr(4), width, height, params,
-                         (data[2] & 0x80) ? &reference : nullptr);
+                         (data[2] & 0x80) ? &reference : nullptr, nullptr, nullptr, nullptr,
+                         &links);
     }
   }
   return 0;

@@ -103,6 +103,36 @@ TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
   EXPECT_TRUE(contains(bad.output, "B frames 4 out of range")) << bad.output;
 }
 
+TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast");  // on by default
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["cross_plane"], true);
+  auto bytes = read_file(gvid);
+  ASSERT_TRUE(bytes.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 6);  // version 1.6
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "(packet 0)  cross-plane")) << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
+  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4");
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  auto plain_info = run_gvkit("info " + gvid);
+  ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
+  EXPECT_FALSE(contains(plain_info.output, "cross-plane")) << plain_info.output;
+  auto plain_bytes = read_file(gvid);
+  ASSERT_TRUE(plain_bytes.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 5);
+}
+
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
   TempDir dir;
   write_frames(dir / "in", 3);

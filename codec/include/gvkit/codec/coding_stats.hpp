@@ -34,6 +34,9 @@ struct PlaneCodingStats {
   int64_t skip_mbs = 0;   // inter skip
   // Format 1.6 (larger transforms): inter and I16x16 macroblocks coded with 8x8 / 16x16.
   int64_t transform8_mbs = 0, transform16_mbs = 0;
+  // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,
+  // per scale in the order of kCrossScales (-8, -4, -2, -1, 0, 1, 2, 4, 8).
+  int64_t cross_scale_mbs[9] = {};
 
   double total_bits() const;
   PlaneCodingStats& operator+=(const PlaneCodingStats& other);

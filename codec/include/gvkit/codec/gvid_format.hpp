@@ -27,6 +27,8 @@ inline constexpr uint8_t kMinorVersionMultiRef = 6;
 inline constexpr int kMaxReferenceFrames = 5;
 // A stream with larger transforms (format 1.6, docs/bitstream.md 4.8) is written as 1.6.
 inline constexpr uint8_t kMinorVersionLargeTransforms = 6;
+// A stream with cross-plane residual prediction (flags2 bit 3) is written as version 1.6.
+inline constexpr uint8_t kMinorVersionCrossPlane = 6;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -56,7 +58,8 @@ enum FrameFlag2 : uint8_t {
   // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
   // max transform, 8 or 16; docs/bitstream.md 4.8)
   kFrame2LargeTransforms = 4,
-  kFrame2Known = 1 | 2 | 4,  // every bit a reader understands
+  kFrame2CrossPlane = 8,         // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
+  kFrame2Known = 1 | 2 | 4 | 8,  // every bit a reader understands
 };
 
 struct PacketHeader {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gvkit/codec/coding_stats.hpp"
+#include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::codec {
@@ -92,23 +93,29 @@ struct JointSearchPlanes {
 // first plane, same macroblock grid; P planes only) a macroblock whose co-located one is inter
 // may take over its vector with one context-coded flag (format 1.4). With params.ref_count > 1
 // (format 1.6), more_references holds references 1 .. ref_count - 1 (the older anchors'
-// reconstructions of this plane, nearest first, same size); `reference` is reference 0.
+// reconstructions of this plane, nearest first, same size); `reference` is reference 0. With
+// cross->source (Y and Z planes, format 1.6; the X plane's residual, same size) a macroblock may
+// add a scaled copy of it to its residual (cross_plane.hpp); cross->residual_out receives the
+// plane's own residual.
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference = nullptr,
                                const MotionField* shared = nullptr,
                                const JointSearchPlanes* joint = nullptr,
-                               const std::vector<const SamplePlane*>* more_references = nullptr);
+                               const std::vector<const SamplePlane*>* more_references = nullptr,
+                               const CrossPlaneLinks* cross = nullptr);
 
-// Decodes a segment made by encode_plane with the same bit depth, QP, flags and shared motion.
-// Fails with a message naming the macroblock and the field when the data cannot be a valid
-// segment. motion_out (optional, P planes) receives the plane's motion. With params.ref_count >
-// 1, more_references must hold ref_count - 1 planes (as for encode_plane; contract).
+// Decodes a segment made by encode_plane with the same bit depth, QP, flags, shared motion and
+// cross-plane source. Fails with a message naming the macroblock and the field when the data
+// cannot be a valid segment. motion_out (optional, P planes) receives the plane's motion,
+// cross->residual_out (optional) the plane's residual. With params.ref_count > 1,
+// more_references must hold ref_count - 1 planes (as for encode_plane; contract).
 Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
                                  const PlaneCodingParams& params,
                                  const SamplePlane* reference = nullptr,
                                  const MotionField* shared = nullptr,
                                  MotionField* motion_out = nullptr,
-                                 const std::vector<const SamplePlane*>* more_references = nullptr);
+                                 const std::vector<const SamplePlane*>* more_references = nullptr,
+                                 const CrossPlaneLinks* cross = nullptr);
 
 // B planes (format 1.5): each macroblock is intra, skip (direct without residual) or inter from
 // reference0 (list 0: the anchor before in display order), reference1 (list 1: the anchor
@@ -116,10 +123,12 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
 // (direct: the predicted vectors). params.td_prediction is ignored (no TD in B planes); both
 // references have the plane's size.
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
-                                 const SamplePlane& reference0, const SamplePlane& reference1);
+                                 const SamplePlane& reference0, const SamplePlane& reference1,
+                                 const CrossPlaneLinks* cross = nullptr);
 // Decodes a segment made by encode_b_plane; fails naming the macroblock and the field.
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,
-                                   const SamplePlane& reference1);
+                                   const SamplePlane& reference1,
+                                   const CrossPlaneLinks* cross = nullptr);
 
 }  // namespace gvkit::codec
