@@ -83,7 +83,8 @@ struct EncoderOptions {
   // P frames: reference frames (format 1.6): each P frame predicts from up to this many of the
   // nearest anchors since the last I frame, choosing per macroblock; 1..5 (1 = one reference,
   // no 1.6 syntax), or -1 = automatic: 3 in lossy streams (ICT face, docs/benchmarks.md: -0.60 %
-  // BD-rate fast, -0.18 % slow, fast encode still >= 30 frames/s; main-job video -10.7 % fast),
+  // BD-rate fast, -0.18 % slow, fast encode at 0.73-1.14x one reference's speed; main-job video
+  // -10.7 % fast),
   // 1 in lossless and near-lossless ones (where 2..5 cost 0.8-1.4 % more rate on the ICT face).
   int refs = -1;
   // Larger transforms (format 1.6, docs/bitstream.md 4.8): 8 or 16 lets plain inter and I16x16
