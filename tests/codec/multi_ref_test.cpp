@@ -46,6 +46,7 @@ SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
 }
 
 bool same_samples(const cv::Mat& a, const cv::Mat& b) {
+  if (a.empty() || b.empty()) return a.empty() && b.empty();  // no texture: no data to compare
   return a.size() == b.size() && a.type() == b.type() &&
          std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
 }
