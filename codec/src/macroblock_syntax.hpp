@@ -219,6 +219,13 @@ struct PlaneState {
     *px = list ? mv_x1[i] : mv_x[i];
     *py = list ? mv_y1[i] : mv_y[i];
   }
+  // Context increment of a flag: how many of the left and top macroblocks of (mb_x, mb_y) have
+  // pred(v[their index]) (0 outside the plane); v is a per-macroblock array.
+  template <class Pred>
+  int neighbour_count(const std::vector<uint8_t>& v, int mb_x, int mb_y, Pred pred) const {
+    const size_t i = static_cast<size_t>(mb_y) * mbs_x + mb_x;
+    return (mb_x > 0 && pred(v[i - 1]) ? 1 : 0) + (mb_y > 0 && pred(v[i - mbs_x]) ? 1 : 0);
+  }
   int w4() const { return mbs_x * 4; }
   int w8() const { return mbs_x * 2; }
   int8_t& mode_at(int gx, int gy) { return mode4[static_cast<size_t>(gy) * w4() + gx]; }
@@ -503,10 +510,7 @@ void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x,
                         const MacroblockData& mb, const PlaneCodingParams& params) {
   const int mb_index = mb_y * st.mbs_x + mb_x;
   const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
-    int n = 0;
-    if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
-    if (mb_y > 0 && pred(v[mb_index - st.mbs_x])) ++n;
-    return n;
+    return st.neighbour_count(v, mb_x, mb_y, pred);
   };
   set_group(coder, kSyntaxMbType);
   const bool inter = mb.type == kMbInter;
@@ -569,10 +573,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
   }
   const int mb_index = mb_y * st.mbs_x + mb_x;
   const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
-    int n = 0;
-    if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
-    if (mb_y > 0 && pred(v[mb_index - st.mbs_x])) ++n;
-    return n;
+    return st.neighbour_count(v, mb_x, mb_y, pred);
   };
   set_group(coder, kSyntaxMbType);
   if (st.predicted) {

@@ -24,10 +24,7 @@ class MacroblockReader {
     const int mb_index = mb_y * st_.mbs_x + mb_x;
     if (st_.predicted) {
       const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
-        int n = 0;
-        if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
-        if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
-        return n;
+        return st_.neighbour_count(v, mb_x, mb_y, pred);
       };
       mb.shared =
           st_.can_share(mb_index) &&
@@ -84,15 +81,7 @@ class MacroblockReader {
         } else {
           for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
         }
-        if (mb.skip) {
-          mb.cbp = 0;
-          mb.transform = 4;
-          for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
-          for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
-          for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
-          return Status::ok();
-        }
-        return read_cbp_and_residuals(mb_x, mb_y, mb);
+        return mb.skip ? clear_residual(mb_x, mb_y, mb) : read_cbp_and_residuals(mb_x, mb_y, mb);
       }
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
@@ -103,14 +92,22 @@ class MacroblockReader {
   }
 
  private:
+  // A skip macroblock (P or B): no residual; its 4x4 blocks and quadrants count as uncoded.
+  Status clear_residual(int mb_x, int mb_y, MacroblockData& mb) {
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+    mb.cbp = 0;
+    mb.transform = 4;
+    for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+    for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
+    for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
+    return Status::ok();
+  }
+
   // B planes (format 1.5): the mirror of write_b_macroblock.
   Status read_b(int mb_x, int mb_y, MacroblockData& mb) {
     const int mb_index = mb_y * st_.mbs_x + mb_x;
     const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
-      int n = 0;
-      if (mb_x > 0 && pred(v[mb_index - 1])) ++n;
-      if (mb_y > 0 && pred(v[mb_index - st_.mbs_x])) ++n;
-      return n;
+      return st_.neighbour_count(v, mb_x, mb_y, pred);
     };
     mb.td = false;
     mb.shared = false;
@@ -160,15 +157,7 @@ class MacroblockReader {
     st_.mv_y1[mb_index] = static_cast<int16_t>(mb.mv_y1);
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
-    if (mb.skip) {
-      mb.cbp = 0;
-      mb.transform = 4;
-      for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
-      for (int i = 0; i < 16; ++i) st_.cbf_at(gx0 + i % 4, gy0 + i / 4) = 0;
-      for (int q = 0; q < 4; ++q) st_.cbp_at(mb_x * 2 + (q & 1), mb_y * 2 + (q >> 1)) = 0;
-      return Status::ok();
-    }
-    return read_cbp_and_residuals(mb_x, mb_y, mb);
+    return mb.skip ? clear_residual(mb_x, mb_y, mb) : read_cbp_and_residuals(mb_x, mb_y, mb);
   }
 
   Status read_intra(int mb_x, int mb_y, MacroblockData& mb) {

@@ -338,8 +338,8 @@ class MacroblockEncoder {
         recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y) = best.recon[y * 16 + x];
   }
 
-  // The motion search of a P macroblock against reference `ref` around the predictor (px, py).
-  MotionSearchResult search_reference(int ref, int px, int py) const {
+  // The plane's motion search settings: full search in the slow preset, diamond in the fast one.
+  MotionSearchParams motion_search_params() const {
     MotionSearchParams search;
     search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
     search.range = p_.search_range;
@@ -347,6 +347,12 @@ class MacroblockEncoder {
     search.lossless = p_.lossless;
     search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
     search.max_abs_mv = 4 * kMaxMotion;
+    return search;
+  }
+
+  // The motion search of a P macroblock against reference `ref` around the predictor (px, py).
+  MotionSearchResult search_reference(int ref, int px, int py) const {
+    MotionSearchParams search = motion_search_params();
     set_shared(search, ref);
     if (ref == 0)
       search.joint = joint_planes_;
@@ -414,13 +420,7 @@ class MacroblockEncoder {
 
   // B planes: the motion search of one list around its predictor (px, py).
   MotionSearchResult search_list(const InterpolatedReference& ref, int px, int py) const {
-    MotionSearchParams search;
-    search.pattern = p_.rdo ? MotionSearchPattern::kFull : MotionSearchPattern::kDiamond;
-    search.range = p_.search_range;
-    search.subpel = p_.subpel;
-    search.lossless = p_.lossless;
-    search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
-    search.max_abs_mv = 4 * kMaxMotion;
+    MotionSearchParams search = motion_search_params();
     return search_motion_16x16(src_, ref, mb_x_ * 16, mb_y_ * 16, px, py, search);
   }
 
@@ -443,7 +443,6 @@ class MacroblockEncoder {
   double try_b_inter(MacroblockData& mb, ContextSet& trial, BPred kind, int m0x, int m0y, int m1x,
                      int m1y) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
-    const bool qpel = p_.subpel != 0;
     mb.type = kMbInter;
     mb.b_pred = kind;
     mb.mv_x = m0x;
