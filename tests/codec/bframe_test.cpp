@@ -11,7 +11,6 @@
 #include <utility>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/byte_io.hpp"
@@ -33,13 +32,7 @@ std::vector<GeometryImage> moving_video(int size, int frames, double shift = 0.7
   o.size = size;
   o.frames = frames;
   auto video = testing::make_analytic_video(o);
-  for (size_t f = 0; f < video.size(); ++f) {
-    const double m[6] = {1, 0, -shift * f, 0, 1, -0.5 * shift * f};
-    cv::Mat moved;
-    cv::warpAffine(video[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   video[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    video[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&video, shift);
   return video;
 }
 

@@ -12,7 +12,6 @@
 #include <random>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -133,14 +132,7 @@ std::vector<GeometryImage> moving_video(int size, int frames) {
   o.size = size;
   o.frames = frames;
   auto video = testing::make_analytic_video(o);
-  for (size_t f = 0; f < video.size(); ++f) {
-    const double s = 1.0 + 0.01 * f, c = size / 2.0;
-    const double m[6] = {s, 0, -0.75 * f + c * (1 - s), 0, s, -0.375 * f + c * (1 - s)};
-    cv::Mat moved;
-    cv::warpAffine(video[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   video[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    video[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&video, 0.75, 0.01);
   return video;
 }
 
@@ -274,13 +266,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   vo.size = 48;
   vo.frames = 4;
   auto frames = testing::make_analytic_video(vo);
-  for (size_t f = 0; f < frames.size(); ++f) {
-    const double m[6] = {1, 0, -0.75 * f, 0, 1, -0.375 * f};
-    cv::Mat moved;
-    cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    frames[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.qp = 0;

@@ -7,7 +7,6 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -153,13 +152,7 @@ TEST(GoldenStreams, DecodeToTheRecordedSamples) {
       o.size = c.size;
       o.frames = c.frames;
       auto frames = testing::make_analytic_video(o);
-      for (size_t f = 0; f < frames.size() && c.shift_px != 0; ++f) {
-        const double m[6] = {1, 0, -c.shift_px * f, 0, 1, -0.5 * c.shift_px * f};
-        cv::Mat moved;
-        cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                       frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-        frames[f].xyz_mm = moved;
-      }
+      if (c.shift_px != 0) testing::move_in_picture(&frames, c.shift_px);
       auto info = make_sequence_info(frames, c.options.bit_depth, 30.0);
       ASSERT_TRUE(info.is_ok());
       auto bytes = encode_gvid(frames, *info, c.options);

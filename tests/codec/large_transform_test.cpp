@@ -12,7 +12,6 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -343,13 +342,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   vo.size = 48;
   vo.frames = 4;
   auto frames = testing::make_analytic_video(vo);
-  for (size_t f = 0; f < frames.size(); ++f) {
-    const double m[6] = {1, 0, -0.75 * f, 0, 1, -0.375 * f};
-    cv::Mat moved;
-    cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    frames[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&frames, 0.75);
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;

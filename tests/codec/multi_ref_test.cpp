@@ -8,7 +8,6 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -28,14 +27,7 @@ std::vector<GeometryImage> video(int size, int frames) {
   o.size = size;
   o.frames = frames;
   auto video = testing::make_analytic_video(o);
-  for (size_t f = 0; f < video.size(); ++f) {
-    const double shift = 0.75 * static_cast<double>(f);
-    const double m[6] = {1, 0, -shift, 0, 1, -0.5 * shift};
-    cv::Mat moved;
-    cv::warpAffine(video[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   video[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    video[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&video, 0.75);
   return video;
 }
 
@@ -331,13 +323,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     vo.size = 48;
     vo.frames = c.frames;
     auto frames = testing::make_analytic_video(vo);
-    for (size_t f = 0; f < frames.size(); ++f) {
-      const double m[6] = {1, 0, -c.shift * f, 0, 1, -0.5 * c.shift * f};
-      cv::Mat moved;
-      cv::warpAffine(frames[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                     frames[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-      frames[f].xyz_mm = moved;
-    }
+    testing::move_in_picture(&frames, c.shift);
     auto info = make_sequence_info(frames, 16, 30.0);
     ASSERT_TRUE(info.is_ok());
     auto bytes = encode_gvid(frames, *info, c.options);

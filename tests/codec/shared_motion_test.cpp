@@ -6,7 +6,6 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgproc.hpp>
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -29,14 +28,7 @@ std::vector<GeometryImage> video(int size, int frames) {
   o.size = size;
   o.frames = frames;
   auto video = testing::make_analytic_video(o);
-  for (size_t f = 0; f < video.size(); ++f) {
-    const double shift = 0.75 * static_cast<double>(f);
-    const double m[6] = {1, 0, -shift, 0, 1, -0.5 * shift};
-    cv::Mat moved;
-    cv::warpAffine(video[f].xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
-                   video[f].xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-    video[f].xyz_mm = moved;
-  }
+  testing::move_in_picture(&video, 0.75);
   return video;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "gvkit/core/ict_face_model.hpp"
@@ -132,6 +133,20 @@ std::vector<GeometryImage> make_analytic_video(const GeometryVideoOptions& optio
     frames.push_back(std::move(image));
   }
   return frames;
+}
+
+void move_in_picture(std::vector<GeometryImage>* video, double shift_px, double scale_per_frame) {
+  for (size_t f = 0; f < video->size(); ++f) {
+    GeometryImage& frame = (*video)[f];
+    const double shift = shift_px * static_cast<double>(f);
+    const double s = 1.0 + scale_per_frame * static_cast<double>(f);
+    const double c = frame.xyz_mm.cols / 2.0;
+    const double m[6] = {s, 0, -shift + c * (1 - s), 0, s, -0.5 * shift + c * (1 - s)};
+    cv::Mat moved;
+    cv::warpAffine(frame.xyz_mm, moved, cv::Mat(2, 3, CV_64F, const_cast<double*>(m)),
+                   frame.xyz_mm.size(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+    frame.xyz_mm = moved;
+  }
 }
 
 }  // namespace gvkit::testing

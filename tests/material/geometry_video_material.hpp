@@ -25,4 +25,10 @@ Result<std::vector<GeometryImage>> make_ict_face_video(const std::filesystem::pa
 
 std::vector<GeometryImage> make_analytic_video(const GeometryVideoOptions& options);
 
+// Real motion in the picture: warps frame f's xyz (bicubic, edges replicated) so that its
+// content moves by (-shift_px f, -shift_px f / 2) pixels and is scaled by 1 + scale_per_frame f
+// about the picture's centre. The texture and the domain mask stay as they are.
+void move_in_picture(std::vector<GeometryImage>* video, double shift_px,
+                     double scale_per_frame = 0.0);
+
 }  // namespace gvkit::testing
