@@ -737,22 +737,8 @@ int main(int argc, char** argv) {
     std::vector<RdPoint> x265_points = kLoggedX265Ict;
     std::string source = "logged";
     if (peers) {
-      print_header();
-      x265_points.clear();
+      x265_points = run_x265(m, gop, peer_preset);
       source = "this run";
-      PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
-      x265.gop = gop;
-      x265.bframes = 1;
-      for (int qp : {0, 4, 8, 12, 16, 20, 24}) {
-        PeerConfig c = x265;
-        c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
-                                                ":bframes=1:ref=5:qp=" + std::to_string(qp)});
-        auto r = run_peer_config(m, c);
-        if (!r) break;
-        print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
-                  "qp " + std::to_string(qp), *r);
-        x265_points.push_back(r->point);
-      }
     }
     std::printf("\n| BD-rate vs x265 12-bit (%s points) | value |\n|---|---|\n", source.c_str());
     for (size_t i = 0; i < curves.size(); ++i)
@@ -762,21 +748,7 @@ int main(int argc, char** argv) {
   if (subpel_only) {
     const auto curves = report_subpel(m, base, qps);
     if (!peers) return 0;
-    print_header();
-    PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
-    x265.gop = gop;
-    x265.bframes = 1;
-    std::vector<RdPoint> x265_points;
-    for (int qp : {0, 4, 8, 12, 16, 20, 24}) {
-      PeerConfig c = x265;
-      c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
-                                              ":bframes=1:ref=5:qp=" + std::to_string(qp)});
-      auto r = run_peer_config(m, c);
-      if (!r) break;
-      print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
-                "qp " + std::to_string(qp), *r);
-      x265_points.push_back(r->point);
-    }
+    const std::vector<RdPoint> x265_points = run_x265(m, gop, peer_preset);
     std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
     print_bd("gvid fast, whole-sample motion vs x265", x265_points, curves[0]);
     print_bd("gvid fast, half-sample motion vs x265", x265_points, curves[1]);
