@@ -612,6 +612,7 @@ int main(int argc, char** argv) {
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
+  Preset bits_preset = Preset::kFast;
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
@@ -633,7 +634,14 @@ int main(int argc, char** argv) {
       subpel_only = true;
     else if (a == "--bits-only")
       bits_only = true;
-    else if (a == "--motion-only")
+    else if (a == "--bits-preset" && i + 1 < argc) {
+      auto preset = parse_preset(argv[++i]);
+      if (!preset.is_ok()) {
+        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+        return 2;
+      }
+      bits_preset = *preset;
+    } else if (a == "--motion-only")
       motion_only = true;
     else if (a == "--bframes-only")
       bframes_only = true;
@@ -661,7 +669,7 @@ int main(int argc, char** argv) {
           stderr,
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
-          "[--bits-only] [--motion-only] [--bframes-only] [--transform-only] "
+          "[--bits-only [--bits-preset P]] [--motion-only] [--bframes-only] [--transform-only] "
           "[--refs-only [--refs-preset P]] [--cross-plane-only]\n");
       return 2;
     }
@@ -708,7 +716,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (bits_only) {
-    report_bit_accounting(m, base, {-6, 0, 6, 12});
+    EncoderOptions bits = base;
+    bits.preset = bits_preset;
+    report_bit_accounting(m, bits, {-6, 0, 6, 12});
     return 0;
   }
   if (bframes_only) {
