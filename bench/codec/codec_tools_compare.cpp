@@ -683,6 +683,8 @@ int main(int argc, char** argv) {
       mode_preset = *preset;
     } else if (a == "--motion-only")
       motion_only = true;
+    else if (a == "--qp-offsets-only")
+      qp_offsets_only = true;
     else if (a == "--bframes-only")
       bframes_only = true;
     else if (a == "--cross-plane-only")
