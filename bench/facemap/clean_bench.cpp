@@ -18,6 +18,7 @@
 #include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
+#include "gvkit/facemap/mesh_repair.hpp"
 #include "gvkit/facemap/surface_distance.hpp"
 #include "gvkit/facemap/synthetic_face_scan.hpp"
 
@@ -133,6 +134,38 @@ void BM_FastMarching(benchmark::State& state) {
   state.counters["vertices"] = n * n;
 }
 BENCHMARK(BM_FastMarching)->Args({500, 0})->Args({500, 1})->Unit(benchmark::kMillisecond);
+
+// Building a mesh from an n x n grid of points and its triangles (a scan's size at n = 500):
+// the direct half-edge build (the default) and OpenMesh's add_face (the reference).
+void BM_MeshFromTriangles(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::vector<Mesh::Point> points;
+  std::vector<Mesh::Color> colors;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      points.emplace_back(x, y, 0.002 * x * y);
+      colors.emplace_back(0.5f, 0.5f, 0.5f, 1.0f);
+    }
+  std::vector<std::array<int, 3>> triangles;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x, b = a + 1, c = a + n + 1, d = a + n;
+      if (x % 97 == 40 && y % 89 == 30) continue;  // a few one-quad holes
+      triangles.push_back({a, c, b});
+      triangles.push_back({a, d, c});
+    }
+  MeshRepairOptions options;
+  options.check_duplicates = false;
+  options.direct_build = state.range(1) == 0;
+  Mesh mesh;
+  for (auto _ : state) {
+    mesh_from_triangles(points, colors, triangles, options, &mesh, nullptr);
+    benchmark::DoNotOptimize(mesh.n_halfedges());
+  }
+  state.SetLabel(state.range(1) ? "add_face (reference)" : "direct half-edge build");
+  state.counters["vertices"] = static_cast<double>(mesh.n_vertices());
+}
+BENCHMARK(BM_MeshFromTriangles)->Args({500, 0})->Args({500, 1})->Unit(benchmark::kMillisecond);
 
 // Rim points mapped to the neutral face through the closest point on the frame's ICT face.
 std::vector<Mesh::Point> rim_in_neutral(const Mesh& cleaned, const Mesh& frame_face,

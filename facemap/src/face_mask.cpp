@@ -5,14 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <queue>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 #include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
 #include "gvkit/facemap/nearest_vertices.hpp"
+#include "gvkit/facemap/shortest_edge_path.hpp"
 
 namespace gvkit::facemap {
 
@@ -46,37 +45,6 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
                                        : contour_points(landmarks, kOuterMouthContour);
 }
 
-// Shortest edge path (Dijkstra) from a to b, as vertices from a to b.
-std::vector<Mesh::VertexHandle> shortest_path(const Mesh& mesh, Mesh::VertexHandle a,
-                                              Mesh::VertexHandle b) {
-  std::unordered_map<int, std::pair<double, int>> best;  // vertex -> (distance, previous)
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-  best[a.idx()] = {0.0, -1};
-  queue.emplace(0.0, a.idx());
-  while (!queue.empty()) {
-    const auto [d, i] = queue.top();
-    queue.pop();
-    if (d > best[i].first) continue;
-    if (i == b.idx()) break;
-    const auto v = mesh.vertex_handle(i);
-    for (auto h : mesh.voh_range(v)) {
-      const int j = mesh.to_vertex_handle(h).idx();
-      const double nd = d + mesh.calc_edge_length(h);
-      auto it = best.find(j);
-      if (it == best.end() || nd < it->second.first) {
-        best[j] = {nd, i};
-        queue.emplace(nd, j);
-      }
-    }
-  }
-  std::vector<Mesh::VertexHandle> path;
-  if (!best.count(b.idx())) return path;
-  for (int i = b.idx(); i >= 0; i = best[i].second) path.push_back(mesh.vertex_handle(i));
-  std::reverse(path.begin(), path.end());
-  return path;
-}
-
 // The vertices of the surface region enclosed by the closed edge path through `corners` (the
 // vertices nearest to the contour points), the path included. A degenerate contour (a closed eye
 // or mouth) encloses nothing and gives the path alone. Regions cut off from the mesh boundary by
@@ -104,8 +72,9 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
       region.push_back(v);
     }
   };
+  ShortestEdgePaths paths(mesh);
   for (size_t k = 0; k < corners.size(); ++k) {
-    const auto path = shortest_path(mesh, corners[k], corners[(k + 1) % corners.size()]);
+    const auto path = paths.path(corners[k], corners[(k + 1) % corners.size()]);
     for (size_t i = 0; i < path.size(); ++i) {
       add(path[i]);
       if (i + 1 < path.size()) {

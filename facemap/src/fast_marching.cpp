@@ -1,5 +1,6 @@
 #include "gvkit/facemap/fast_marching.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <queue>
@@ -39,17 +40,26 @@ double triangle_update(const Point& a, double da, const Point& b, double db, con
 
 FastMarching::FastMarching(const Mesh& mesh) : mesh_(&mesh) {
   const int n = static_cast<int>(mesh.n_vertices());
-  points_.resize(n);
-  for (auto v : mesh.vertices()) points_[v.idx()] = mesh.point(v);
+  points_.assign(mesh.points(), mesh.points() + n);
+  // Corners read from each face's halfedges in one pass (the order of fv_range: the targets of
+  // the face's halfedge and its two successors), then the fans in CSR layout.
+  std::vector<int> corners;
+  corners.reserve(3 * mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    const auto h0 = mesh.halfedge_handle(f);
+    const auto h1 = mesh.next_halfedge_handle(h0);
+    const auto h2 = mesh.next_halfedge_handle(h1);
+    corners.push_back(mesh.to_vertex_handle(h0).idx());
+    corners.push_back(mesh.to_vertex_handle(h1).idx());
+    corners.push_back(mesh.to_vertex_handle(h2).idx());
+  }
   fan_start_.assign(n + 1, 0);
-  for (auto f : mesh.faces())
-    for (auto v : mesh.fv_range(f)) ++fan_start_[v.idx() + 1];
+  for (int c : corners) ++fan_start_[c + 1];
   for (int i = 0; i < n; ++i) fan_start_[i + 1] += fan_start_[i];
   fan_.resize(2 * static_cast<size_t>(fan_start_[n]));
   std::vector<int> fill(fan_start_.begin(), fan_start_.end() - 1);
-  for (auto f : mesh.faces()) {
-    int c[3], k = 0;
-    for (auto v : mesh.fv_range(f)) c[k++] = v.idx();
+  for (size_t t = 0; t < corners.size(); t += 3) {
+    const int* c = &corners[t];
     for (int j = 0; j < 3; ++j) {
       const int slot = fill[c[j]]++;
       fan_[2 * slot] = c[(j + 1) % 3];
@@ -139,92 +149,109 @@ std::vector<double> FastMarching::distance_reference(const std::vector<Mesh::Ver
   return d;
 }
 
-// The same computation as distance_reference with the keys in the heap: comparisons read the
-// heap's own contiguous entries instead of d[] at scattered vertex indices. The order (d, index)
-// is the same, so vertices are accepted in the same order and get the same values.
+// The same computation as distance_reference, arranged for memory traffic:
+// - the heap entries carry their key, so comparisons read the heap's own contiguous entries
+//   instead of d[] at scattered vertex indices;
+// - the heap is 4-ary: half the levels of a binary heap, so half the scattered slot[] writes per
+//   sift, and the four children of an entry share a cache line;
+// - one state array (heap slot, or kAccepted) instead of a slot and an accepted flag;
+// - the fan and position of the vertex on top of the heap (most often the next one accepted)
+//   are prefetched while the current vertex's triangles are updated.
+// The order (d, index) is a strict total order, so whatever the heap's shape its top is the same
+// vertex: vertices are accepted in the same order as in the reference, and every update reads
+// the same accepted neighbours, so the values are the same to the last bit. Within one vertex the
+// order of its triangles does not matter either: a vertex keeps the minimum of its updates.
 std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>& sources,
                                            double max_distance_mm) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr int kAccepted = -2;
+  constexpr int kArity = 4;
   const int n = static_cast<int>(points_.size());
   std::vector<double> d(n, kInf);
-  std::vector<char> accepted(n, 0);
   struct Entry {
     double d;
     int v;
   };
   std::vector<Entry> heap;
-  std::vector<int> slot(n, -1);
+  std::vector<int> state(n, -1);  // heap slot, -1 (not reached) or kAccepted
   heap.reserve(1024);
   auto less = [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.v < b.v); };
   auto sift_up = [&](int i) {
     const Entry e = heap[i];
     while (i > 0) {
-      const int parent = (i - 1) / 2;
+      const int parent = (i - 1) / kArity;
       if (!less(e, heap[parent])) break;
       heap[i] = heap[parent];
-      slot[heap[i].v] = i;
+      state[heap[i].v] = i;
       i = parent;
     }
     heap[i] = e;
-    slot[e.v] = i;
+    state[e.v] = i;
   };
   auto sift_down = [&](int i) {
     const int size = static_cast<int>(heap.size());
     const Entry e = heap[i];
     for (;;) {
-      int child = 2 * i + 1;
-      if (child >= size) break;
-      if (child + 1 < size && less(heap[child + 1], heap[child])) ++child;
+      const int first = kArity * i + 1;
+      if (first >= size) break;
+      int child = first;
+      const int last = std::min(first + kArity, size);
+      for (int k = first + 1; k < last; ++k)
+        if (less(heap[k], heap[child])) child = k;
       if (!less(heap[child], e)) break;
       heap[i] = heap[child];
-      slot[heap[i].v] = i;
+      state[heap[i].v] = i;
       i = child;
     }
     heap[i] = e;
-    slot[e.v] = i;
+    state[e.v] = i;
   };
   auto relax = [&](int target, double value) {
     if (!(value < d[target])) return;
     d[target] = value;
-    if (slot[target] < 0) {
+    if (state[target] < 0) {
       heap.push_back({value, target});
       sift_up(static_cast<int>(heap.size()) - 1);
     } else {
-      heap[slot[target]].d = value;
-      sift_up(slot[target]);
+      heap[state[target]].d = value;
+      sift_up(state[target]);
     }
   };
   for (auto v : sources) {
     GVKIT_CHECK(v.is_valid() && v.idx() < n, "fast marching: source vertex out of range");
     relax(v.idx(), 0.0);
   }
+  const int* fan = fan_.data();
+  const int* fan_start = fan_start_.data();
+  const Point* points = points_.data();
   while (!heap.empty()) {
     const int v = heap.front().v;
     const double dv = d[v];
     if (dv > max_distance_mm) break;
-    slot[v] = -1;
     const Entry last = heap.back();
     heap.pop_back();
     if (!heap.empty()) {
       heap[0] = last;
       sift_down(0);
+      const int next = heap[0].v;
+      __builtin_prefetch(fan + 2 * fan_start[next]);
+      __builtin_prefetch(points + next);
     }
-    accepted[v] = 1;
-    const Point& pv = points_[v];
-    for (int k = fan_start_[v]; k < fan_start_[v + 1]; ++k) {
-      const int b = fan_[2 * k], c = fan_[2 * k + 1];
-      if (!accepted[c]) {
-        relax(c, accepted[b] ? triangle_update(pv, dv, points_[b], d[b], points_[c])
-                             : dv + (points_[c] - pv).norm());
-      }
-      if (!accepted[b]) {
-        relax(b, accepted[c] ? triangle_update(pv, dv, points_[c], d[c], points_[b])
-                             : dv + (points_[b] - pv).norm());
-      }
+    state[v] = kAccepted;
+    const Point& pv = points[v];
+    for (int k = fan_start[v]; k < fan_start[v + 1]; ++k) {
+      const int b = fan[2 * k], c = fan[2 * k + 1];
+      const bool b_accepted = state[b] == kAccepted, c_accepted = state[c] == kAccepted;
+      if (!c_accepted)
+        relax(c, b_accepted ? triangle_update(pv, dv, points[b], d[b], points[c])
+                            : dv + (points[c] - pv).norm());
+      if (!b_accepted)
+        relax(b, c_accepted ? triangle_update(pv, dv, points[c], d[c], points[b])
+                            : dv + (points[b] - pv).norm());
     }
   }
   for (int i = 0; i < n; ++i)
-    if (!accepted[i]) d[i] = kInf;
+    if (state[i] != kAccepted) d[i] = kInf;
   return d;
 }
 

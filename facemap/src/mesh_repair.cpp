@@ -123,11 +123,13 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
     std::vector<int> fill(fans_start.begin(), fans_start.end() - 1);
     for (size_t k = 0; k < fan_in.size(); ++k) fans[fill[fan_vertex[k]]++] = static_cast<int>(k);
   }
-  std::vector<int> next_boundary(static_cast<size_t>(nc), -1);
+  // Per fan (in the order of fan_in, i.e. of its boundary corner c), the face halfedge whose twin
+  // follows the boundary halfedge entering the fan.
+  std::vector<int> next_boundary(fan_in.size());
   for (int a = 0; a < n_vertices; ++a) {
     const int first = fans_start[a], count = fans_start[a + 1] - first;
     for (int i = 0; i < count; ++i)
-      next_boundary[fan_in[fans[first + i]]] = fan_out[fans[first + (i + 1) % count]];
+      next_boundary[fans[first + i]] = fan_out[fans[first + (i + 1) % count]];
   }
   for (int a = 0; a < n_vertices; ++a) {
     const int degree = out_start[a + 1] - out_start[a];
@@ -146,8 +148,13 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
     }
   }
 
+  // Room for a few percent more elements first, so that filling holes afterwards (which adds
+  // vertices, edges and faces one at a time) does not reallocate and copy every array.
+  auto spare = [](int count) { return static_cast<size_t>(count) + count / 32 + 64; };
+  mesh->reserve(spare(n_vertices), spare(n_edges), spare(nf));
   mesh->resize(n_vertices, n_edges, nf);
   using HH = Mesh::HalfedgeHandle;
+  int boundary_corner = 0;  // the boundary corners c come in the order of fan_in
   for (int c = 0; c < nc; ++c) {
     const HH h(hedge[c]);
     const int t = c / 3;
@@ -159,7 +166,7 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
       const HH g(hedge[c] + 1);  // b -> a
       mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
       mesh->set_face_handle(g, Mesh::FaceHandle());
-      const HH leaving(hedge[next_boundary[c]] + 1);
+      const HH leaving(hedge[next_boundary[boundary_corner++]] + 1);
       mesh->set_next_halfedge_handle(g, leaving);
       mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), leaving);
     } else if (fans_start[from(c) + 1] == fans_start[from(c)]) {
@@ -255,8 +262,10 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
     parent[find_root(parent, t[1])] = a;
     parent[find_root(parent, t[2])] = a;
   }
+  // Every vertex points at its root from here on (the same roots: flattening keeps them).
+  for (int i = 0; i < n; ++i) parent[i] = find_root(parent, i);
   std::vector<int> faces_per_root(n, 0);
-  for (const auto& t : faces) ++faces_per_root[find_root(parent, t[0])];
+  for (const auto& t : faces) ++faces_per_root[parent[t[0]]];
   r.components = static_cast<int>(
       std::count_if(faces_per_root.begin(), faces_per_root.end(), [](int c) { return c > 0; }));
   int keep_root = -1;
@@ -270,7 +279,7 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   std::vector<std::array<int, 3>> kept;
   kept.reserve(faces.size());
   for (const auto& t : faces) {
-    if (keep_root >= 0 && find_root(parent, t[0]) != keep_root) {
+    if (keep_root >= 0 && parent[t[0]] != keep_root) {
       ++r.removed_component_faces;
       continue;
     }

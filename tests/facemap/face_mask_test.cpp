@@ -3,12 +3,14 @@
 
 #include <cstdio>
 #include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
 #include "gvkit/core/ict_face_model.hpp"
 #include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/nearest_vertices.hpp"
+#include "gvkit/facemap/shortest_edge_path.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit::facemap {
@@ -199,6 +201,43 @@ TEST(FaceMask, NearestVerticesMatchTheReference) {
   for (size_t k = 0; k < points.size(); ++k) {
     EXPECT_EQ(grid[k], reference[k]) << k;
     EXPECT_DOUBLE_EQ(d[k], d_reference[k]) << k;
+  }
+}
+
+// Dijkstra with arrays kept across queries against the hash-map reference: the same vertex
+// sequence on a flat grid (many equal path lengths: the tie order), on a jittered grid with a
+// hole, for a == b and for a vertex on another component (no path).
+TEST(FaceMask, ShortestEdgePathsMatchTheReference) {
+  for (const double jitter : {0.0, 0.35}) {
+    Mesh mesh;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> offset(-jitter, jitter);
+    const int n = 40;
+    std::vector<Mesh::VertexHandle> v;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        v.push_back(mesh.add_vertex(Mesh::Point(x + offset(random), y + offset(random), 0)));
+    for (int y = 0; y + 1 < n; ++y)
+      for (int x = 0; x + 1 < n; ++x) {
+        if (jitter > 0 && x > 15 && x < 22 && y > 10 && y < 25) continue;  // a hole
+        mesh.add_face(v[y * n + x], v[y * n + x + 1], v[(y + 1) * n + x + 1]);
+        mesh.add_face(v[y * n + x], v[(y + 1) * n + x + 1], v[(y + 1) * n + x]);
+      }
+    const auto island = mesh.add_vertex(Mesh::Point(100, 100, 0));
+    ShortestEdgePaths paths(mesh);
+    std::uniform_int_distribution<int> pick(0, n * n - 1);
+    std::vector<std::pair<Mesh::VertexHandle, Mesh::VertexHandle>> pairs = {
+        {v[0], v[n * n - 1]}, {v[5], v[5]}, {v[3], island}, {v[12 * n + 14], v[20 * n + 24]}};
+    for (int k = 0; k < 30; ++k) pairs.emplace_back(v[pick(random)], v[pick(random)]);
+    for (const auto& [a, b] : pairs) {
+      const auto fast = paths.path(a, b);
+      const auto reference = shortest_edge_path_reference(mesh, a, b);
+      EXPECT_EQ(fast, reference) << "jitter " << jitter << ", " << a.idx() << " -> " << b.idx();
+    }
+    EXPECT_TRUE(paths.path(v[3], island).empty());
+    EXPECT_EQ(paths.path(v[5], v[5]), std::vector<Mesh::VertexHandle>{v[5]});
+    if (jitter == 0)  // straight along the first row of edges
+      EXPECT_EQ(paths.path(v[0], v[n - 1]).size(), static_cast<size_t>(n));
   }
 }
 
