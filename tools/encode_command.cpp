@@ -184,6 +184,7 @@ void run_encode(const EncodeArgs& args) {
         {"skip_check", options.skip_check},
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
+        {"cross_plane_contexts", options.cross_plane_contexts},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -280,6 +281,10 @@ void add_encode_command(CLI::App& app) {
                 "Let each Y and Z macroblock add a scaled copy of the X plane's residual to its "
                 "own (cross-plane residual prediction, format 1.6; on by default); "
                 "--no-cross-plane writes the 1.4 / 1.5 stream");
+  cmd->add_flag("--cross-plane-contexts,!--no-cross-plane-contexts",
+                args->options.cross_plane_contexts,
+                "Select the contexts of the Y and Z planes' macroblock flags and coded block "
+                "bins by the X plane's decisions at the same place too (format 1.7)");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "gvkit/codec/cross_plane_contexts.hpp"
+
 namespace gvkit::codec {
 
 // The spatial-domain residual a coded plane added to its prediction, per sample (after the
@@ -35,6 +37,11 @@ struct CrossPlaneResidual {
 struct CrossPlaneLinks {
   const CrossPlaneResidual* source = nullptr;
   CrossPlaneResidual* residual_out = nullptr;
+  // Format 1.7, cross-plane contexts (cross_plane_contexts.hpp): `decisions` (Y and Z planes) is
+  // what the X plane decided, by which their contexts are selected, null when the tool is off;
+  // `decisions_out` (the X plane) receives the plane's decisions. Either may be null.
+  const CrossPlaneDecisions* decisions = nullptr;
+  CrossPlaneDecisions* decisions_out = nullptr;
 };
 
 // The allowed scales in increasing order, and the number of them.
