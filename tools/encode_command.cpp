@@ -283,8 +283,9 @@ void add_encode_command(CLI::App& app) {
                 "--no-cross-plane writes the 1.4 / 1.5 stream");
   cmd->add_flag("--cross-plane-contexts,!--no-cross-plane-contexts",
                 args->options.cross_plane_contexts,
-                "Select the contexts of the Y and Z planes' macroblock flags and coded block "
-                "bins by the X plane's decisions at the same place too (format 1.7)");
+                "Start the Y and Z planes' CABAC contexts from the states the X plane's reached "
+                "(cross-plane contexts, format 1.7); --no-cross-plane-contexts writes the 1.6 "
+                "stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -179,13 +179,13 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     std::vector<PlaneEncodeResult> coded(planes.size());
     // Cross-plane prediction: X keeps its residual, which Y and Z predict from.
     CrossPlaneResidual x_residual;
-    CrossPlaneDecisions x_decisions;  // format 1.7: X's, by which Y's and Z's contexts go
+    CrossPlaneContextStates x_states;  // format 1.7: X's final states, Y's and Z's initial ones
     const auto cross_links = [&](int i) {
       CrossPlaneLinks links;
       if (cross_plane && i == 0) links.residual_out = &x_residual;
       if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
-      if (cross_contexts && i == 0) links.decisions_out = &x_decisions;
-      if (cross_contexts && (i == 1 || i == 2)) links.decisions = &x_decisions;
+      if (cross_contexts && i == 0) links.contexts_out = &x_states;
+      if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
       return links;
     };
     const auto code = [&](int i) {
@@ -222,8 +222,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
     } else {
       // Shared motion and cross-plane prediction: X first (its motion is Y's and Z's candidate,
-      // its residual their cross-plane source, its decisions their contexts' (1.7)), then the
-      // rest in parallel.
+      // its residual their cross-plane source, its final context states their initial ones
+      // (1.7)), then the rest in parallel.
       code(0);
       run_parallel(static_cast<int>(planes.size()) - 1, options.threads,
                    [&](int i) { code(i + 1); });
@@ -427,7 +427,7 @@ Result<GeometryImage> decode_frame_packet(
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   CrossPlaneResidual x_residual;  // cross-plane prediction (1.6): X's, source of Y and Z
   const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;
-  CrossPlaneDecisions x_decisions;  // cross-plane contexts (1.7): X's, Y's and Z's contexts
+  CrossPlaneContextStates x_states;  // cross-plane contexts (1.7): X's final context states
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
     const uint32_t size = r.u32();
@@ -438,8 +438,8 @@ Result<GeometryImage> decode_frame_packet(
     CrossPlaneLinks links;
     if (cross_plane && i == 0) links.residual_out = &x_residual;
     if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
-    if (cross_contexts && i == 0) links.decisions_out = &x_decisions;
-    if (cross_contexts && (i == 1 || i == 2)) links.decisions = &x_decisions;
+    if (cross_contexts && i == 0) links.contexts_out = &x_states;
+    if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
     auto plane =
         bidirectional
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)

@@ -4,16 +4,19 @@
 // write_macroblock in plane_decoder.cpp.
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <type_traits>
 #include <vector>
 
-#include "cross_plane_context_syntax.hpp"
 #include "cross_plane_syntax.hpp"
 #include "gvkit/codec/cabac_context.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/codec/cross_plane.hpp"
+#include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -33,26 +36,23 @@ inline int max_mvd_escape(bool quarter_pel) { return quarter_pel ? 10 : 8; }
 constexpr int kLevelPrefixMax = 14;  // unary part of |level| - 1, then Exp-Golomb (k = 0)
 constexpr int kMaxAbsLevel = 1 << 24;
 
-// Format 1.7 (cross-plane contexts, docs/bitstream.md 4.10): the Y and Z planes also use the
-// upper halves of is_i16, is_8x8, cbp, cbf, is_inter, skip, td_flag, shared_mv and
-// transform_size (their contexts' increment by X's co-located decision).
 struct ContextSet {
-  CabacContext is_i16[6];
-  CabacContext is_8x8[6];
+  CabacContext is_i16[3];
+  CabacContext is_8x8[3];
   CabacContext i16_mode[2];
   CabacContext prev_mode_flag[1];
   CabacContext rem_mode[1];
-  CabacContext cbp[8];
-  CabacContext cbf[8];
+  CabacContext cbp[4];
+  CabacContext cbf[4];
   // Residual categories: 0 = 4x4, 1 = 8x8, 2 = 16x16 (format 1.6, larger transforms).
   CabacContext sig[3][16];
   CabacContext last[3][16];
   CabacContext level[3][10];
-  CabacContext is_inter[6];
-  CabacContext skip[6];
+  CabacContext is_inter[3];
+  CabacContext skip[3];
   CabacContext mvd_zero[2];
-  CabacContext td_flag[6];
-  CabacContext shared_mv[6];    // format 1.4: take the co-located first-plane vector
+  CabacContext td_flag[3];
+  CabacContext shared_mv[3];    // format 1.4: take the co-located first-plane vector
   CabacContext shared_skip[2];  // ... then skip, by whether the co-located MB is a skip
   // Format 1.5, B planes: direct (bin 0), else bi (bin 1), else L1 (bin 2).
   CabacContext b_pred[3];
@@ -60,7 +60,7 @@ struct ContextSet {
   // left and top macroblocks' ref_idx > 0 (0..2), bin 1 context 3, later bins context 4.
   CabacContext ref_idx[kRefIdxContexts];
   // Format 1.6 (larger transforms): bin 0 "larger than 4x4", bin 1 "16x16", by neighbours.
-  CabacContext transform_size[2][6];
+  CabacContext transform_size[2][3];
   // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
   CabacContext cross_scale[4];
   CabacContext cross_sign[1];
@@ -69,6 +69,29 @@ struct ContextSet {
   bool adaptive_levels = false;
   uint32_t level_mean16[3] = {};
 };
+
+// ---- Cross-plane contexts (format 1.7, docs/bitstream.md 4.10) ----
+// The X plane's final context states (every CabacContext of ContextSet, which come first and lie
+// contiguously: two bytes of alignment 1 each, in declaration order) and level means are the
+// initial ones of the Y and Z planes.
+inline constexpr size_t kContextSetContexts =
+    offsetof(ContextSet, adaptive_levels) / sizeof(CabacContext);
+static_assert(std::is_standard_layout_v<ContextSet> && alignof(CabacContext) == 1 &&
+              sizeof(CabacContext) == 2 && offsetof(ContextSet, is_i16) == 0);
+inline void export_context_states(const ContextSet& ctx, CrossPlaneContextStates& out) {
+  out.contexts.resize(kContextSetContexts);
+  std::memcpy(static_cast<void*>(out.contexts.data()), &ctx,
+              kContextSetContexts * sizeof(CabacContext));
+  std::copy(ctx.level_mean16, ctx.level_mean16 + 3, out.level_mean16);
+}
+// `in` must hold kContextSetContexts contexts (contract).
+inline void import_context_states(const CrossPlaneContextStates& in, ContextSet& ctx) {
+  GVKIT_CHECK(in.contexts.size() == kContextSetContexts);
+  std::memcpy(static_cast<void*>(&ctx), in.contexts.data(),
+              kContextSetContexts * sizeof(CabacContext));
+  std::copy(in.level_mean16, in.level_mean16 + 3, ctx.level_mean16);
+}
+// ---- end of cross-plane contexts ----
 
 // A CabacEncoder that also adds each bin's ideal code length to the current syntax group of a
 // PlaneCodingStats (the writer names the group with set_group before each element).
@@ -138,8 +161,6 @@ struct PlaneState {
   std::vector<uint8_t> transform;
   // Format 1.6, Y and Z planes: the residual predicted from (X's), or null (tool off).
   const CrossPlaneResidual* cross = nullptr;
-  // Format 1.7, Y and Z planes: X's decisions, by which contexts are selected, or null (off).
-  const CrossPlaneDecisions* x = nullptr;
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -173,17 +194,6 @@ struct PlaneState {
     out.mv_x = mv_x;
     out.mv_y = mv_y;
     out.ref_idx = ref_idx;
-  }
-  // Format 1.7: records the plane's decisions for the cross-plane contexts of Y and Z.
-  void export_decisions(CrossPlaneDecisions& out) const {
-    out.mbs_x = mbs_x;
-    out.mbs_y = mbs_y;
-    out.mb_type = mb_type;
-    out.skip = skip;
-    out.td = td;
-    out.transform = transform;
-    out.cbp8 = cbp8;
-    out.cbf4 = cbf4;
   }
   // The reference of the co-located first-plane macroblock (shared motion).
   int colocated_ref(size_t i) const {
@@ -403,9 +413,9 @@ void write_transform_size(Coder& coder, ContextSet& ctx, const PlaneState& st, i
     return (mb_x > 0 && st.transform[i - 1] >= code ? 1 : 0) +
            (mb_y > 0 && st.transform[i - st.mbs_x] >= code ? 1 : 0);
   };
-  coder.encode(ctx.transform_size[0][count(1) + x_transform_increment(st.x, i, 1)], size > 4);
+  coder.encode(ctx.transform_size[0][count(1)], size > 4);
   if (size > 4 && max_transform == 16 && cbp == 15)
-    coder.encode(ctx.transform_size[1][count(2) + x_transform_increment(st.x, i, 2)], size == 16);
+    coder.encode(ctx.transform_size[1][count(2)], size == 16);
 }
 // ---- end of larger transforms ----
 
@@ -426,7 +436,7 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
     const int left = cx > 0 ? st.cbp_at(cx - 1, cy) : 0;
     const int top = cy > 0 ? st.cbp_at(cx, cy - 1) : 0;
     const int bit = (mb.cbp >> q) & 1;
-    coder.encode(ctx.cbp[left + 2 * top + x_cbp_increment(st.x, cx, cy)], bit);
+    coder.encode(ctx.cbp[left + 2 * top], bit);
     st.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
   }
   const size_t mb_index = static_cast<size_t>(mb_y) * st.mbs_x + mb_x;
@@ -462,7 +472,7 @@ void write_cbp_and_4x4_residuals(Coder& coder, ContextSet& ctx, PlaneState& st, 
     const int top = gy > 0 ? st.cbf_at(gx, gy - 1) : 0;
     const int coded = any_nonzero(mb.levels[b], 16) ? 1 : 0;
     set_group(coder, kSyntaxCbp);
-    coder.encode(ctx.cbf[left + 2 * top + x_cbf_increment(st.x, gx, gy)], coded);
+    coder.encode(ctx.cbf[left + 2 * top], coded);
     st.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
     if (coded) write_residual(coder, ctx, mb.levels[b], 4);
   }
@@ -490,12 +500,10 @@ void write_intra_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int m
   set_group(coder, kSyntaxMbType);
   const int mb_index = mb_y * st.mbs_x + mb_x;
   const int is_i16 = mb.type == kMbI16x16;
-  coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16) +
-                          x_type_increment(st.x, mb_index, kMbI16x16)],
+  coder.encode(ctx.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)],
                is_i16);
   if (!is_i16)
-    coder.encode(ctx.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8) +
-                            x_type_increment(st.x, mb_index, kMbI8x8)],
+    coder.encode(ctx.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)],
                  mb.type == kMbI8x8);
   st.mb_type[mb_index] = mb.type;
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
@@ -534,14 +542,11 @@ void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x,
   set_group(coder, kSyntaxMbType);
   const bool inter = mb.type == kMbInter;
   const bool skip = inter && mb.skip;
-  coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; }) +
-                        x_skip_increment(st.x, mb_index)],
-               skip);
+  coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], skip);
   st.skip[mb_index] = skip;
   st.td[mb_index] = 0;
   if (!skip)
-    coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; }) +
-                              x_inter_increment(st.x, mb_index)],
+    coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
                  inter);
   if (!inter) {
     st.lists[mb_index] = 0;
@@ -601,23 +606,18 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
   if (st.predicted) {
     const bool shared = st.can_share(mb_index) && mb.type == kMbInter && mb.shared;
     if (st.can_share(mb_index))
-      coder.encode(ctx.shared_mv[flag_ctx(st.shared, [](uint8_t k) { return k != 0; }) +
-                                 x_skip_increment(st.x, mb_index)],
-                   shared);
+      coder.encode(ctx.shared_mv[flag_ctx(st.shared, [](uint8_t k) { return k != 0; })], shared);
     st.shared[mb_index] = shared;
     const int inter = mb.type == kMbInter;
     if (!shared)
-      coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; }) +
-                                x_inter_increment(st.x, mb_index)],
+      coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
                    inter);
     if (inter) {
       st.mb_type[mb_index] = kMbInter;
       if (shared)
         coder.encode(ctx.shared_skip[st.colocated->skip[mb_index]], mb.skip);
       else
-        coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; }) +
-                              x_skip_increment(st.x, mb_index)],
-                     mb.skip);
+        coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
       st.skip[mb_index] = mb.skip;
       // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
       const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
@@ -644,9 +644,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       const bool td = !mb.skip && params.td_prediction && mb.td;
       set_group(coder, kSyntaxMbType);
       if (!mb.skip && params.td_prediction)
-        coder.encode(ctx.td_flag[flag_ctx(st.td, [](uint8_t k) { return k != 0; }) +
-                                 x_td_increment(st.x, mb_index)],
-                     td);
+        coder.encode(ctx.td_flag[flag_ctx(st.td, [](uint8_t k) { return k != 0; })], td);
       st.td[mb_index] = td;
       if (td) {
         for (int b = 0; b < 16; ++b) {

@@ -26,21 +26,19 @@ class MacroblockReader {
       const auto flag_ctx = [&](const std::vector<uint8_t>& v, auto pred) {
         return st_.neighbour_count(v, mb_x, mb_y, pred);
       };
-      mb.shared = st_.can_share(mb_index) &&
-                  dec_.decode(ctx_.shared_mv[flag_ctx(st_.shared, [](uint8_t k) { return k != 0; }) +
-                                             x_skip_increment(st_.x, mb_index)]);
+      mb.shared =
+          st_.can_share(mb_index) &&
+          dec_.decode(ctx_.shared_mv[flag_ctx(st_.shared, [](uint8_t k) { return k != 0; })]);
       st_.shared[mb_index] = mb.shared;
       if (mb.shared ||
           dec_.decode(
-              ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; }) +
-                            x_inter_increment(st_.x, mb_index)])) {
+              ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
         mb.type = kMbInter;
         st_.mb_type[mb_index] = kMbInter;
         mb.skip =
             mb.shared
                 ? dec_.decode(ctx_.shared_skip[st_.colocated->skip[mb_index]])
-                : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; }) +
-                                        x_skip_increment(st_.x, mb_index)]);
+                : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
         st_.skip[mb_index] = mb.skip;
         // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
         mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
@@ -76,8 +74,7 @@ class MacroblockReader {
         st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
         const int gx0 = mb_x * 4, gy0 = mb_y * 4;
         mb.td = !mb.skip && p_.td_prediction &&
-                dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; }) +
-                                         x_td_increment(st_.x, mb_index)]);
+                dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
         st_.td[mb_index] = mb.td;
         if (mb.td) {
           GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));
@@ -114,14 +111,12 @@ class MacroblockReader {
     };
     mb.td = false;
     mb.shared = false;
-    mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; }) +
-                                    x_skip_increment(st_.x, mb_index)]);
+    mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
     st_.skip[mb_index] = mb.skip;
     st_.td[mb_index] = 0;
     if (!mb.skip &&
         !dec_.decode(
-            ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; }) +
-                          x_inter_increment(st_.x, mb_index)])) {
+            ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
       st_.lists[mb_index] = 0;
       return read_intra(mb_x, mb_y, mb);
     }
@@ -175,15 +170,13 @@ class MacroblockReader {
       return st_.mb_type[static_cast<size_t>(y) * st_.mbs_x + x] == t ? 1 : 0;
     };
     if (dec_.decode(
-            ctx_.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16) +
-                        x_type_increment(st_.x, mb_index, kMbI16x16)]))
+            ctx_.is_i16[neighbour_type(-1, 0, kMbI16x16) + neighbour_type(0, -1, kMbI16x16)]))
       mb.type = kMbI16x16;
     else
-      mb.type = dec_.decode(ctx_.is_8x8[neighbour_type(-1, 0, kMbI8x8) +
-                                        neighbour_type(0, -1, kMbI8x8) +
-                                        x_type_increment(st_.x, mb_index, kMbI8x8)])
-                    ? kMbI8x8
-                    : kMbI4x4;
+      mb.type =
+          dec_.decode(ctx_.is_8x8[neighbour_type(-1, 0, kMbI8x8) + neighbour_type(0, -1, kMbI8x8)])
+              ? kMbI8x8
+              : kMbI4x4;
     st_.mb_type[mb_index] = mb.type;
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     if (mb.type == kMbI16x16) {
@@ -229,7 +222,7 @@ class MacroblockReader {
       const int cx = cx0 + (q & 1), cy = cy0 + (q >> 1);
       const int left = cx > 0 ? st_.cbp_at(cx - 1, cy) : 0;
       const int top = cy > 0 ? st_.cbp_at(cx, cy - 1) : 0;
-      const int bit = dec_.decode(ctx_.cbp[left + 2 * top + x_cbp_increment(st_.x, cx, cy)]);
+      const int bit = dec_.decode(ctx_.cbp[left + 2 * top]);
       mb.cbp |= static_cast<uint8_t>(bit << q);
       st_.cbp_at(cx, cy) = static_cast<uint8_t>(bit);
     }
@@ -241,12 +234,11 @@ class MacroblockReader {
         return (mb_x > 0 && st_.transform[i - 1] >= code ? 1 : 0) +
                (mb_y > 0 && st_.transform[i - st_.mbs_x] >= code ? 1 : 0);
       };
-      if (dec_.decode(ctx_.transform_size[0][count(1) + x_transform_increment(st_.x, i, 1)]))
-        size = p_.max_transform == 16 && mb.cbp == 15 &&
-                       dec_.decode(
-                           ctx_.transform_size[1][count(2) + x_transform_increment(st_.x, i, 2)])
-                   ? 16
-                   : 8;
+      if (dec_.decode(ctx_.transform_size[0][count(1)]))
+        size =
+            p_.max_transform == 16 && mb.cbp == 15 && dec_.decode(ctx_.transform_size[1][count(2)])
+                ? 16
+                : 8;
     }
     mb.transform = size == 8 && mb.type == kMbI8x8 ? 4 : size;
     st_.transform[static_cast<size_t>(mb_y) * st_.mbs_x + mb_x] =
@@ -276,7 +268,7 @@ class MacroblockReader {
       }
       const int left = gx > 0 ? st_.cbf_at(gx - 1, gy) : 0;
       const int top = gy > 0 ? st_.cbf_at(gx, gy - 1) : 0;
-      const int coded = dec_.decode(ctx_.cbf[left + 2 * top + x_cbf_increment(st_.x, gx, gy)]);
+      const int coded = dec_.decode(ctx_.cbf[left + 2 * top]);
       st_.cbf_at(gx, gy) = static_cast<uint8_t>(coded);
       if (coded) GVKIT_RETURN_IF_ERROR(read_residual(mb.levels[b], 4));
     }
@@ -476,14 +468,14 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
     st.cross = cross_source;
   }
   if (residual_out) residual_out->reset(width, height);
-  // Format 1.7: X's decisions select the contexts of Y and Z.
-  if (cross && cross->decisions) {
-    if (cross->decisions->mbs_x != st.mbs_x || cross->decisions->mbs_y != st.mbs_y)
-      return corrupt_data("cross-plane contexts: the X plane's decisions are missing");
-    st.x = cross->decisions;
-  }
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
+  if (cross && cross->contexts) {
+    if (cross->contexts->contexts.size() != kContextSetContexts)
+      return corrupt_data("cross-plane contexts: the X plane's context states are missing");
+    import_context_states(*cross->contexts, ctx);
+  }
   CabacDecoder decoder(bytes);
   MacroblockReader reader(decoder, ctx, st, params);
   MacroblockData mb;
@@ -503,7 +495,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
   if (reference && motion_out) st.export_motion(*motion_out);
-  if (cross && cross->decisions_out) st.export_decisions(*cross->decisions_out);
+  if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return plane;
 }
 

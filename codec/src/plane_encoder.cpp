@@ -628,7 +628,7 @@ class MacroblockEncoder {
     if (n == 4) {
       const int left = gx > 0 ? st_.cbf_at(gx - 1, gy) : 0;
       const int top = gy > 0 ? st_.cbf_at(gx, gy - 1) : 0;
-      counter.encode(trial.cbf[left + 2 * top + x_cbf_increment(st_.x, gx, gy)], coded);
+      counter.encode(trial.cbf[left + 2 * top], coded);
     }
     if (coded) write_residual(counter, trial, levels, n);
     return counter.bits();
@@ -1053,14 +1053,14 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
     st.cross = cross_source;
   }
   if (residual_out) residual_out->reset(plane.width, plane.height);
-  // Format 1.7: X's decisions select the contexts of Y and Z (and so the bit estimates).
-  if (cross && cross->decisions) {
-    GVKIT_CHECK(cross->decisions->mbs_x == st.mbs_x && cross->decisions->mbs_y == st.mbs_y,
-                "cross-plane decisions of another macroblock grid");
-    st.x = cross->decisions;
-  }
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
+  if (cross && cross->contexts) {
+    GVKIT_CHECK(cross->contexts->contexts.size() == kContextSetContexts,
+                "cross-plane context states not recorded by a plane");
+    import_context_states(*cross->contexts, ctx);
+  }
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
@@ -1101,7 +1101,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
   if (reference && !reference1) st.export_motion(result.motion);
-  if (cross && cross->decisions_out) st.export_decisions(*cross->decisions_out);
+  if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return result;
 }
 

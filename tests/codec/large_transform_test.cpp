@@ -418,7 +418,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
       with_payload(payload, h->flags, h->flags2 & ~format::kFrame2LargeTransforms), *info, 0);
   EXPECT_FALSE(unflagged.is_ok());
   // Unknown flags2 bits stay rejected.
-  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 16), *info, 0);
+  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 64), *info, 0);
   ASSERT_FALSE(unknown.is_ok());
   EXPECT_NE(unknown.status().message().find("unknown bits"), std::string::npos);
   // Damage inside the plane segments (CRC fixed): frames or a Status naming the plane.

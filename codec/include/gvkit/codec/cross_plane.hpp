@@ -37,11 +37,11 @@ struct CrossPlaneResidual {
 struct CrossPlaneLinks {
   const CrossPlaneResidual* source = nullptr;
   CrossPlaneResidual* residual_out = nullptr;
-  // Format 1.7, cross-plane contexts (cross_plane_contexts.hpp): `decisions` (Y and Z planes) is
-  // what the X plane decided, by which their contexts are selected, null when the tool is off;
-  // `decisions_out` (the X plane) receives the plane's decisions. Either may be null.
-  const CrossPlaneDecisions* decisions = nullptr;
-  CrossPlaneDecisions* decisions_out = nullptr;
+  // Format 1.7, cross-plane contexts (cross_plane_contexts.hpp): `contexts` (Y and Z planes) are
+  // the X plane's final context states, the plane's initial ones, null when the tool is off;
+  // `contexts_out` (the X plane) receives the plane's final states. Either may be null.
+  const CrossPlaneContextStates* contexts = nullptr;
+  CrossPlaneContextStates* contexts_out = nullptr;
 };
 
 // The allowed scales in increasing order, and the number of them.

@@ -102,9 +102,8 @@ struct EncoderOptions {
   // -0.73 % / -0.90 %), -0.18 % lossless (docs/benchmarks.md, format 1.6 cross-plane section).
   bool cross_plane = true;
   // Cross-plane contexts (format 1.7, flags2 bit 4, docs/bitstream.md 4.10): the Y and Z planes
-  // select the contexts of their macroblock flags, coded block pattern and coded_block_flag bins
-  // by the X plane's co-located decisions too (no new syntax). true writes version 1.7; false
-  // writes the stream of the 1.6 encoder byte for byte.
+  // start their CABAC contexts from the X plane's final states (no new syntax). true writes
+  // version 1.7; false writes the stream of the 1.6 encoder byte for byte.
   bool cross_plane_contexts = false;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 

@@ -60,8 +60,8 @@ enum FrameFlag2 : uint8_t {
   // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
   // max transform, 8 or 16; docs/bitstream.md 4.8)
   kFrame2LargeTransforms = 4,
-  kFrame2CrossPlane = 8,  // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
-  kFrame2CrossPlaneContexts = 16,     // since 1.7: Y and Z contexts also by X's decisions (4.10)
+  kFrame2CrossPlane = 8,              // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
+  kFrame2CrossPlaneContexts = 16,     // since 1.7: Y and Z contexts start as X's final (4.10)
   kFrame2Known = 1 | 2 | 4 | 8 | 16,  // every bit a reader understands
 };
 
