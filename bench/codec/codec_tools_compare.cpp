@@ -398,7 +398,6 @@ void report_cross_plane_contexts(const Material& m, const EncoderOptions& base,
       print_bd(std::string(preset_name(presets[k])) + (on ? ", --cross-plane-contexts" : ", off") +
                    " vs x265 12-bit (" + source + " points)",
                x265, curves[k][on]);
-  if (getenv("GVKIT_CTX_NOBITS")) return;
   for (const Preset preset : presets)
     for (const bool on : {false, true}) {
       std::printf("\nBits per syntax group, %s preset, cross-plane contexts %s:\n",
