@@ -64,6 +64,8 @@ struct ContextSet {
   // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
   CabacContext cross_scale[4];
   CabacContext cross_sign[1];
+  // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
+  // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
