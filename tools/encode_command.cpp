@@ -184,6 +184,7 @@ void run_encode(const EncodeArgs& args) {
         {"skip_check", options.skip_check},
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
+        {"cross_plane_contexts", options.cross_plane_contexts},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -280,6 +281,11 @@ void add_encode_command(CLI::App& app) {
                 "Let each Y and Z macroblock add a scaled copy of the X plane's residual to its "
                 "own (cross-plane residual prediction, format 1.6; on by default); "
                 "--no-cross-plane writes the 1.4 / 1.5 stream");
+  cmd->add_flag("--cross-plane-contexts,!--no-cross-plane-contexts",
+                args->options.cross_plane_contexts,
+                "Start the Y and Z planes' CABAC contexts from the states the X plane's reached "
+                "(cross-plane contexts, format 1.7); --no-cross-plane-contexts writes the 1.6 "
+                "stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -13,6 +13,7 @@
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
+//                            [--ctx-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -23,7 +24,9 @@
 // both presets, with P and B frames and intra only; --cross-plane-only: format 1.6 cross-plane
 // residual prediction off / on (the other options at their defaults) in both presets, intra
 // only, lossless and near-lossless, the BD-rates against off and x265, and how often each scale
-// is coded)
+// is coded; --ctx-only: format 1.7 cross-plane contexts off / on, the other options at their
+// defaults, in both presets and lossless, the BD-rates against off and x265, and the bits per
+// syntax group at QP 6 and 12 off and on)
 #include <time.h>
 
 #include <chrono>
@@ -354,6 +357,58 @@ struct ScaleCounts {
   }
 };
 
+// Format 1.7: cross-plane contexts off and on (the other options at their defaults), fast and
+// slow preset and lossless; BD-rates on vs off and against x265, then where the bits go at QP 6
+// and 12 off and on, in each preset.
+void report_cross_plane_contexts(const Material& m, const EncoderOptions& base,
+                                 const std::vector<int>& qps, const std::vector<RdPoint>& x265,
+                                 const std::string& source) {
+  print_header();
+  const Preset presets[2] = {Preset::kFast, Preset::kSlow};
+  std::vector<RdPoint> curves[2][2];  // [preset][on]
+  for (int k = 0; k < 2; ++k)
+    for (const bool on : {false, true}) {
+      const std::string name = std::string(preset_name(presets[k])) +
+                               (on ? ", --cross-plane-contexts" : ", cross-plane contexts off");
+      for (int qp : qps) {
+        EncoderOptions o = base;
+        o.preset = presets[k];
+        o.qp = qp;
+        o.cross_plane_contexts = on;
+        const Run r = run_ours(m, o);
+        print_row(name, "qp " + std::to_string(qp), r);
+        curves[k][on].push_back(r.point);
+      }
+    }
+  for (const bool on : {false, true}) {
+    EncoderOptions o = base;
+    o.lossless = true;
+    o.cross_plane_contexts = on;
+    const Run r = run_ours(m, o);
+    print_row(std::string("lossless, fast") +
+                  (on ? ", --cross-plane-contexts" : ", cross-plane contexts off"),
+              "-", r);
+  }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (int k = 0; k < 2; ++k)
+    print_bd(std::string(preset_name(presets[k])) + ": --cross-plane-contexts vs off", curves[k][0],
+             curves[k][1]);
+  for (int k = 0; k < 2; ++k)
+    for (int on = 0; on < 2; ++on)
+      print_bd(std::string(preset_name(presets[k])) + (on ? ", --cross-plane-contexts" : ", off") +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[k][on]);
+  for (const Preset preset : presets)
+    for (const bool on : {false, true}) {
+      std::printf("\nBits per syntax group, %s preset, cross-plane contexts %s:\n",
+                  preset_name(preset), on ? "on" : "off");
+      EncoderOptions o = base;
+      o.preset = preset;
+      o.cross_plane_contexts = on;
+      report_bit_accounting(m, o, {6, 12});
+    }
+}
+
 // Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
 // presets), lossless and near-lossless; BD-rates on vs off and against x265, and the scales.
 void report_cross_plane(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -650,7 +705,7 @@ int main(int argc, char** argv) {
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
-       qp_offsets_only = false;
+       qp_offsets_only = false, ctx_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -689,6 +744,8 @@ int main(int argc, char** argv) {
       bframes_only = true;
     else if (a == "--cross-plane-only")
       cross_plane_only = true;
+    else if (a == "--ctx-only")
+      ctx_only = true;
     else if (a == "--transform-only")
       transform_only = true;
     else if (a == "--refs-only")
@@ -712,8 +769,8 @@ int main(int argc, char** argv) {
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
-          "[--transform-only] "
-          "[--refs-only [--refs-preset P]] [--cross-plane-only]\n");
+          "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only]
+");
       return 2;
     }
   }
@@ -779,6 +836,11 @@ int main(int argc, char** argv) {
   if (cross_plane_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_cross_plane(m, base, qps, x265, peers ? "this run" : "logged");
+    return 0;
+  }
+  if (ctx_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_cross_plane_contexts(m, base, qps, x265, peers ? "this run" : "logged");
     return 0;
   }
   if (refs_only) {

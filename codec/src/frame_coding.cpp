@@ -141,6 +141,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     syntax.max_transform = options.max_transform;
   }
   if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
+  // Format 1.7: cross-plane contexts.
+  if (options.cross_plane_contexts) header.flags2 |= format::kFrame2CrossPlaneContexts;
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
                                       (bidirectional ? options.b_qp_offset : 0),
@@ -172,14 +174,18 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     }
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
+  const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;  // 1.7
   const auto code_planes = [&](uint8_t flags, const std::vector<SamplePlane>* ref) {
     std::vector<PlaneEncodeResult> coded(planes.size());
     // Cross-plane prediction: X keeps its residual, which Y and Z predict from.
     CrossPlaneResidual x_residual;
+    CrossPlaneContextStates x_states;  // format 1.7: X's final states, Y's and Z's initial ones
     const auto cross_links = [&](int i) {
       CrossPlaneLinks links;
       if (cross_plane && i == 0) links.residual_out = &x_residual;
       if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
+      if (cross_contexts && i == 0) links.contexts_out = &x_states;
+      if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
       return links;
     };
     const auto code = [&](int i) {
@@ -212,11 +218,12 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
         coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint,
                                 more.empty() ? nullptr : &more, &links);
     };
-    if (!shared_motion && !cross_plane) {
+    if (!shared_motion && !cross_plane && !cross_contexts) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
     } else {
       // Shared motion and cross-plane prediction: X first (its motion is Y's and Z's candidate,
-      // its residual their cross-plane source), then the rest in parallel.
+      // its residual their cross-plane source, its final context states their initial ones
+      // (1.7)), then the rest in parallel.
       code(0);
       run_parallel(static_cast<int>(planes.size()) - 1, options.threads,
                    [&](int i) { code(i + 1); });
@@ -419,6 +426,8 @@ Result<GeometryImage> decode_frame_packet(
   MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   CrossPlaneResidual x_residual;  // cross-plane prediction (1.6): X's, source of Y and Z
+  const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;
+  CrossPlaneContextStates x_states;  // cross-plane contexts (1.7): X's final context states
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
     const uint32_t size = r.u32();
@@ -429,6 +438,8 @@ Result<GeometryImage> decode_frame_packet(
     CrossPlaneLinks links;
     if (cross_plane && i == 0) links.residual_out = &x_residual;
     if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
+    if (cross_contexts && i == 0) links.contexts_out = &x_states;
+    if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
     auto plane =
         bidirectional
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)

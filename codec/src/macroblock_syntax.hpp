@@ -4,8 +4,11 @@
 // write_macroblock in plane_decoder.cpp.
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "cross_plane_syntax.hpp"
@@ -13,6 +16,7 @@
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/codec/cross_plane.hpp"
+#include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -60,11 +64,36 @@ struct ContextSet {
   // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
   CabacContext cross_scale[4];
   CabacContext cross_sign[1];
+  // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
+  // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
   // that follows a running mean of the magnitudes per category (16 x the mean).
   bool adaptive_levels = false;
   uint32_t level_mean16[3] = {};
 };
+
+// ---- Cross-plane contexts (format 1.7, docs/bitstream.md 4.10) ----
+// The X plane's final context states (every CabacContext of ContextSet, which come first and lie
+// contiguously: two bytes of alignment 1 each, in declaration order) and level means are the
+// initial ones of the Y and Z planes.
+inline constexpr size_t kContextSetContexts =
+    offsetof(ContextSet, adaptive_levels) / sizeof(CabacContext);
+static_assert(std::is_standard_layout_v<ContextSet> && alignof(CabacContext) == 1 &&
+              sizeof(CabacContext) == 2 && offsetof(ContextSet, is_i16) == 0);
+inline void export_context_states(const ContextSet& ctx, CrossPlaneContextStates& out) {
+  out.contexts.resize(kContextSetContexts);
+  std::memcpy(static_cast<void*>(out.contexts.data()), &ctx,
+              kContextSetContexts * sizeof(CabacContext));
+  std::copy(ctx.level_mean16, ctx.level_mean16 + 3, out.level_mean16);
+}
+// `in` must hold kContextSetContexts contexts (contract).
+inline void import_context_states(const CrossPlaneContextStates& in, ContextSet& ctx) {
+  GVKIT_CHECK(in.contexts.size() == kContextSetContexts);
+  std::memcpy(static_cast<void*>(&ctx), in.contexts.data(),
+              kContextSetContexts * sizeof(CabacContext));
+  std::copy(in.level_mean16, in.level_mean16 + 3, ctx.level_mean16);
+}
+// ---- end of cross-plane contexts ----
 
 // A CabacEncoder that also adds each bin's ideal code length to the current syntax group of a
 // PlaneCodingStats (the writer names the group with set_group before each element).

@@ -470,6 +470,12 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   if (residual_out) residual_out->reset(width, height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
+  if (cross && cross->contexts) {
+    if (cross->contexts->contexts.size() != kContextSetContexts)
+      return corrupt_data("cross-plane contexts: the X plane's context states are missing");
+    import_context_states(*cross->contexts, ctx);
+  }
   CabacDecoder decoder(bytes);
   MacroblockReader reader(decoder, ctx, st, params);
   MacroblockData mb;
@@ -489,6 +495,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
   if (reference && motion_out) st.export_motion(*motion_out);
+  if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return plane;
 }
 

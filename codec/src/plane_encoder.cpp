@@ -1055,6 +1055,12 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   if (residual_out) residual_out->reset(plane.width, plane.height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
+  if (cross && cross->contexts) {
+    GVKIT_CHECK(cross->contexts->contexts.size() == kContextSetContexts,
+                "cross-plane context states not recorded by a plane");
+    import_context_states(*cross->contexts, ctx);
+  }
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());
@@ -1095,6 +1101,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
   if (reference && !reference1) st.export_motion(result.motion);
+  if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return result;
 }
 

@@ -115,7 +115,8 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         o.lossless = lossless;
         o.qp = 4;
         o.preset = preset;
-        o.cross_plane = false;  // version 1.5 (cross_plane_test covers B frames with 1.6)
+        o.cross_plane = false;           // version 1.5 (cross_plane_test covers B frames with 1.6)
+        o.cross_plane_contexts = false;  // format 1.7 off
         const auto path = dir / "b.gvid";
         std::vector<GeometryImage> recon;
         {
@@ -395,8 +396,9 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   for (auto [file, o] : cases) {
     o.bframes = 0;
     o.refs = 1;
-    o.max_transform = 4;    // without the format 1.6 larger transforms
-    o.cross_plane = false;  // ... and cross-plane prediction: the 1.4 stream
+    o.max_transform = 4;             // without the format 1.6 larger transforms
+    o.cross_plane = false;           // ... and cross-plane prediction: the 1.4 stream
+    o.cross_plane_contexts = false;  // format 1.7 off
     auto bytes = encode_gvid(frames, info, o);
     ASSERT_TRUE(bytes.is_ok());
     auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / file);
@@ -411,6 +413,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   intra.refs = 3;  // references asked for too: intra only still writes 1.4
   intra.max_transform = 4;
   intra.cross_plane = false;
+  intra.cross_plane_contexts = false;  // format 1.7 off
   auto intra_bytes = encode_gvid(frames, info, intra);
   ASSERT_TRUE(intra_bytes.is_ok());
   EXPECT_EQ(static_cast<uint8_t>((*intra_bytes)[5]), 4);

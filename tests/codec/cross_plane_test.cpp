@@ -214,12 +214,14 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.bframes = bframes;
       o.intra_period = 4;
       o.cross_plane = true;
+      o.cross_plane_contexts = false;  // format 1.7 off
       cases.push_back({bframes ? "qp 0, B frames" : "qp 0, P frames", o});
     }
   EncoderOptions lossless;
   lossless.lossless = true;
   lossless.preset = Preset::kFast;
   lossless.cross_plane = true;
+  lossless.cross_plane_contexts = false;  // format 1.7 off
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -232,6 +234,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
   intra.cross_plane = true;
+  intra.cross_plane_contexts = false;  // format 1.7 off
   cases.push_back({"intra only, qp -12", intra});
   int64_t nonzero = 0;
   for (const Case& c : cases) {
@@ -276,6 +279,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.refs = 1;  // without the other format 1.6 tools
   o.max_transform = 4;
   o.cross_plane = false;
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto bytes = encode_gvid(frames, info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =
@@ -284,6 +288,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   EXPECT_TRUE(*bytes == *golden);
   // On: version 1.6, and every packet has flags2 bit 3.
   o.cross_plane = true;
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto on = encode_gvid(frames, info, o);
   ASSERT_TRUE(on.is_ok());
   EXPECT_EQ(static_cast<uint8_t>((*on)[5]), 6);
@@ -322,14 +327,15 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.intra_only = true;
   o.max_transform = 4;  // flags2 then holds the cross-plane bit alone
   o.cross_plane = true;
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto stream = encode_gvid(frames, info, o);
   ASSERT_TRUE(stream.is_ok());
   auto reader = GvidReader::open_memory(*stream, "x.gvid");
   ASSERT_TRUE(reader.is_ok());
   const std::string packet = first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The unknown flags2 bits stay rejected.
-  for (const uint8_t bits : {16, 32, 64, 128}) {
+  // The unknown flags2 bits stay rejected (bit 4: format 1.7, cross_plane_contexts_test).
+  for (const uint8_t bits : {32, 64, 128}) {
     auto d = decode_frame_packet(with_flags2(packet, format::kFrame2CrossPlane | bits), info, 0);
     ASSERT_FALSE(d.is_ok());
     EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)
@@ -372,6 +378,7 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
   o.preset = Preset::kFast;
   o.bframes = 1;
   o.cross_plane = true;
+  o.cross_plane_contexts = false;  // format 1.7 off
   std::vector<FrameCodingStats> stats;
   const std::string bytes = round_trip(frames, info, o, &stats);
   ASSERT_EQ(stats.size(), 3u);
@@ -403,6 +410,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         o.refs = 3;
         o.max_transform = 16;
         o.cross_plane = true;
+        o.cross_plane_contexts = false;  // format 1.7 off
         cases.push_back({std::string(preset_name(preset)) +
                              (bframes ? ", B frames" : ", P frames") + ", qp " + std::to_string(qp),
                          o});
@@ -413,6 +421,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.bframes = 0;
   lossless.refs = 3;
   lossless.cross_plane = true;
+  lossless.cross_plane_contexts = false;  // format 1.7 off
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

@@ -32,7 +32,8 @@ struct GoldenCase {
 std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
-      bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near;
+      bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near,
+      ctx_fast, ctx_lossless;
   refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
   refs_fast.preset = Preset::kFast;
   refs_fast.bframes = 0;
@@ -71,6 +72,24 @@ std::vector<GoldenCase> cases() {
     o->refs = 1;
     o->max_transform = 4;
   }
+  // The streams before 1.7 were written without cross-plane contexts.
+  for (EncoderOptions* o : {&lossless,     &fast,
+                            &slow_no_gv,   &eight_bit,
+                            &inter,        &lossless_inter,
+                            &near_affine,  &plane_qp,
+                            &qpel_td,      &hpel_lossless,
+                            &shared_fast,  &shared_lossless,
+                            &bframes_fast, &bframes_lossless,
+                            &refs_fast,    &refs_lossless,
+                            &tx16_fast,    &tx8_slow,
+                            &cross_fast,   &cross_near})
+    o->cross_plane_contexts = false;
+  ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
+  ctx_fast.preset = Preset::kFast;
+  ctx_fast.bframes = 1;
+  ctx_lossless.lossless = true;  // version 1.7: cross-plane contexts, lossless, slow, P frames
+  ctx_lossless.preset = Preset::kSlow;
+  ctx_lossless.bframes = 0;
   bframes_fast.qp = 0;  // version 1.5: one B frame between anchors, fast preset
   bframes_fast.preset = Preset::kFast;
   bframes_fast.bframes = 1;
@@ -130,7 +149,9 @@ std::vector<GoldenCase> cases() {
           {"analytic_tx16_qp0_ibpbp_v1_6_48.gvid", 48, 5, tx16_fast, 0.75},
           {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75},
           {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
-          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5}};
+          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5},
+          {"analytic_xctx_qp0_ibpbp_v1_7_48.gvid", 48, 5, ctx_fast, 0.75},
+          {"analytic_xctx_lossless_ipp_v1_7_48.gvid", 48, 3, ctx_lossless, 0.5}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

@@ -293,6 +293,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.max_transform = max_transform;
       o.refs = 1;  // without the other 1.6 tools
       o.cross_plane = false;
+      o.cross_plane_contexts = false;  // format 1.7 off
       std::vector<FrameCodingStats> stats;
       auto bytes = encode_gvid(frames, *info, o, &stats);
       ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
@@ -352,6 +353,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.max_transform = 4;
   o.refs = 1;             // the golden stream was written with one reference frame (format 1.4)
   o.cross_plane = false;  // ... and without cross-plane prediction
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =
@@ -378,7 +380,8 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;
-  o.cross_plane = false;  // flags2 then holds the larger-transforms bit alone
+  o.cross_plane = false;           // flags2 then holds the larger-transforms bit alone
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto frame = encode_frame(frames[0], *info, o, 0);
   ASSERT_TRUE(frame.is_ok()) << frame.status().message();
   const std::string& packet = frame->packet;
@@ -418,7 +421,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
       with_payload(payload, h->flags, h->flags2 & ~format::kFrame2LargeTransforms), *info, 0);
   EXPECT_FALSE(unflagged.is_ok());
   // Unknown flags2 bits stay rejected.
-  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 16), *info, 0);
+  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 64), *info, 0);
   ASSERT_FALSE(unknown.is_ok());
   EXPECT_NE(unknown.status().message().find("unknown bits"), std::string::npos);
   // Damage inside the plane segments (CRC fixed): frames or a Status naming the plane.

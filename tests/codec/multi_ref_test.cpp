@@ -189,6 +189,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.refs = 2;
   o.max_transform = 4;  // flags2 then holds the multiple-reference bit alone
   o.cross_plane = false;
+  o.cross_plane_contexts = false;  // format 1.7 off
   auto i0 = encode_frame(frames[0], info, o, 0);
   ASSERT_TRUE(i0.is_ok());
   auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);
@@ -251,6 +252,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.bframes = 0;
   o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
   o.cross_plane = false;
+  o.cross_plane_contexts = false;      // format 1.7 off
   EXPECT_EQ(o.reference_frames(), 3);  // automatic: 3 in lossy streams
   o.refs = 1;
   auto one = encode_gvid(frames, info, o);
@@ -317,7 +319,10 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
   refs2.options.shared_motion = true;
   // The streams were written without the larger transforms and cross-plane prediction of 1.6.
   fast.options.max_transform = refs3.options.max_transform = 4;
-  for (Case* c : {&fast, &lossless, &refs3, &refs2}) c->options.cross_plane = false;
+  for (Case* c : {&fast, &lossless, &refs3, &refs2}) {
+    c->options.cross_plane = false;
+    c->options.cross_plane_contexts = false;
+  }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;
     vo.size = 48;

@@ -84,7 +84,8 @@ TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (bool shared : {false, true})
         for (bool decimation : {false, true}) {
           EncoderOptions o;
-          o.cross_plane = false;  // the format 1.4 syntax alone
+          o.cross_plane = false;           // the format 1.4 syntax alone
+          o.cross_plane_contexts = false;  // format 1.7 off
           o.preset = preset;
           o.qp = 0;
           o.intra_period = 4;
@@ -113,7 +114,8 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.cross_plane = false;  // the format 1.4 syntax alone
+  o.cross_plane = false;           // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
@@ -143,7 +145,8 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.cross_plane = false;  // the format 1.4 syntax alone
+  o.cross_plane = false;           // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = true;
@@ -190,7 +193,8 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.cross_plane = false;  // the format 1.4 syntax alone
+  o.cross_plane = false;           // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = false;

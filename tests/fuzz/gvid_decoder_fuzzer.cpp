@@ -1,7 +1,8 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
-//    references or B, with or without a cross-plane source residual), decoded directly, so
+//    references or B, with or without a cross-plane source residual, with or without the
+//    initial context states of an X plane, format 1.7), decoded directly, so
 //    that mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
@@ -62,6 +63,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (data[0] & 0x40) {
       links.source = &source;
       links.residual_out = &own;
+    }
+    // Bit 4 of byte 0: a Y or Z plane with cross-plane contexts (format 1.7), its initial context
+    // states those the reference ramp's segment ended with, intra-coded as the X plane.
+    CrossPlaneContextStates x_states;
+    if (data[0] & 0x10) {
+      PlaneCodingParams x_params = params;
+      x_params.rdo = false;
+      CrossPlaneLinks x_links;
+      x_links.contexts_out = &x_states;
+      (void)encode_plane(reference, x_params, nullptr, nullptr, nullptr, nullptr, &x_links);
+      links.contexts = &x_states;
     }
     // Bit 7 of byte 0 with bit 7 of byte 2: a B plane (format 1.5), list 1 a second ramp.
     if ((data[0] & 0x80) && (data[2] & 0x80)) {

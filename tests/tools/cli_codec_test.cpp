@@ -108,11 +108,12 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast");  // on by default
+                       " --qp 0 --preset fast --no-cross-plane-contexts");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
   EXPECT_EQ((*stats)["options"]["cross_plane"], true);
+  EXPECT_EQ((*stats)["options"]["cross_plane_contexts"], false);
   auto bytes = read_file(gvid);
   ASSERT_TRUE(bytes.is_ok());
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 6);  // version 1.6
@@ -123,7 +124,8 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
   auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4");
+                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
+                         " --no-cross-plane-contexts");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -131,6 +133,37 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto plain_bytes = read_file(gvid);
   ASSERT_TRUE(plain_bytes.is_ok());
   EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 5);
+}
+
+TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast");  // on by default
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["cross_plane_contexts"], true);
+  auto bytes = read_file(gvid);
+  ASSERT_TRUE(bytes.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 7);  // version 1.7
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "(packet 0)  cross-plane  cross-plane-contexts"))
+      << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  // --no-cross-plane-contexts: version 1.6, no frame with the tool.
+  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-cross-plane-contexts");
+  ASSERT_EQ(off.exit_code, 0) << off.output;
+  auto off_info = run_gvkit("info " + gvid);
+  ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
+  EXPECT_FALSE(contains(off_info.output, "cross-plane-contexts")) << off_info.output;
+  auto off_bytes = read_file(gvid);
+  ASSERT_TRUE(off_bytes.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*off_bytes)[5]), 6);
 }
 
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "gvkit/codec/cross_plane_contexts.hpp"
+
 namespace gvkit::codec {
 
 // The spatial-domain residual a coded plane added to its prediction, per sample (after the
@@ -35,6 +37,11 @@ struct CrossPlaneResidual {
 struct CrossPlaneLinks {
   const CrossPlaneResidual* source = nullptr;
   CrossPlaneResidual* residual_out = nullptr;
+  // Format 1.7, cross-plane contexts (cross_plane_contexts.hpp): `contexts` (Y and Z planes) are
+  // the X plane's final context states, the plane's initial ones, null when the tool is off;
+  // `contexts_out` (the X plane) receives the plane's final states. Either may be null.
+  const CrossPlaneContextStates* contexts = nullptr;
+  CrossPlaneContextStates* contexts_out = nullptr;
 };
 
 // The allowed scales in increasing order, and the number of them.

@@ -1,0 +1,324 @@
+// Cross-plane contexts (format 1.7, flags2 bit 4): the Y and Z planes start their contexts from
+// the X plane's final context states. The decoder reproduces the encoder's reconstruction bit for
+// bit (intra, P and B frames; lossy in both presets with the other 1.6 tools on, with shared
+// motion, lossless and near-lossless); a Y plane like X costs fewer bits; the tool off writes
+// the 1.6 stream byte for byte; bad flags2 bits, missing X states and damaged segments are
+// rejected with a message.
+#include <unistd.h>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/crc32.hpp"
+#include "gvkit/codec/cross_plane.hpp"
+#include "gvkit/codec/cross_plane_contexts.hpp"
+#include "gvkit/codec/frame_coding.hpp"
+#include "gvkit/codec/geometry_planes.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/core/atomic_file.hpp"
+
+namespace gvkit::codec {
+namespace {
+
+// The analytic surface moving by (0.75, 0.375) pixels per frame and growing by 1 % per frame
+// about its centre (so that x, y and z change together).
+std::vector<GeometryImage> moving_video(int size, int frames) {
+  testing::GeometryVideoOptions o;
+  o.size = size;
+  o.frames = frames;
+  auto video = testing::make_analytic_video(o);
+  testing::move_in_picture(&video, 0.75, 0.01);
+  return video;
+}
+
+SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
+  auto info = make_sequence_info(frames, 16, 30.0);
+  GVKIT_CHECK(info.is_ok(), info.status().message());
+  return std::move(info).value();
+}
+
+bool same_samples(const GeometryImage& a, const GeometryImage& b) {
+  for (int y = 0; y < a.xyz_mm.rows; ++y)
+    if (std::memcmp(a.xyz_mm.ptr(y), b.xyz_mm.ptr(y), a.xyz_mm.cols * a.xyz_mm.elemSize()) != 0)
+      return false;
+  return true;
+}
+
+// Encodes with GvidWriter (keeping the encoder's reconstructions), decodes every frame with
+// GvidReader and expects the same samples; returns the stream.
+std::string round_trip(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
+                       const EncoderOptions& o) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("gvkit_xctx_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "x.gvid";
+  std::vector<GeometryImage> recon;
+  {
+    auto writer = GvidWriter::create(path, info, o);
+    GVKIT_CHECK(writer.is_ok(), writer.status().message());
+    for (const auto& f : frames) {
+      auto done = (*writer)->write(f);
+      GVKIT_CHECK(done.is_ok(), done.status().message());
+      for (auto& r : *done) recon.push_back(std::move(r));
+    }
+    auto rest = (*writer)->finish();
+    GVKIT_CHECK(rest.is_ok(), rest.status().message());
+    for (auto& r : *rest) recon.push_back(std::move(r));
+  }
+  auto bytes = read_file(path);
+  std::filesystem::remove_all(dir);
+  GVKIT_CHECK(bytes.is_ok());
+  auto reader = GvidReader::open_memory(*bytes, "x.gvid");
+  EXPECT_TRUE(reader.is_ok()) << reader.status().message();
+  if (!reader.is_ok()) return *bytes;
+  EXPECT_EQ((*reader)->frame_count(), static_cast<int64_t>(frames.size()));
+  for (size_t f = 0; f < frames.size(); ++f) {
+    auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
+    EXPECT_TRUE(decoded.is_ok()) << decoded.status().message();
+    if (decoded.is_ok()) {
+      EXPECT_TRUE(same_samples(*decoded, recon[f])) << "frame " << f;
+    }
+  }
+  return *bytes;
+}
+
+// The flags2 bits of every packet of a stream, or'ed, and whether every packet has `bit`.
+uint8_t all_flags2(const std::string& stream, uint8_t bit, bool* every) {
+  auto reader = GvidReader::open_memory(stream, "x.gvid");
+  GVKIT_CHECK(reader.is_ok());
+  uint8_t flags2 = 0;
+  *every = true;
+  for (int64_t f = 0; f < (*reader)->frame_count(); ++f) {
+    auto h = (*reader)->packet_header(f);
+    GVKIT_CHECK(h.is_ok());
+    flags2 |= h->flags2;
+    *every = *every && (h->flags2 & bit);
+  }
+  return flags2;
+}
+
+TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
+  const auto frames = moving_video(48, 6);
+  const SequenceInfo info = info_for(frames);
+  struct Case {
+    std::string name;
+    EncoderOptions o;
+  };
+  std::vector<Case> cases;
+  // The other format 1.6 tools at their defaults (3 references, 16x16 transforms, cross-plane
+  // residual prediction).
+  for (const Preset preset : {Preset::kFast, Preset::kSlow})
+    for (const int bframes : {0, 1}) {
+      EncoderOptions o;
+      o.qp = 6;
+      o.preset = preset;
+      o.bframes = bframes;
+      o.intra_period = 4;
+      o.cross_plane_contexts = true;
+      cases.push_back(
+          {std::string(preset_name(preset)) + (bframes ? ", B frames" : ", P frames"), o});
+    }
+  EncoderOptions shared;
+  shared.qp = 0;
+  shared.preset = Preset::kSlow;
+  shared.bframes = 0;
+  shared.shared_motion = true;
+  shared.threads = 3;
+  shared.cross_plane_contexts = true;
+  cases.push_back({"slow, shared motion, 3 threads", shared});
+  EncoderOptions lossless;
+  lossless.lossless = true;
+  lossless.preset = Preset::kFast;
+  lossless.cross_plane_contexts = true;
+  cases.push_back({"lossless", lossless});
+  EncoderOptions near = lossless;
+  near.lossless = false;
+  near.max_error_mm = 0.05;
+  near.preset = Preset::kSlow;
+  cases.push_back({"near-lossless, slow", near});
+  EncoderOptions intra;
+  intra.qp = -12;
+  intra.intra_only = true;
+  intra.preset = Preset::kSlow;
+  intra.cross_plane_contexts = true;
+  cases.push_back({"intra only, qp -12", intra});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string bytes = round_trip(frames, info, c.o);
+    EXPECT_EQ(static_cast<uint8_t>(bytes[5]), 7);  // version 1.7
+    bool every = false;
+    all_flags2(bytes, format::kFrame2CrossPlaneContexts, &every);
+    EXPECT_TRUE(every);
+  }
+}
+
+// Plane level: a Y plane like X (same structure, other values) costs fewer bits when it starts
+// from X's final context states; the decoder needs the same states, and without them fails with
+// a message.
+TEST(CrossPlaneContexts, InheritedStatesCostLessAndNeedTheXPlane) {
+  const auto ramp = [](uint32_t seed, int offset) {
+    SamplePlane p;
+    p.width = p.height = 64;
+    p.samples.resize(64 * 64);
+    std::mt19937 rng(seed);
+    for (int y = 0; y < 64; ++y)
+      for (int i = 0; i < 64; ++i)
+        p.at(i, y) = static_cast<uint16_t>(offset + 40 * i + 25 * y + (i / 16 + y / 16) * 500 +
+                                           rng() % (i < 32 ? 2000 : 20));
+    return p;
+  };
+  const SamplePlane x = ramp(7, 20000), y = ramp(8, 15000);
+  for (const bool lossless : {false, true})
+    for (const bool rdo : {false, true}) {
+      SCOPED_TRACE(std::string(lossless ? "lossless" : "qp' 30") + (rdo ? " slow" : " fast"));
+      PlaneCodingParams p;
+      p.qp_prime = 30;
+      p.lossless = lossless;
+      p.adaptive_levels = lossless;
+      p.rdo = rdo;
+      CrossPlaneContextStates x_states, decoded_states;
+      CrossPlaneLinks x_links;
+      x_links.contexts_out = &x_states;
+      const PlaneEncodeResult ex = encode_plane(x, p, nullptr, nullptr, nullptr, nullptr, &x_links);
+      ASSERT_FALSE(x_states.contexts.empty());
+      CrossPlaneLinks y_links;
+      y_links.contexts = &x_states;
+      const PlaneEncodeResult ey = encode_plane(y, p, nullptr, nullptr, nullptr, nullptr, &y_links);
+      const PlaneEncodeResult plain = encode_plane(y, p);
+      EXPECT_LT(ey.bytes.size(), plain.bytes.size());
+      CrossPlaneLinks dx_links;
+      dx_links.contexts_out = &decoded_states;
+      auto dx = decode_plane(ex.bytes, 64, 64, p, nullptr, nullptr, nullptr, nullptr, &dx_links);
+      ASSERT_TRUE(dx.is_ok()) << dx.status().message();
+      EXPECT_EQ(dx->samples, ex.reconstruction.samples);
+      ASSERT_EQ(decoded_states.contexts.size(), x_states.contexts.size());
+      for (size_t i = 0; i < x_states.contexts.size(); ++i) {
+        EXPECT_EQ(decoded_states.contexts[i].state, x_states.contexts[i].state) << i;
+        EXPECT_EQ(decoded_states.contexts[i].mps, x_states.contexts[i].mps) << i;
+      }
+      CrossPlaneLinks dy_links;
+      dy_links.contexts = &decoded_states;
+      auto dy = decode_plane(ey.bytes, 64, 64, p, nullptr, nullptr, nullptr, nullptr, &dy_links);
+      ASSERT_TRUE(dy.is_ok()) << dy.status().message();
+      EXPECT_EQ(dy->samples, ey.reconstruction.samples);
+      if (lossless) {
+        EXPECT_EQ(dy->samples, y.samples);
+      }
+      // States not recorded by a plane.
+      CrossPlaneContextStates empty;
+      dy_links.contexts = &empty;
+      auto bad = decode_plane(ey.bytes, 64, 64, p, nullptr, nullptr, nullptr, nullptr, &dy_links);
+      ASSERT_FALSE(bad.is_ok());
+      EXPECT_NE(bad.status().message().find("cross-plane contexts"), std::string::npos)
+          << bad.status().message();
+    }
+}
+
+TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
+  // tests/golden/analytic_xplane_qp0_ibpbp_v1_6_48.gvid: written by the format 1.6 encoder
+  // (cross-plane residual prediction, one B frame, fast preset) from this video.
+  testing::GeometryVideoOptions vo;
+  vo.size = 48;
+  vo.frames = 5;
+  auto frames = testing::make_analytic_video(vo);
+  testing::move_in_picture(&frames, 0.75);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.qp = 0;
+  o.preset = Preset::kFast;
+  o.bframes = 1;
+  o.refs = 1;
+  o.max_transform = 4;
+  EXPECT_TRUE(EncoderOptions{}.cross_plane_contexts);  // on by default (docs/benchmarks.md)
+  o.cross_plane_contexts = false;
+  auto off = encode_gvid(frames, info, o);
+  ASSERT_TRUE(off.is_ok());
+  auto golden =
+      read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / "analytic_xplane_qp0_ibpbp_v1_6_48.gvid");
+  ASSERT_TRUE(golden.is_ok()) << golden.status().message();
+  EXPECT_TRUE(*off == *golden);
+  o.cross_plane_contexts = true;
+  auto on = encode_gvid(frames, info, o);
+  ASSERT_TRUE(on.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*on)[5]), 7);
+  bool every = false;
+  const uint8_t flags2 = all_flags2(*on, format::kFrame2CrossPlaneContexts, &every);
+  EXPECT_TRUE(every);
+  EXPECT_TRUE(flags2 & format::kFrame2CrossPlane);
+  EXPECT_FALSE(*on == *off);
+}
+
+// The packet of the first frame of a stream (header + payload).
+std::string first_packet(const std::string& stream, size_t header_bytes) {
+  auto h = format::read_packet_header(std::string_view(stream).substr(header_bytes));
+  GVKIT_CHECK(h.is_ok());
+  return stream.substr(header_bytes, format::kPacketHeaderSize + h->payload_size);
+}
+
+std::string with_flags2(std::string packet, uint8_t flags2) {
+  auto h = format::read_packet_header(packet);
+  GVKIT_CHECK(h.is_ok());
+  h->flags2 = flags2;
+  packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+  return packet;
+}
+
+TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
+  const auto frames = moving_video(32, 1);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.qp = 0;
+  o.preset = Preset::kFast;
+  o.intra_only = true;
+  o.max_transform = 4;
+  o.cross_plane = false;  // flags2 then holds the cross-plane contexts bit alone
+  o.cross_plane_contexts = true;
+  auto stream = encode_gvid(frames, info, o);
+  ASSERT_TRUE(stream.is_ok());
+  auto reader = GvidReader::open_memory(*stream, "x.gvid");
+  ASSERT_TRUE(reader.is_ok());
+  const std::string packet = first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
+  ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
+  // The other unknown flags2 bits stay rejected.
+  for (const uint8_t bits : {32, 64, 128}) {
+    auto d =
+        decode_frame_packet(with_flags2(packet, format::kFrame2CrossPlaneContexts | bits), info, 0);
+    ASSERT_FALSE(d.is_ok());
+    EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)
+        << d.status().message();
+  }
+  // Random damage in the payload (CRC fixed up, so that it reaches the macroblock layer): a
+  // Status naming the plane, never a crash (ASan runs this too).
+  std::mt19937 rng(11);
+  int failures = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::string p = packet;
+    const size_t payload = p.size() - format::kPacketHeaderSize;
+    for (int k = 0; k < 1 + trial % 4; ++k)
+      p[format::kPacketHeaderSize + 8 + rng() % (payload - 8)] ^=
+          static_cast<char>(1 << (rng() % 8));
+    auto h = format::read_packet_header(p);
+    ASSERT_TRUE(h.is_ok());
+    h->payload_crc = crc32(p.data() + format::kPacketHeaderSize, payload);
+    p.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+    auto d = decode_frame_packet(p, info, 0);
+    if (!d.is_ok()) {
+      ++failures;
+      EXPECT_NE(d.status().message().find("plane"), std::string::npos) << d.status().message();
+    }
+  }
+  EXPECT_GT(failures, 0);
+  // Without the bit, Y and Z are read with other contexts: rejected, or other samples.
+  auto right = decode_frame_packet(packet, info, 0);
+  auto cleared = decode_frame_packet(with_flags2(packet, 0), info, 0);
+  ASSERT_TRUE(right.is_ok());
+  EXPECT_TRUE(!cleared.is_ok() || !same_samples(*cleared, *right));
+}
+
+}  // namespace
+}  // namespace gvkit::codec
