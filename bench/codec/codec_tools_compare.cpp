@@ -769,8 +769,7 @@ int main(int argc, char** argv) {
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
-          "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only]
-");
+          "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only]\n");
       return 2;
     }
   }
