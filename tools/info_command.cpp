@@ -180,6 +180,7 @@ void describe_gvid(const fs::path& path) {
     if (auto h = reader->packet_header(i); h.is_ok()) {
       if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
       if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
+      if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)

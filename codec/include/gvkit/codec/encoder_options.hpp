@@ -101,6 +101,11 @@ struct EncoderOptions {
   // and -0.95 % in the slow one (-1.7 % and -2.6 % intra only; alone, on the 1.5 defaults,
   // -0.73 % / -0.90 %), -0.18 % lossless (docs/benchmarks.md, format 1.6 cross-plane section).
   bool cross_plane = true;
+  // Inter partitions (format 1.7, docs/bitstream.md 4.11): plain inter macroblocks of P frames
+  // may split into 16x8, 8x16 or 8x8 partitions, each with its own reference and vector (slow
+  // preset: chosen by rate-distortion cost; fast preset: tried where the 16x16 prediction is
+  // poor). false writes no flags2 bit 5 (the 1.6 stream, byte for byte).
+  bool partitions = false;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
