@@ -33,6 +33,12 @@ std::vector<GoldenCase> cases() {
   EncoderOptions lossless, fast, slow_no_gv, eight_bit, inter, lossless_inter, near_affine,
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
       bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near;
+  EncoderOptions part_slow;
+  part_slow.qp = 0;  // version 1.7: inter partitions, slow preset, P frames with the 1.6 tools
+  part_slow.preset = Preset::kSlow;
+  part_slow.bframes = 0;
+  part_slow.shared_motion = true;
+  part_slow.partitions = true;
   refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
   refs_fast.preset = Preset::kFast;
   refs_fast.bframes = 0;
@@ -130,7 +136,8 @@ std::vector<GoldenCase> cases() {
           {"analytic_tx16_qp0_ibpbp_v1_6_48.gvid", 48, 5, tx16_fast, 0.75},
           {"analytic_tx8_slow_qpm6_ippi_v1_6_48.gvid", 48, 4, tx8_slow, 0.75},
           {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
-          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5}};
+          {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5},
+          {"analytic_part_slow_qp0_ipppp_v1_7_48.gvid", 48, 5, part_slow, 0.75}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

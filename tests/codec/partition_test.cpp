@@ -4,6 +4,7 @@
 // differently is coded with partitions, and costs less with them in the slow preset; corrupt
 // partition syntax is rejected with a message; the tool off keeps the older stream.
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/sequence_encoder.hpp"
+#include "gvkit/core/atomic_file.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -165,6 +167,30 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   auto intra_off = encode_gvid(frames, info, o);
   ASSERT_TRUE(intra_on.is_ok() && intra_off.is_ok());
   EXPECT_TRUE(*intra_on == *intra_off);
+}
+
+// The 1.7 golden stream (tests/golden, golden_stream_test.cpp) is re-encoded byte for byte, and
+// its P frames hold partitioned macroblocks.
+TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
+  testing::GeometryVideoOptions vo;
+  vo.size = 48;
+  vo.frames = 5;
+  auto frames = testing::make_analytic_video(vo);
+  testing::move_in_picture(&frames, 0.75);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.qp = 0;
+  o.preset = Preset::kSlow;
+  o.bframes = 0;
+  o.shared_motion = true;
+  o.partitions = true;
+  EXPECT_GT(expect_round_trip(frames, info, o, "golden 1.7"), 0);
+  auto bytes = encode_gvid(frames, info, o);
+  ASSERT_TRUE(bytes.is_ok());
+  auto expected = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
+                            "analytic_part_slow_qp0_ipppp_v1_7_48.gvid");
+  ASSERT_TRUE(expected.is_ok()) << expected.status().message();
+  EXPECT_TRUE(*bytes == *expected);
 }
 
 std::string with_header(const std::string& packet, uint8_t flags2) {
