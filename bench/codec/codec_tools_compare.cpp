@@ -13,7 +13,7 @@
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
-//                            [--partitions-only]
+//                            [--partitions-only [--partitions-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -428,9 +428,10 @@ void report_cross_plane(const Material& m, const EncoderOptions& base, const std
 // options at their defaults), lossless in both presets; BD-rates on vs off and against x265, and
 // the share of the plain inter macroblocks of the P planes per partition type.
 void report_partitions(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
-                       const std::vector<RdPoint>& x265, const std::string& source) {
+                       const std::vector<RdPoint>& x265, const std::string& source,
+                       const std::vector<Preset>& presets) {
   print_header();
-  const Preset presets[2] = {Preset::kFast, Preset::kSlow};
+  const size_t n = presets.size();
   std::vector<RdPoint> curves[2][2];  // [preset][on]
   std::vector<std::string> share_lines;
   const auto share = [](const std::vector<FrameCodingStats>& stats) {
@@ -448,7 +449,7 @@ void report_partitions(const Material& m, const EncoderOptions& base, const std:
                   100.0 * n[3] / std::max<int64_t>(1, total));
     return std::string(buf);
   };
-  for (int p = 0; p < 2; ++p)
+  for (size_t p = 0; p < n; ++p)
     for (int on = 0; on < 2; ++on) {
       const std::string name =
           std::string(preset_name(presets[p])) + (on ? ", --partitions" : ", partitions off");
@@ -465,7 +466,7 @@ void report_partitions(const Material& m, const EncoderOptions& base, const std:
         if (on) share_lines.push_back(name + ", qp " + std::to_string(qp) + ": " + share(stats));
       }
     }
-  for (int p = 0; p < 2; ++p)
+  for (size_t p = 0; p < n; ++p)
     for (int on = 0; on < 2; ++on) {
       EncoderOptions o = base;
       o.preset = presets[p];
@@ -479,10 +480,10 @@ void report_partitions(const Material& m, const EncoderOptions& base, const std:
       if (on) share_lines.push_back(name + ": " + share(stats));
     }
   std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
-  for (int p = 0; p < 2; ++p)
+  for (size_t p = 0; p < n; ++p)
     print_bd(std::string(preset_name(presets[p])) + ": --partitions vs off", curves[p][0],
              curves[p][1]);
-  for (int p = 0; p < 2; ++p)
+  for (size_t p = 0; p < n; ++p)
     for (int on = 0; on < 2; ++on)
       print_bd(std::string(preset_name(presets[p])) + (on ? ", --partitions" : ", off") +
                    " vs x265 12-bit (" + source + " points)",
@@ -731,6 +732,13 @@ int main(int argc, char** argv) {
         return 2;
       }
       refs_presets = {*preset};
+    } else if (a == "--partitions-preset" && i + 1 < argc) {
+      auto preset = parse_preset(argv[++i]);
+      if (!preset.is_ok()) {
+        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+        return 2;
+      }
+      refs_presets = {*preset};
     } else if (a == "--bframes" && i + 1 < argc)
       bframes = std::atoi(argv[++i]);
     else if (a == "--no-peers")
@@ -743,7 +751,8 @@ int main(int argc, char** argv) {
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only [--bits-preset P]] [--motion-only] [--bframes-only] [--transform-only] "
-          "[--refs-only [--refs-preset P]] [--cross-plane-only] [--partitions-only]\n");
+          "[--refs-only [--refs-preset P]] [--cross-plane-only] [--partitions-only "
+          "[--partitions-preset P]]\n");
       return 2;
     }
   }
@@ -806,7 +815,7 @@ int main(int argc, char** argv) {
   }
   if (partitions_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_partitions(m, base, qps, x265, peers ? "this run" : "logged");
+    report_partitions(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
     return 0;
   }
   if (refs_only) {

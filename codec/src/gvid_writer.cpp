@@ -175,7 +175,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
-  if (options.partitions && !options.intra_only && options.intra_period >= 2)
+  if (options.use_partitions() && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionPartitions;  // format 1.7: P frames with partitions
   if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
     return format::kMinorVersionMultiRef;

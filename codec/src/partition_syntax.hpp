@@ -58,6 +58,15 @@ int read_partition_type(Decoder& decoder, CabacContext* ctx) {
   if (decoder.decode(ctx[0])) return decoder.decode(ctx[2]) ? kPart16x8 : kPart8x16;
   return decoder.decode(ctx[1]) ? kPart8x8 : kPart16x16;
 }
+// The partition type contexts' initial states (the only contexts that do not start
+// equiprobable): most plain inter macroblocks are 16x16, so bin 1 starts at pStateIdx 15
+// (p(1) = 0.23) and bin 2 after a 0 at 40 (p(8x8) = 0.06); bin 2 after a 1 starts equiprobable.
+// With few inter macroblocks per plane the contexts never learn this from equiprobable states.
+inline void init_partition_contexts(CabacContext* ctx) {
+  ctx[0] = {15, 0};
+  ctx[1] = {40, 0};
+  ctx[2] = {0, 0};
+}
 // Encoder: the ideal code length in bits of the partition type bins with the current states.
 inline double partition_type_bits(const CabacContext* ctx, int t) {
   const auto cost = [](const CabacContext& c, int bin) {

@@ -526,6 +526,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   if (residual_out) residual_out->reset(width, height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  if (st.partitions) init_partition_contexts(ctx.partition);  // format 1.7
   CabacDecoder decoder(bytes);
   MacroblockReader reader(decoder, ctx, st, params);
   MacroblockData mb;

@@ -572,11 +572,10 @@ class MacroblockEncoder {
   // ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
   // The partitioned candidates after the 16x16 ones: 16x8, 8x16 and 8x8, each partition's
   // vector refined from the 16x16 search result and its predictor (search_partition_motion),
-  // the residual over the whole macroblock as for 16x16. Slow preset: every type is an RDO
-  // candidate. Fast preset: only when the best candidate's SATD cost per sample is at least
-  // kPartitionFastThreshold x lambda (a macroblock the 16x16 vector predicts badly), and then only
-  // the type with the lowest SATD + lambda * motion bits is coded.
-  static constexpr double kPartitionFastThreshold = 2.0;
+  // the residual over the whole macroblock as for 16x16. With RDO (the slow preset) every type is
+  // a candidate. Without (planes coded with rdo = false and partitions, which EncoderOptions'
+  // fast preset does not ask for: docs/benchmarks.md, format 1.7) the type with the lowest SATD +
+  // lambda * motion bits is coded as a candidate.
   void consider_partitions(Candidate& best, const ContextSet& ctx) {
     if (p_.rdo) {
       for (int t = kPart16x8; t <= kPart8x8; ++t)
@@ -585,15 +584,14 @@ class MacroblockEncoder {
         });
       return;
     }
-    if (best.cost < kPartitionFastThreshold * lambda_sad_ * 256) return;
     int chosen = -1;
     double chosen_cost = best.cost;
     MacroblockData motion[kPartitionTypeCount];
     for (int t = kPart16x8; t <= kPart8x8; ++t) {
       int32_t pred[256];
+      const double side = partition_motion(motion[t], ctx, t, nullptr, pred);
       const double cost =
-          partition_motion(motion[t], ctx, t, nullptr, pred) +
-          static_cast<double>(distortion_estimate(16, pred, mb_x_ * 16, mb_y_ * 16));
+          side + static_cast<double>(distortion_estimate(16, pred, mb_x_ * 16, mb_y_ * 16));
       if (cost < chosen_cost) {
         chosen = t;
         chosen_cost = cost;
@@ -1199,6 +1197,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   if (residual_out) residual_out->reset(plane.width, plane.height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  if (st.partitions) init_partition_contexts(ctx.partition);  // format 1.7
   CabacEncoder encoder;
   StatsCoder coder(encoder, result.stats);
   GVKIT_CHECK(!joint || joint->sources.size() == joint->references.size());

@@ -397,6 +397,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
     o.refs = 1;
     o.max_transform = 4;    // without the format 1.6 larger transforms
     o.cross_plane = false;  // ... and cross-plane prediction: the 1.4 stream
+    o.partitions = false;   // ... and the format 1.7 inter partitions
     auto bytes = encode_gvid(frames, info, o);
     ASSERT_TRUE(bytes.is_ok());
     auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / file);
@@ -411,6 +412,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   intra.refs = 3;  // references asked for too: intra only still writes 1.4
   intra.max_transform = 4;
   intra.cross_plane = false;
+  intra.partitions = false;
   auto intra_bytes = encode_gvid(frames, info, intra);
   ASSERT_TRUE(intra_bytes.is_ok());
   EXPECT_EQ(static_cast<uint8_t>((*intra_bytes)[5]), 4);

@@ -117,6 +117,18 @@ std::vector<GoldenCase> cases() {
   slow_no_gv.geometry_modes = false;
   eight_bit.bit_depth = 8;
   eight_bit.qp = 20;
+  // Every stream before 1.7 was written without inter partitions.
+  for (EncoderOptions* o : {&lossless,     &fast,
+                            &slow_no_gv,   &eight_bit,
+                            &inter,        &lossless_inter,
+                            &near_affine,  &plane_qp,
+                            &qpel_td,      &hpel_lossless,
+                            &shared_fast,  &shared_lossless,
+                            &bframes_fast, &bframes_lossless,
+                            &refs_fast,    &refs_lossless,
+                            &tx16_fast,    &tx8_slow,
+                            &cross_fast,   &cross_near})
+    o->partitions = false;
   return {{"analytic_lossless_48.gvid", 48, 2, lossless},
           {"analytic_qp6_fast_64.gvid", 64, 2, fast},
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},

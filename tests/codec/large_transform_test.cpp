@@ -352,6 +352,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.max_transform = 4;
   o.refs = 1;             // the golden stream was written with one reference frame (format 1.4)
   o.cross_plane = false;  // ... and without cross-plane prediction
+  o.partitions = false;   // ... and inter partitions (format 1.7)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =

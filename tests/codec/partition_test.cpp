@@ -75,7 +75,7 @@ int64_t expect_round_trip(const std::vector<GeometryImage>& frames, const Sequen
       EXPECT_TRUE(header.is_ok());
       // Bit 5 in the P frames only.
       EXPECT_EQ((header->flags2 & format::kFrame2Partitions) != 0,
-                o.partitions && f.type == format::FrameType::kPredicted)
+                o.use_partitions() && f.type == format::FrameType::kPredicted)
           << what << " frame " << f.number;
       recon[f.number] = std::move(f.reconstruction);
     }
@@ -92,7 +92,8 @@ int64_t expect_round_trip(const std::vector<GeometryImage>& frames, const Sequen
   auto bytes = encode_gvid(frames, info, o);
   EXPECT_TRUE(bytes.is_ok()) << what;
   if (!bytes.is_ok()) return 0;
-  EXPECT_EQ((*bytes)[5], o.partitions ? format::kMinorVersionPartitions : stream_minor_version(o));
+  EXPECT_EQ((*bytes)[5],
+            o.use_partitions() ? format::kMinorVersionPartitions : stream_minor_version(o));
   const std::string header = format::write_file_header(info, stream_minor_version(o));
   EXPECT_EQ(bytes->substr(header.size(), packets.size()), packets) << what;
   for (int pass = 0; pass < 2; ++pass) {
@@ -143,6 +144,7 @@ TEST(Partitions, TwoMotionsCostLessWithPartitions) {
   o.preset = Preset::kSlow;
   o.qp = 6;
   o.bframes = 0;
+  o.partitions = false;
   auto off = encode_gvid(frames, info, o);
   o.partitions = true;
   auto on = encode_gvid(frames, info, o);
@@ -156,6 +158,15 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.bframes = 0;
+  // The fast preset codes 16x16 only: with the option on it writes the older stream.
+  auto fast_off = encode_gvid(frames, info, o);
+  o.partitions = true;
+  EXPECT_FALSE(o.use_partitions());
+  auto fast_on = encode_gvid(frames, info, o);
+  ASSERT_TRUE(fast_off.is_ok() && fast_on.is_ok());
+  EXPECT_TRUE(*fast_on == *fast_off);
+  o.partitions = false;
+  o.preset = Preset::kSlow;
   const uint8_t older = stream_minor_version(o);
   EXPECT_EQ(older, format::kMinorVersionMultiRef);
   o.partitions = true;
@@ -193,6 +204,38 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   EXPECT_TRUE(*bytes == *expected);
 }
 
+// Plane level: without RDO (the SATD-based decision) partitions are coded too, and decode to
+// the encoder's reconstruction; the macroblocks' motion is exported with partition 0's vector.
+TEST(Partitions, PlaneCodingWithoutRdoRoundTrips) {
+  const auto frames = video(64, 2);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.qp = 0;
+  auto i0 = encode_frame(frames[0], info, o, 0);
+  ASSERT_TRUE(i0.is_ok());
+  auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);  // its planes as a source
+  ASSERT_TRUE(p1.is_ok());
+  for (bool rdo : {false, true})
+    for (int subpel : {0, 4}) {
+      PlaneCodingParams p;
+      p.qp_prime = 48;
+      p.partitions = true;
+      p.rdo = rdo;
+      p.subpel = subpel;
+      p.max_transform = 16;
+      p.inter_decimation = true;
+      const SamplePlane& ref = i0->planes[0];
+      const PlaneEncodeResult r = encode_plane(p1->planes[0], p, &ref);
+      EXPECT_GT(r.stats.partition_mbs[1] + r.stats.partition_mbs[2] + r.stats.partition_mbs[3], 0)
+          << rdo << subpel;
+      MotionField motion;
+      auto d = decode_plane(r.bytes, 64, 64, p, &ref, nullptr, &motion);
+      ASSERT_TRUE(d.is_ok()) << d.status().message();
+      EXPECT_TRUE(d->samples == r.reconstruction.samples) << rdo << subpel;
+      EXPECT_TRUE(motion.mv_x == r.motion.mv_x && motion.mv_y == r.motion.mv_y);
+    }
+}
+
 std::string with_header(const std::string& packet, uint8_t flags2) {
   auto header = format::read_packet_header(packet);
   GVKIT_CHECK(header.is_ok());
@@ -204,7 +247,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.preset = Preset::kFast;
+  o.preset = Preset::kSlow;
   o.qp = 0;
   o.partitions = true;
   auto i0 = encode_frame(frames[0], info, o, 0);
@@ -237,7 +280,8 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   p.qp_prime = 48;
   p.partitions = true;
   CabacEncoder enc;
-  CabacContext is_inter, skip, bin1, bin2, mvd_zero;
+  CabacContext is_inter, skip, mvd_zero;
+  CabacContext bin1{15, 0}, bin2{0, 0};  // the partition contexts' initial states (4.11)
   enc.encode(is_inter, 1);
   enc.encode(skip, 0);
   enc.encode(bin1, 1);  // 16x8 or 8x16
