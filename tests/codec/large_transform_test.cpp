@@ -293,6 +293,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.max_transform = max_transform;
       o.refs = 1;  // without the other 1.6 tools
       o.cross_plane = false;
+      o.partitions = false;  // ... and the 1.7 inter partitions
       std::vector<FrameCodingStats> stats;
       auto bytes = encode_gvid(frames, *info, o, &stats);
       ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();

@@ -152,22 +152,25 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   EXPECT_TRUE(contains(info.output, "  partitions")) << info.output;
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  // Off by default: version 1.6, no partition frames.
-  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset slow --bframes 0");
-  ASSERT_EQ(plain.exit_code, 0) << plain.output;
-  auto plain_info = run_gvkit("info " + gvid);
-  ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
-  EXPECT_FALSE(contains(plain_info.output, "partitions")) << plain_info.output;
-  auto plain_bytes = read_file(gvid);
-  ASSERT_TRUE(plain_bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 6);
-  auto no = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                      " --qp 0 --preset slow --bframes 0 --no-partitions");
-  ASSERT_EQ(no.exit_code, 0) << no.output;
-  auto no_bytes = read_file(gvid);
-  ASSERT_TRUE(no_bytes.is_ok());
-  EXPECT_TRUE(*no_bytes == *plain_bytes);
+  // On by default in the slow preset: the same stream.
+  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                            " --qp 0 --preset slow --bframes 0");
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
+  auto default_bytes = read_file(gvid);
+  ASSERT_TRUE(default_bytes.is_ok());
+  EXPECT_TRUE(*default_bytes == *bytes);
+  // --no-partitions: version 1.6, no partition frames; the fast preset codes 16x16 only.
+  for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
+    auto plain =
+        run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 0 --bframes 0" + args);
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    auto plain_info = run_gvkit("info " + gvid);
+    ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
+    EXPECT_FALSE(contains(plain_info.output, "partitions")) << args << plain_info.output;
+    auto plain_bytes = read_file(gvid);
+    ASSERT_TRUE(plain_bytes.is_ok());
+    EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 6) << args;
+  }
 }
 
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
