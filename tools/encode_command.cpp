@@ -287,9 +287,10 @@ void add_encode_command(CLI::App& app) {
                 "own (cross-plane residual prediction, format 1.6; on by default); "
                 "--no-cross-plane writes the 1.4 / 1.5 stream");
   cmd->add_flag("--partitions,!--no-partitions", args->options.partitions,
-                "P frames: let plain inter macroblocks split into 16x8, 8x16 or 8x8 partitions "
-                "with their own reference and vector (inter partitions, format 1.7; off by "
-                "default); --no-partitions writes the 1.6 stream");
+                "P frames, slow preset: let plain inter macroblocks split into 16x8, 8x16 or 8x8 "
+                "partitions with their own reference and vector (inter partitions, format 1.7; "
+                "on by default; the fast preset codes 16x16 only); --no-partitions writes the 1.6 "
+                "stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(
