@@ -143,7 +143,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     syntax.max_transform = options.max_transform;
   }
   if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
-  if (p_frame && options.use_partitions()) {                                  // format 1.7
+  if (p_frame && options.use_partitions()) {                            // format 1.7
     header.flags2 |= format::kFrame2Partitions;
     syntax.partitions = true;
   }
