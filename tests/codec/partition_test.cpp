@@ -131,6 +131,8 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         o.refs = mode == 1 ? 1 : 3;
         o.shared_motion = bframes == 0;
         o.joint_motion_search = bframes == 0;
+        // Value prediction maps reference 0 (the partitions predict from the mapped planes).
+        o.value_prediction = mode == 0 ? ValuePrediction::kAffine : ValuePrediction::kNone;
         o.partitions = true;
         const std::string what = std::string(preset_name(preset)) + " mode " +
                                  std::to_string(mode) + " bframes " + std::to_string(bframes);
