@@ -49,6 +49,11 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
     j["cross_scale_mbs"] = nlohmann::json::array();
     for (int64_t n : s.cross_scale_mbs) j["cross_scale_mbs"].push_back(n);
   }
+  if (s.partition_mbs[1] + s.partition_mbs[2] + s.partition_mbs[3] > 0) {
+    // Format 1.7: plain inter macroblocks per partition type 16x16, 16x8, 8x16, 8x8.
+    j["partition_mbs"] = nlohmann::json::array();
+    for (int64_t n : s.partition_mbs) j["partition_mbs"].push_back(n);
+  }
   return j;
 }
 
@@ -185,6 +190,7 @@ void run_encode(const EncodeArgs& args) {
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
         {"cross_plane_contexts", options.cross_plane_contexts},
+        {"partitions", options.partitions},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -285,6 +291,11 @@ void add_encode_command(CLI::App& app) {
                 args->options.cross_plane_contexts,
                 "Start the Y and Z planes' CABAC contexts from the states the X plane's reached "
                 "(cross-plane contexts, format 1.7); --no-cross-plane-contexts writes the 1.6 "
+                "stream");
+  cmd->add_flag("--partitions,!--no-partitions", args->options.partitions,
+                "P frames, slow preset: let plain inter macroblocks split into 16x8, 8x16 or 8x8 "
+                "partitions with their own reference and vector (inter partitions, format 1.7; "
+                "on by default; the fast preset codes 16x16 only); --no-partitions writes the 1.6 "
                 "stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");

@@ -181,6 +181,7 @@ void describe_gvid(const fs::path& path) {
       if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
       if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
       if (h->flags2 & codec::format::kFrame2CrossPlaneContexts) tools += "  cross-plane-contexts";
+      if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)

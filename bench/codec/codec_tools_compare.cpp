@@ -14,6 +14,7 @@
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
 //                            [--ctx-only]
+//                            [--partitions-only [--partitions-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -26,9 +27,12 @@
 // only, lossless and near-lossless, the BD-rates against off and x265, and how often each scale
 // is coded; --ctx-only: format 1.7 cross-plane contexts off / on, the other options at their
 // defaults, in both presets and lossless, the BD-rates against off and x265, and the bits per
-// syntax group at QP 6 and 12 off and on)
+// syntax group at QP 6 and 12 off and on; --partitions-only: format 1.7 inter partitions off /
+// on in both presets, lossless, the BD-rates against off and x265, and the share of each
+// partition type)
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -476,6 +480,74 @@ void report_cross_plane(const Material& m, const EncoderOptions& base, const std
   for (const auto& line : scale_lines) std::printf("  %s\n", line.c_str());
 }
 
+// Format 1.7, inter partitions: off and on in the fast and slow presets (QP curves, the other
+// options at their defaults), lossless in both presets; BD-rates on vs off and against x265, and
+// the share of the plain inter macroblocks of the P planes per partition type.
+void report_partitions(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                       const std::vector<RdPoint>& x265, const std::string& source,
+                       const std::vector<Preset>& presets) {
+  print_header();
+  const size_t n = presets.size();
+  std::vector<RdPoint> curves[2][2];  // [preset][on]
+  std::vector<std::string> share_lines;
+  const auto share = [](const std::vector<FrameCodingStats>& stats) {
+    int64_t n[4] = {};
+    for (const auto& f : stats)
+      for (const auto& plane : f.planes)
+        for (int t = 0; t < 4; ++t) n[t] += plane.partition_mbs[t];
+    const int64_t total = n[0] + n[1] + n[2] + n[3];
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "%lld plain inter MBs: 16x16 %.1f %%, 16x8 %.1f %%, 8x16 %.1f %%, 8x8 %.1f %%",
+                  static_cast<long long>(total), 100.0 * n[0] / std::max<int64_t>(1, total),
+                  100.0 * n[1] / std::max<int64_t>(1, total),
+                  100.0 * n[2] / std::max<int64_t>(1, total),
+                  100.0 * n[3] / std::max<int64_t>(1, total));
+    return std::string(buf);
+  };
+  for (size_t p = 0; p < n; ++p)
+    for (int on = 0; on < 2; ++on) {
+      const std::string name =
+          std::string(preset_name(presets[p])) + (on ? ", --partitions" : ", partitions off");
+      std::vector<FrameCodingStats> all;
+      for (int qp : qps) {
+        EncoderOptions o = base;
+        o.preset = presets[p];
+        o.qp = qp;
+        o.partitions = on != 0;
+        std::vector<FrameCodingStats> stats;
+        const Run r = run_ours(m, o, &stats);
+        print_row(name, "qp " + std::to_string(qp), r);
+        curves[p][on].push_back(r.point);
+        if (on) share_lines.push_back(name + ", qp " + std::to_string(qp) + ": " + share(stats));
+      }
+    }
+  for (size_t p = 0; p < n; ++p)
+    for (int on = 0; on < 2; ++on) {
+      EncoderOptions o = base;
+      o.preset = presets[p];
+      o.lossless = true;
+      o.partitions = on != 0;
+      std::vector<FrameCodingStats> stats;
+      const Run r = run_ours(m, o, &stats);
+      const std::string name = std::string("lossless, ") + preset_name(presets[p]) +
+                               (on ? ", --partitions" : ", partitions off");
+      print_row(name, "-", r);
+      if (on) share_lines.push_back(name + ": " + share(stats));
+    }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (size_t p = 0; p < n; ++p)
+    print_bd(std::string(preset_name(presets[p])) + ": --partitions vs off", curves[p][0],
+             curves[p][1]);
+  for (size_t p = 0; p < n; ++p)
+    for (int on = 0; on < 2; ++on)
+      print_bd(std::string(preset_name(presets[p])) + (on ? ", --partitions" : ", off") +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[p][on]);
+  std::printf("\nPartition types of the P planes' plain inter macroblocks:\n");
+  for (const auto& line : share_lines) std::printf("  %s\n", line.c_str());
+}
+
 // Format 1.6, multiple reference frames: --refs 1, 2, 3, 5 in the given presets (QP curves),
 // lossless (fast), and the BD-rates against --refs 1 and against x265.
 void report_refs(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -705,7 +777,7 @@ int main(int argc, char** argv) {
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
-       qp_offsets_only = false, ctx_only = false;
+       qp_offsets_only = false, ctx_only = false, partitions_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -746,11 +818,20 @@ int main(int argc, char** argv) {
       cross_plane_only = true;
     else if (a == "--ctx-only")
       ctx_only = true;
+    else if (a == "--partitions-only")
+      partitions_only = true;
     else if (a == "--transform-only")
       transform_only = true;
     else if (a == "--refs-only")
       refs_only = true;
     else if (a == "--refs-preset" && i + 1 < argc) {
+      auto preset = parse_preset(argv[++i]);
+      if (!preset.is_ok()) {
+        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+        return 2;
+      }
+      refs_presets = {*preset};
+    } else if (a == "--partitions-preset" && i + 1 < argc) {
       auto preset = parse_preset(argv[++i]);
       if (!preset.is_ok()) {
         std::fprintf(stderr, "%s\n", preset.status().message().c_str());
@@ -769,7 +850,8 @@ int main(int argc, char** argv) {
           "usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] "
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
-          "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only]\n");
+          "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
+          "[--partitions-only [--partitions-preset P]]\n");
       return 2;
     }
   }
@@ -840,6 +922,11 @@ int main(int argc, char** argv) {
   if (ctx_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_cross_plane_contexts(m, base, qps, x265, peers ? "this run" : "logged");
+    return 0;
+  }
+  if (partitions_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_partitions(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
     return 0;
   }
   if (refs_only) {

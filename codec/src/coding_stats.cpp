@@ -23,6 +23,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   transform8_mbs += other.transform8_mbs;
   transform16_mbs += other.transform16_mbs;
   for (int i = 0; i < 9; ++i) cross_scale_mbs[i] += other.cross_scale_mbs[i];
+  for (int i = 0; i < 4; ++i) partition_mbs[i] += other.partition_mbs[i];
   return *this;
 }
 

@@ -23,8 +23,9 @@ struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
   int plane_qp_offset[3] = {0, 0, 0};
-  int ref_count = 1;      // format 1.6: P frames with flags2 bit 1, 2..5
-  int max_transform = 4;  // format 1.6 (flags2 bit 2): 8 or 16
+  int ref_count = 1;        // format 1.6: P frames with flags2 bit 1, 2..5
+  int max_transform = 4;    // format 1.6 (flags2 bit 2): 8 or 16
+  bool partitions = false;  // format 1.7: P frames with flags2 bit 5
 };
 
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
@@ -38,6 +39,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.subpel = (flags & format::kFrameQuarterPel) != 0 ? 4 : 0;
   p.ref_count = syntax.ref_count;
   p.max_transform = syntax.max_transform;
+  p.partitions = syntax.partitions;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -143,6 +145,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
   // Format 1.7: cross-plane contexts.
   if (options.cross_plane_contexts) header.flags2 |= format::kFrame2CrossPlaneContexts;
+  if (p_frame && options.use_partitions()) {  // format 1.7
+    header.flags2 |= format::kFrame2Partitions;
+    syntax.partitions = true;
+  }
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
                                       (bidirectional ? options.b_qp_offset : 0),
@@ -352,6 +358,8 @@ Result<GeometryImage> decode_frame_packet(
     return corrupt_data("frame flags2: multiple reference frames in an intra frame");
   if ((header.flags2 & format::kFrame2LargeTransforms) && lossless)
     return corrupt_data("frame flags2: larger transforms in a lossless frame");
+  if ((header.flags2 & format::kFrame2Partitions) && header.type != format::FrameType::kPredicted)
+    return corrupt_data("frame flags2: inter partitions outside a P frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -361,6 +369,7 @@ Result<GeometryImage> decode_frame_packet(
     return corrupt_data("plane count " + std::to_string(plane_count) + " (header says " +
                         std::to_string(expected) + ")");
   FrameSyntax syntax;
+  syntax.partitions = (header.flags2 & format::kFrame2Partitions) != 0;  // format 1.7
   if (header.flags & format::kFrameNearLossless) {
     syntax.near_lossless = r.u16();
     if (!r.ok() || syntax.near_lossless == 0)

@@ -22,6 +22,7 @@
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
+#include "partition_syntax.hpp"
 #include "reference_index_syntax.hpp"
 
 namespace gvkit::codec::detail {
@@ -64,6 +65,8 @@ struct ContextSet {
   // Format 1.6, Y and Z planes: cross-plane scale, log2_res_scale_abs_plus1 bins and sign.
   CabacContext cross_scale[4];
   CabacContext cross_sign[1];
+  // Format 1.7, inter partitions: the partition type bins (partition_syntax.hpp).
+  CabacContext partition[kPartitionContexts];
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -163,6 +166,20 @@ struct PlaneState {
   std::vector<uint8_t> transform;
   // Format 1.6, Y and Z planes: the residual predicted from (X's), or null (tool off).
   const CrossPlaneResidual* cross = nullptr;
+  // Format 1.7 (inter partitions), P planes: motion per 8x8 block, which the vector predictors
+  // and ref_idx contexts read instead of the per-macroblock arrays (enable_partitions).
+  bool partitions = false;
+  PartitionGrid grid;
+  void enable_partitions() {
+    partitions = true;
+    grid.reset(mbs_x, mbs_y);
+  }
+  // Context increment of the first ref_idx bin of a 16x16 macroblock (format 1.6; with
+  // partitions from the 8x8 blocks next to its top-left one).
+  int ref_context(int mb_x, int mb_y) const {
+    return partitions ? grid.ref_context(2 * mb_x, 2 * mb_y)
+                      : ref_idx_context(ref_idx, mbs_x, mb_x, mb_y);
+  }
 
   PlaneState(int width, int height)
       : mbs_x(width / 16),
@@ -207,6 +224,7 @@ struct PlaneState {
   // the top one's if inter, else zero).
   void mv_predictor(int mb_x, int mb_y, int* px, int* py, int ref = 0) const {
     *px = *py = 0;
+    if (partitions) return grid_mv_predictor(mb_x, mb_y, px, py, ref);
     const auto inter = [&](int x, int y) {
       return x >= 0 && y >= 0 && mb_type[static_cast<size_t>(y) * mbs_x + x] == kMbInter;
     };
@@ -230,6 +248,27 @@ struct PlaneState {
       *px = mv_x[i];
       *py = mv_y[i];
     }
+  }
+  // Format 1.7: the same rule on the 8x8 blocks left of and above the macroblock's top-left one
+  // (so on the partitions next to it).
+  void grid_mv_predictor(int mb_x, int mb_y, int* px, int* py, int ref) const {
+    const int x = 2 * mb_x, y = 2 * mb_y;
+    const auto ref_at = [&](int gx, int gy) {
+      return gx >= 0 && gy >= 0 ? static_cast<int>(grid.ref[grid.index(gx, gy)]) : -1;
+    };
+    const auto take = [&](int gx, int gy) {
+      *px = grid.mv_x[grid.index(gx, gy)];
+      *py = grid.mv_y[grid.index(gx, gy)];
+    };
+    const int left = ref_at(x - 1, y), top = ref_at(x, y - 1);
+    if (left == ref)
+      take(x - 1, y);
+    else if (top == ref)
+      take(x, y - 1);
+    else if (left >= 0)
+      take(x - 1, y);
+    else if (top >= 0)
+      take(x, y - 1);
   }
   // B planes: the predictor of the list's vector, the left macroblock's if it uses the list,
   // else the top one's if it does, else zero.
@@ -284,6 +323,10 @@ struct MacroblockData {
   bool shared = false;     // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;  // inter: motion vector (samples, or quarter samples)
   int ref_idx = 0;         // inter, P planes: index into the reference list (format 1.6)
+  // Format 1.7, P planes: the partition type (PartitionType) of a plain inter macroblock and,
+  // when not 16x16, each partition's reference and vector (mv_x, mv_y, ref_idx: partition 0's).
+  int partition = kPart16x16;
+  int part_ref[4] = {}, part_mv_x[4] = {}, part_mv_y[4] = {};
   // B planes: the prediction of an inter macroblock and its list 1 vector (mv_x, mv_y being
   // the list 0 one). Skip is a direct macroblock without residual.
   BPred b_pred = kBDirect;
@@ -592,6 +635,41 @@ void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x,
   write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
 }
 
+// ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
+// The motion of a macroblock of partition type mb.partition (not 16x16): every partition's
+// ref_idx (several references), then every partition's vector difference against its
+// predictor (partition_mv_predictor). Records the motion (the macroblock's vector: partition
+// 0's) and the state of a plain inter macroblock without TD.
+template <class Coder>
+void write_partitioned_motion(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
+                              const MacroblockData& mb, const PlaneCodingParams& params) {
+  const int t = mb.partition, count = partition_count(t);
+  const size_t mb_index = static_cast<size_t>(mb_y) * st.mbs_x + mb_x;
+  set_group(coder, kSyntaxMotion);
+  for (int k = 0; k < count && params.ref_count > 1; ++k) {
+    const PartitionRect r = partition_rect(t, k);
+    write_ref_idx(coder, ctx.ref_idx, st.grid.ref_context(2 * mb_x + r.x, 2 * mb_y + r.y),
+                  mb.part_ref[k], params.ref_count);
+    // The predictors of later partitions see this reference (vectors follow below).
+    st.grid.set(mb_x, mb_y, r, mb.part_ref[k], 0, 0);
+  }
+  for (int k = 0; k < count; ++k) st.grid.set(mb_x, mb_y, partition_rect(t, k), -1, 0, 0);
+  for (int k = 0; k < count; ++k) {
+    int px, py;
+    partition_mv_predictor(st.grid, mb_x, mb_y, t, k, mb.part_ref[k], &px, &py);
+    write_mvd(coder, ctx, 0, mb.part_mv_x[k] - px);
+    write_mvd(coder, ctx, 1, mb.part_mv_y[k] - py);
+    st.grid.set(mb_x, mb_y, partition_rect(t, k), mb.part_ref[k], mb.part_mv_x[k], mb.part_mv_y[k]);
+  }
+  st.ref_idx[mb_index] = static_cast<uint8_t>(mb.part_ref[0]);
+  st.mv_x[mb_index] = static_cast<int16_t>(mb.part_mv_x[0]);
+  st.mv_y[mb_index] = static_cast<int16_t>(mb.part_mv_y[0]);
+  st.td[mb_index] = 0;
+  const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+  for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+}
+// ---- end of inter partitions ----
+
 // Writes one macroblock at (mb_x, mb_y) and records its state for later contexts.
 template <class Coder>
 void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, int mb_y,
@@ -621,12 +699,22 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       else
         coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], mb.skip);
       st.skip[mb_index] = mb.skip;
+      // ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
+      if (st.partitions && !mb.skip && !shared) {
+        set_group(coder, kSyntaxMotion);
+        write_partition_type(coder, ctx.partition, mb.partition);
+        if (mb.partition != kPart16x16) {
+          write_partitioned_motion(coder, ctx, st, mb_x, mb_y, mb, params);
+          write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
+          return;
+        }
+      }
+      // ---- end of inter partitions ----
       // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
       const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
       if (!mb.skip && !shared && params.ref_count > 1) {
         set_group(coder, kSyntaxMotion);
-        write_ref_idx(coder, ctx.ref_idx, ref_idx_context(st.ref_idx, st.mbs_x, mb_x, mb_y), ref,
-                      params.ref_count);
+        write_ref_idx(coder, ctx.ref_idx, st.ref_context(mb_x, mb_y), ref, params.ref_count);
       }
       st.ref_idx[mb_index] = static_cast<uint8_t>(ref);
       int px, py;
@@ -642,6 +730,8 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       }
       st.mv_x[mb_index] = static_cast<int16_t>(mb.skip || shared ? px : mb.mv_x);
       st.mv_y[mb_index] = static_cast<int16_t>(mb.skip || shared ? py : mb.mv_y);
+      if (st.partitions)
+        st.grid.set_macroblock(mb_x, mb_y, ref, st.mv_x[mb_index], st.mv_y[mb_index]);
       const int gx0 = mb_x * 4, gy0 = mb_y * 4;
       const bool td = !mb.skip && params.td_prediction && mb.td;
       set_group(coder, kSyntaxMbType);
@@ -669,6 +759,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
     st.skip[mb_index] = 0;
     st.td[mb_index] = 0;
     st.ref_idx[mb_index] = 0;
+    if (st.partitions) st.grid.set_macroblock(mb_x, mb_y, -1, 0, 0);  // format 1.7
   }
   write_intra_macroblock(coder, ctx, st, mb_x, mb_y, mb, params);
 }
@@ -745,6 +836,22 @@ inline void reconstruct_macroblock_residual(const int32_t* pred16, const Macrobl
 inline void predict_inter(const SamplePlane& ref, int x0, int y0, int mv_x, int mv_y,
                           bool quarter_pel, int bit_depth, int32_t* pred) {
   predict_motion_block(ref, x0, y0, 16, 16, mv_x, mv_y, quarter_pel, bit_depth, pred);
+}
+
+// Format 1.7: the inter prediction of a partitioned P macroblock at (x0, y0) (16x16, row-major
+// into pred): each partition's block from its own reference reference(ref_idx) at its vector.
+template <class ReferenceOf>
+void predict_partitions(const MacroblockData& mb, int x0, int y0, bool quarter_pel, int bit_depth,
+                        const ReferenceOf& reference, int32_t* pred) {
+  for (int k = 0; k < partition_count(mb.partition); ++k) {
+    const PartitionRect r = partition_rect(mb.partition, k);
+    int32_t block[256];
+    const int w = 8 * r.w, h = 8 * r.h;
+    predict_motion_block(reference(mb.part_ref[k]), x0 + 8 * r.x, y0 + 8 * r.y, w, h,
+                         mb.part_mv_x[k], mb.part_mv_y[k], quarter_pel, bit_depth, block);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) pred[(8 * r.y + y) * 16 + 8 * r.x + x] = block[y * w + x];
+  }
 }
 
 // Inter prediction of a B macroblock at (x0, y0) from list 0 (ref0) and list 1 (ref1): one

@@ -40,12 +40,15 @@ class MacroblockReader {
                 ? dec_.decode(ctx_.shared_skip[st_.colocated->skip[mb_index]])
                 : dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
         st_.skip[mb_index] = mb.skip;
+        // Format 1.7, inter partitions (docs/bitstream.md 4.11).
+        mb.partition = st_.partitions && !mb.skip && !mb.shared
+                           ? read_partition_type(dec_, ctx_.partition)
+                           : kPart16x16;
+        if (mb.partition != kPart16x16) return read_partitioned(mb_x, mb_y, mb);
         // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
         mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
         if (!mb.skip && !mb.shared && p_.ref_count > 1)
-          mb.ref_idx =
-              read_ref_idx(dec_, ctx_.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x, mb_y),
-                           p_.ref_count);
+          mb.ref_idx = read_ref_idx(dec_, ctx_.ref_idx, st_.ref_context(mb_x, mb_y), p_.ref_count);
         if (mb.ref_idx >= p_.ref_count)
           return corrupt_data("ref_idx " + std::to_string(mb.ref_idx) + " of the co-located " +
                               "macroblock exceeds the frame's " + std::to_string(p_.ref_count) +
@@ -72,6 +75,7 @@ class MacroblockReader {
         }
         st_.mv_x[mb_index] = static_cast<int16_t>(mb.mv_x);
         st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
+        if (st_.partitions) st_.grid.set_macroblock(mb_x, mb_y, mb.ref_idx, mb.mv_x, mb.mv_y);
         const int gx0 = mb_x * 4, gy0 = mb_y * 4;
         mb.td = !mb.skip && p_.td_prediction &&
                 dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
@@ -86,12 +90,55 @@ class MacroblockReader {
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
       st_.ref_idx[mb_index] = 0;
+      if (st_.partitions) st_.grid.set_macroblock(mb_x, mb_y, -1, 0, 0);  // format 1.7
     }
     mb.ref_idx = 0;
+    mb.partition = kPart16x16;
     return read_intra(mb_x, mb_y, mb);
   }
 
  private:
+  // ---- Format 1.7, inter partitions: the mirror of write_partitioned_motion ----
+  Status read_partitioned(int mb_x, int mb_y, MacroblockData& mb) {
+    const int t = mb.partition, count = partition_count(t);
+    const size_t mb_index = static_cast<size_t>(mb_y) * st_.mbs_x + mb_x;
+    for (int k = 0; k < count; ++k) {
+      const PartitionRect r = partition_rect(t, k);
+      mb.part_ref[k] =
+          p_.ref_count > 1
+              ? read_ref_idx(dec_, ctx_.ref_idx,
+                             st_.grid.ref_context(2 * mb_x + r.x, 2 * mb_y + r.y), p_.ref_count)
+              : 0;
+      st_.grid.set(mb_x, mb_y, r, mb.part_ref[k], 0, 0);
+    }
+    for (int k = 0; k < count; ++k) st_.grid.set(mb_x, mb_y, partition_rect(t, k), -1, 0, 0);
+    const int max_motion = p_.subpel ? 4 * kMaxMotion : kMaxMotion;
+    for (int k = 0; k < count; ++k) {
+      int px, py, dx, dy;
+      partition_mv_predictor(st_.grid, mb_x, mb_y, t, k, mb.part_ref[k], &px, &py);
+      GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
+      GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
+      mb.part_mv_x[k] = px + dx;
+      mb.part_mv_y[k] = py + dy;
+      if (std::abs(mb.part_mv_x[k]) > max_motion || std::abs(mb.part_mv_y[k]) > max_motion)
+        return corrupt_data("motion vector of partition " + std::to_string(k) + " out of range");
+      st_.grid.set(mb_x, mb_y, partition_rect(t, k), mb.part_ref[k], mb.part_mv_x[k],
+                   mb.part_mv_y[k]);
+    }
+    mb.ref_idx = mb.part_ref[0];
+    mb.mv_x = mb.part_mv_x[0];
+    mb.mv_y = mb.part_mv_y[0];
+    st_.ref_idx[mb_index] = static_cast<uint8_t>(mb.ref_idx);
+    st_.mv_x[mb_index] = static_cast<int16_t>(mb.mv_x);
+    st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
+    mb.td = false;
+    st_.td[mb_index] = 0;
+    const int gx0 = mb_x * 4, gy0 = mb_y * 4;
+    for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
+    return read_cbp_and_residuals(mb_x, mb_y, mb);
+  }
+  // ---- end of inter partitions ----
+
   // A skip macroblock (P or B): no residual; its 4x4 blocks and quadrants count as uncoded.
   Status clear_residual(int mb_x, int mb_y, MacroblockData& mb) {
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
@@ -111,6 +158,7 @@ class MacroblockReader {
     };
     mb.td = false;
     mb.shared = false;
+    mb.partition = kPart16x16;
     mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
     st_.skip[mb_index] = mb.skip;
     st_.td[mb_index] = 0;
@@ -397,7 +445,14 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       reconstruct_block(4, pred, mb.levels[b], p, plane.samples.data(), plane.width, x0, y0);
     }
   } else if (mb.type == kMbI16x16 || mb.type == kMbInter) {
-    if (mb.type == kMbInter) {
+    if (mb.type == kMbInter && mb.partition != kPart16x16) {  // format 1.7
+      predict_partitions(
+          mb, mb_x * 16, mb_y * 16, p.subpel != 0, p.bit_depth,
+          [&](int ref) -> const SamplePlane& {
+            return ref > 0 ? *(*more_references)[ref - 1] : *reference0;
+          },
+          pred);
+    } else if (mb.type == kMbInter) {
       predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, p.subpel != 0, p.bit_depth,
                     pred);
     } else {
@@ -455,6 +510,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   PlaneState st(width, height);
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
+  if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");
@@ -470,6 +526,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   if (residual_out) residual_out->reset(width, height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  if (st.partitions) init_partition_contexts(ctx.partition);  // format 1.7
   // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
   if (cross && cross->contexts) {
     if (cross->contexts->contexts.size() != kContextSetContexts)
@@ -515,6 +572,7 @@ Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height
                                    const SamplePlane& reference1, const CrossPlaneLinks* cross) {
   PlaneCodingParams p = params;
   p.ref_count = 1;
+  p.partitions = false;  // format 1.7: P planes only
   return decode_plane_impl(bytes, width, height, p, &reference0, nullptr, nullptr, &reference1,
                            nullptr, cross);
 }

@@ -12,6 +12,7 @@
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/motion_search.hpp"
+#include "gvkit/codec/partition_search.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "macroblock_syntax.hpp"
 
@@ -116,6 +117,7 @@ class MacroblockEncoder {
     if (ref_ && p_.ref_count > 1 && !skip_found()) consider_more_references(best, ctx);
     const bool early_skip = ref_ && skip_found();
     if (!early_skip) {
+      if (ref_ && st_.partitions) consider_partitions(best, ctx);  // format 1.7
       if (ref_ && p_.td_prediction) {
         // TD at the reference whose own-search candidate was cheapest (ties: the nearest).
         int td_ref = 0;
@@ -255,6 +257,8 @@ class MacroblockEncoder {
       mb.type = base.type;
       if (st_.bidirectional && base.type == kMbInter)
         return try_b_inter(mb, trial, base.b_pred, base.mv_x, base.mv_y, base.mv_x1, base.mv_y1);
+      if (base.type == kMbInter && base.partition != kPart16x16)  // format 1.7: same motion
+        return try_partitions(mb, trial, base.partition, &base);
       // P planes: the same vector on the same reference (format 1.6, several references).
       if (base.type == kMbInter && base.td) {
         cur_ref_ = base.ref_idx;
@@ -311,6 +315,8 @@ class MacroblockEncoder {
       predict_intra(16, mb.i16_mode, nb, max_value_, pred);
     } else if (st_.bidirectional) {
       b_prediction(mb.b_pred, mb.mv_x, mb.mv_y, mb.mv_x1, mb.mv_y1, pred);
+    } else if (mb.partition != kPart16x16) {
+      partition_prediction(mb, pred);  // format 1.7
     } else {
       interp(mb.ref_idx).predict(x0, y0, 16, 16, mb.mv_x, mb.mv_y, p_.subpel != 0, pred);
     }
@@ -320,7 +326,7 @@ class MacroblockEncoder {
     code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
-    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0) {
+    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0 && mb.partition == kPart16x16) {
       int px, py;
       st_.mv_predictor(mb_x_, mb_y_, &px, &py);
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
@@ -409,8 +415,7 @@ class MacroblockEncoder {
   // Estimated CABAC bits of ref_idx `ref` with the current contexts (0 with one reference).
   double ref_idx_bits(const ContextSet& ctx, int ref) const {
     if (p_.ref_count <= 1) return 0.0;
-    return detail::ref_idx_bits(ctx.ref_idx, ref_idx_context(st_.ref_idx, st_.mbs_x, mb_x_, mb_y_),
-                                ref, p_.ref_count);
+    return detail::ref_idx_bits(ctx.ref_idx, st_.ref_context(mb_x_, mb_y_), ref, p_.ref_count);
   }
 
   // P planes: the interpolated reference `ref` (0 = the nearest).
@@ -563,6 +568,142 @@ class MacroblockEncoder {
     last_cost_ = cost;
     return cost;
   }
+
+  // ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
+  // The partitioned candidates after the 16x16 ones: 16x8, 8x16 and 8x8, each partition's
+  // vector refined from the 16x16 search result and its predictor (search_partition_motion),
+  // the residual over the whole macroblock as for 16x16. With RDO (the slow preset) every type is
+  // a candidate. Without (planes coded with rdo = false and partitions, which EncoderOptions'
+  // fast preset does not ask for: docs/benchmarks.md, format 1.7) the type with the lowest SATD +
+  // lambda * motion bits is coded as a candidate.
+  void consider_partitions(Candidate& best, const ContextSet& ctx) {
+    if (p_.rdo) {
+      for (int t = kPart16x8; t <= kPart8x8; ++t)
+        consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+          return try_partitions(mb, trial, t, nullptr);
+        });
+      return;
+    }
+    int chosen = -1;
+    double chosen_cost = best.cost;
+    MacroblockData motion[kPartitionTypeCount];
+    for (int t = kPart16x8; t <= kPart8x8; ++t) {
+      int32_t pred[256];
+      const double side = partition_motion(motion[t], ctx, t, nullptr, pred);
+      const double cost =
+          side + static_cast<double>(distortion_estimate(16, pred, mb_x_ * 16, mb_y_ * 16));
+      if (cost < chosen_cost) {
+        chosen = t;
+        chosen_cost = cost;
+      }
+    }
+    if (chosen < 0) return;
+    consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
+      return try_partitions(mb, trial, chosen, &motion[chosen]);
+    });
+  }
+
+  // Chooses (or, with `given`, takes given's) reference and vector of every partition of type t
+  // into mb, records them in the plane's 8x8 motion (for the next partitions' predictors) and
+  // writes the prediction into pred; returns lambda x the side bits (partition type over 16x16's,
+  // ref_idx and vector differences) in the preset's cost units.
+  double partition_motion(MacroblockData& mb, const ContextSet& ctx, int t,
+                          const MacroblockData* given, int32_t* pred) {
+    mb.type = kMbInter;
+    mb.partition = t;
+    const bool qpel = p_.subpel != 0;
+    const double lambda = p_.rdo ? lambda_ : lambda_sad_;
+    double bits = partition_type_bits(ctx.partition, t) - partition_type_bits(ctx.partition, 0);
+    PartitionSearchParams search;
+    search.subpel = p_.subpel;
+    search.lossless = p_.lossless;
+    search.lambda = p_.lossless ? 1.0 : kMotionLambdaScale * lambda_sad_;
+    search.max_abs_mv = qpel ? 4 * kMaxMotion : kMaxMotion;
+    for (int k = 0; k < partition_count(t); ++k) {
+      const PartitionRect r = partition_rect(t, k);
+      const int bx = mb_x_ * 16 + 8 * r.x, by = mb_y_ * 16 + 8 * r.y, w = 8 * r.w, h = 8 * r.h;
+      const int ref_inc = st_.grid.ref_context(2 * mb_x_ + r.x, 2 * mb_y_ + r.y);
+      const auto ref_bits = [&](int ref) {
+        return p_.ref_count > 1 ? detail::ref_idx_bits(ctx.ref_idx, ref_inc, ref, p_.ref_count)
+                                : 0.0;
+      };
+      int best_ref = 0, best_x = 0, best_y = 0;
+      if (given) {
+        best_ref = given->part_ref[k];
+        best_x = given->part_mv_x[k];
+        best_y = given->part_mv_y[k];
+      } else {
+        // Slow preset: every reference; fast: reference 0 and the 16x16 candidates' best one.
+        double best_cost = std::numeric_limits<double>::infinity();
+        int best16 = 0;
+        for (int ref = 1; ref < p_.ref_count; ++ref)
+          if (own_[ref].cost < own_[best16].cost) best16 = ref;
+        for (int ref = 0; ref < p_.ref_count; ++ref) {
+          if (!p_.rdo && ref != 0 && ref != best16) continue;
+          int px, py;
+          partition_mv_predictor(st_.grid, mb_x_, mb_y_, t, k, ref, &px, &py);
+          const int starts[4] = {own_[ref].mv_x, own_[ref].mv_y, px, py};
+          const PartitionVector v =
+              search_partition_motion(src_, interp(ref), bx, by, w, h, px, py, starts, search);
+          const double cost = v.cost + search.lambda * ref_bits(ref);
+          if (cost < best_cost) {
+            best_cost = cost;
+            best_ref = ref;
+            best_x = v.mv_x;
+            best_y = v.mv_y;
+          }
+        }
+      }
+      int px, py;
+      partition_mv_predictor(st_.grid, mb_x_, mb_y_, t, k, best_ref, &px, &py);
+      bits += signed_exp_golomb_bits(best_x - px) + signed_exp_golomb_bits(best_y - py) +
+              ref_bits(best_ref);
+      mb.part_ref[k] = best_ref;
+      mb.part_mv_x[k] = best_x;
+      mb.part_mv_y[k] = best_y;
+      st_.grid.set(mb_x_, mb_y_, r, best_ref, best_x, best_y);
+    }
+    mb.ref_idx = mb.part_ref[0];
+    mb.mv_x = mb.part_mv_x[0];
+    mb.mv_y = mb.part_mv_y[0];
+    mb.shared = false;
+    mb.skip = false;
+    mb.td = false;
+    partition_prediction(mb, pred);
+    return lambda * bits;
+  }
+
+  // The prediction of a partitioned macroblock (16x16, row-major).
+  void partition_prediction(const MacroblockData& mb, int32_t* pred) const {
+    for (int k = 0; k < partition_count(mb.partition); ++k) {
+      const PartitionRect r = partition_rect(mb.partition, k);
+      const int w = 8 * r.w, h = 8 * r.h;
+      int32_t block[256];
+      interp(mb.part_ref[k])
+          .predict(mb_x_ * 16 + 8 * r.x, mb_y_ * 16 + 8 * r.y, w, h, mb.part_mv_x[k],
+                   mb.part_mv_y[k], p_.subpel != 0, block);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) pred[(8 * r.y + y) * 16 + 8 * r.x + x] = block[y * w + x];
+    }
+  }
+
+  // A partitioned candidate of type t (with `given`: its motion); the residual as for 16x16.
+  double try_partitions(MacroblockData& mb, ContextSet& trial, int t, const MacroblockData* given) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int32_t pred[256];
+    const double side = partition_motion(mb, trial, t, given, pred);
+    add_cross(16, x0, y0, pred);
+    double cost;
+    if (p_.rdo) {
+      // As the 16x16 candidate: its macroblock bits (3 in code_i16_residual, 1 for inter).
+      cost = code_i16_residual(mb, pred, trial, true) + side - 2 * lambda_;
+    } else {
+      cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + side;
+      code_i16_residual(mb, pred, trial, true);
+    }
+    return cost;
+  }
+  // ---- end of inter partitions ----
 
   // Levels of an n x n block for prediction `pred` at (x0, y0); returns true if any is nonzero.
   bool make_levels(int n, const int32_t* pred, int x0, int y0, int32_t* levels,
@@ -1038,6 +1179,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   PlaneState st(plane.width, plane.height);
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
+  if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
   GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
                               reference1->height == plane.height));
   if (reference && shared) {
@@ -1055,6 +1197,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   if (residual_out) residual_out->reset(plane.width, plane.height);
   ContextSet ctx{};
   ctx.adaptive_levels = params.adaptive_levels;
+  if (st.partitions) init_partition_contexts(ctx.partition);  // format 1.7
   // Format 1.7: the X plane's final context states are the initial ones of Y and Z.
   if (cross && cross->contexts) {
     GVKIT_CHECK(cross->contexts->contexts.size() == kContextSetContexts,
@@ -1097,6 +1240,8 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         ++result.stats.td_mbs;
       else
         ++result.stats.inter_mbs;
+      if (st.partitions && mb.type == kMbInter && !mb.skip && !mb.shared && !mb.td)
+        ++result.stats.partition_mbs[mb.partition];  // format 1.7
     }
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
@@ -1122,6 +1267,7 @@ PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingPara
   PlaneCodingParams p = params;
   p.td_prediction = false;
   p.ref_count = 1;
+  p.partitions = false;  // format 1.7: P planes only
   return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr, cross);
 }
 

@@ -34,6 +34,13 @@ std::vector<GoldenCase> cases() {
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
       bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near,
       ctx_fast, ctx_lossless;
+  EncoderOptions part_slow;
+  part_slow.qp = 0;  // version 1.7: inter partitions, slow preset, P frames with the 1.6 tools
+  part_slow.preset = Preset::kSlow;
+  part_slow.bframes = 0;
+  part_slow.shared_motion = true;
+  part_slow.partitions = true;
+  part_slow.cross_plane_contexts = false;  // (the stream was written before that 1.7 tool)
   refs_fast.qp = 0;  // version 1.6: three reference frames, fast preset, P frames only
   refs_fast.preset = Preset::kFast;
   refs_fast.bframes = 0;
@@ -130,6 +137,19 @@ std::vector<GoldenCase> cases() {
   slow_no_gv.geometry_modes = false;
   eight_bit.bit_depth = 8;
   eight_bit.qp = 20;
+  // Every stream but the partitions one was written without inter partitions.
+  for (EncoderOptions* o : {&lossless,     &fast,
+                            &slow_no_gv,   &eight_bit,
+                            &inter,        &lossless_inter,
+                            &near_affine,  &plane_qp,
+                            &qpel_td,      &hpel_lossless,
+                            &shared_fast,  &shared_lossless,
+                            &bframes_fast, &bframes_lossless,
+                            &refs_fast,    &refs_lossless,
+                            &tx16_fast,    &tx8_slow,
+                            &cross_fast,   &cross_near,
+                            &ctx_fast,     &ctx_lossless})
+    o->partitions = false;
   return {{"analytic_lossless_48.gvid", 48, 2, lossless},
           {"analytic_qp6_fast_64.gvid", 64, 2, fast},
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},
@@ -151,7 +171,8 @@ std::vector<GoldenCase> cases() {
           {"analytic_xplane_qp0_ibpbp_v1_6_48.gvid", 48, 5, cross_fast, 0.75},
           {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5},
           {"analytic_xctx_qp0_ibpbp_v1_7_48.gvid", 48, 5, ctx_fast, 0.75},
-          {"analytic_xctx_lossless_ipp_v1_7_48.gvid", 48, 3, ctx_lossless, 0.5}};
+          {"analytic_xctx_lossless_ipp_v1_7_48.gvid", 48, 3, ctx_lossless, 0.5},
+          {"analytic_part_slow_qp0_ipppp_v1_7_48.gvid", 48, 5, part_slow, 0.75}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

@@ -294,6 +294,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.refs = 1;  // without the other 1.6 tools
       o.cross_plane = false;
       o.cross_plane_contexts = false;  // format 1.7 off
+      o.partitions = false;            // ... and the 1.7 inter partitions
       std::vector<FrameCodingStats> stats;
       auto bytes = encode_gvid(frames, *info, o, &stats);
       ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
@@ -354,6 +355,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.refs = 1;             // the golden stream was written with one reference frame (format 1.4)
   o.cross_plane = false;  // ... and without cross-plane prediction
   o.cross_plane_contexts = false;  // format 1.7 off
+  o.partitions = false;            // ... and inter partitions (format 1.7)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =

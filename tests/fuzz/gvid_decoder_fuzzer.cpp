@@ -1,9 +1,9 @@
 // libFuzzer harness over the whole .gvid reader + decoder. Two entry points per input:
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
-//    references or B, with or without a cross-plane source residual, with or without the
-//    initial context states of an X plane, format 1.7), decoded directly, so
-//    that mutations reach the macroblock layer without getting past the CRCs.
+//    references or B, with or without a cross-plane source residual, inter partitions or the
+//    initial context states of an X plane, format 1.7), decoded directly, so that mutations
+//    reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
@@ -40,6 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // to 8x8, 2 and 3 = up to 16x16.
     const int transforms = (data[1] >> 4) & 3;
     params.max_transform = params.lossless || transforms == 0 ? 4 : (transforms == 1 ? 8 : 16);
+    // Bit 5 of byte 0: inter partitions in P planes (format 1.7; B planes ignore it).
+    params.partitions = (data[0] & 0x20) != 0;
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
     SamplePlane reference;

@@ -166,6 +166,47 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   EXPECT_EQ(static_cast<uint8_t>((*off_bytes)[5]), 6);
 }
 
+TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset slow --bframes 0 --partitions");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["partitions"], true);
+  auto bytes = read_file(gvid);
+  ASSERT_TRUE(bytes.is_ok());
+  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 7);  // version 1.7
+  auto info = run_gvkit("info " + gvid);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "P ")) << info.output;
+  EXPECT_TRUE(contains(info.output, "  partitions")) << info.output;
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  // On by default in the slow preset: the same stream.
+  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                            " --qp 0 --preset slow --bframes 0");
+  ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
+  auto default_bytes = read_file(gvid);
+  ASSERT_TRUE(default_bytes.is_ok());
+  EXPECT_TRUE(*default_bytes == *bytes);
+  // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
+  // preset codes 16x16 only.
+  for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
+    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                           " --qp 0 --bframes 0 --no-cross-plane-contexts" + args);
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    auto plain_info = run_gvkit("info " + gvid);
+    ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
+    EXPECT_FALSE(contains(plain_info.output, "partitions")) << args << plain_info.output;
+    auto plain_bytes = read_file(gvid);
+    ASSERT_TRUE(plain_bytes.is_ok());
+    EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 6) << args;
+  }
+}
+
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
   TempDir dir;
   write_frames(dir / "in", 3);

@@ -37,6 +37,9 @@ struct PlaneCodingStats {
   // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,
   // per scale in the order of kCrossScales (-8, -4, -2, -1, 0, 1, 2, 4, 8).
   int64_t cross_scale_mbs[9] = {};
+  // P planes with inter partitions (format 1.7): plain inter macroblocks (not skip, shared or
+  // TD) per partition type 16x16, 16x8, 8x16, 8x8.
+  int64_t partition_mbs[4] = {};
 
   double total_bits() const;
   PlaneCodingStats& operator+=(const PlaneCodingStats& other);

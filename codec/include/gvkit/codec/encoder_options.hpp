@@ -109,6 +109,15 @@ struct EncoderOptions {
   // (Selecting Y's and Z's contexts by X's co-located decisions as well was measured and gains
   // less: -1.71 % / -2.26 % with it, +0.22 % / +0.68 % alone.)
   bool cross_plane_contexts = true;
+  // Inter partitions (format 1.7, docs/bitstream.md 4.11): in the slow preset, plain inter
+  // macroblocks of P frames may split into 16x8, 8x16 or 8x8 partitions, each with its own
+  // reference and vector, chosen by rate-distortion cost. The fast preset codes 16x16 only
+  // (use_partitions()): no cheap decision measured paid there (ICT face: +0.4 to +0.6 % BD-rate
+  // with SATD gates, -0.2 % for 25 % more CPU trying every type). On by default: on the ICT
+  // face -1.17 % BD-rate in the slow preset (fast unchanged, byte for byte), -0.05 % lossless;
+  // main-job video slow -2.4 % (docs/benchmarks.md, format 1.7). false, or the fast preset,
+  // writes no flags2 bit 5 (the 1.6 stream, byte for byte).
+  bool partitions = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -135,6 +144,8 @@ struct EncoderOptions {
   int reference_frames() const { return refs >= 1 ? refs : (bypass() ? 1 : 3); }
   // Whether lossy frames use the larger transforms (format 1.6).
   bool large_transforms() const { return max_transform > 4 && !bypass(); }
+  // Whether P frames use inter partitions (format 1.7): partitions in the slow preset.
+  bool use_partitions() const { return partitions && preset == Preset::kSlow; }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
 };

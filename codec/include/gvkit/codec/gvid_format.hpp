@@ -31,6 +31,8 @@ inline constexpr uint8_t kMinorVersionLargeTransforms = 6;
 inline constexpr uint8_t kMinorVersionCrossPlane = 6;
 // Format 1.7: a stream with cross-plane contexts (flags2 bit 4) is written as version 1.7.
 inline constexpr uint8_t kMinorVersionCrossPlaneContexts = 7;
+// A stream with inter partitions (flags2 bit 5, docs/bitstream.md 4.11) is written as 1.7.
+inline constexpr uint8_t kMinorVersionPartitions = 7;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -60,9 +62,10 @@ enum FrameFlag2 : uint8_t {
   // since 1.6: lossy frames, 8x8 / 16x16 transforms of inter and I16x16 residuals (payload: u8
   // max transform, 8 or 16; docs/bitstream.md 4.8)
   kFrame2LargeTransforms = 4,
-  kFrame2CrossPlane = 8,              // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
-  kFrame2CrossPlaneContexts = 16,     // since 1.7: Y and Z contexts start as X's final (4.10)
-  kFrame2Known = 1 | 2 | 4 | 8 | 16,  // every bit a reader understands
+  kFrame2CrossPlane = 8,           // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
+  kFrame2CrossPlaneContexts = 16,  // since 1.7: Y and Z contexts start as X's final (4.10)
+  kFrame2Partitions = 32,          // since 1.7: P frames, 16x8 / 8x16 / 8x8 inter partitions (4.11)
+  kFrame2Known = 1 | 2 | 4 | 8 | 16 | 32,  // every bit a reader understands
 };
 
 struct PacketHeader {

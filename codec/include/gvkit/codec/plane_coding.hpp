@@ -42,6 +42,10 @@ struct PlaneCodingParams {
   // macroblocks code their residual with an 8x8 (or a 16x16) transform, chosen per macroblock;
   // 4 = sixteen 4x4 blocks only (the syntax before 1.6). Lossy planes only.
   int max_transform = 4;
+  // Format 1.7 (inter partitions, docs/bitstream.md 4.11), P planes: a plain inter macroblock
+  // may split into two 16x8 or 8x16 partitions or four 8x8 ones, each with its own reference
+  // and vector (vector predictors then read the motion per 8x8 block).
+  bool partitions = false;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).

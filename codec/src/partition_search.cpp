@@ -1,0 +1,77 @@
+#include "gvkit/codec/partition_search.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <limits>
+
+#include "gvkit/codec/block_distortion.hpp"
+#include "gvkit/codec/motion_search.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::codec {
+
+PartitionVector search_partition_motion(const SamplePlane& src, const InterpolatedReference& ref,
+                                        int x0, int y0, int w, int h, int px, int py,
+                                        std::span<const int> starts,
+                                        const PartitionSearchParams& params) {
+  GVKIT_CHECK((w == 8 || w == 16) && (h == 8 || h == 16) && starts.size() >= 2 &&
+              starts.size() % 2 == 0);
+  const bool qpel = params.subpel != 0;
+  const int unit = qpel ? 4 : 1;
+  const int limit = params.max_abs_mv;
+  const auto cost_of = [&](int mx, int my) {
+    int64_t d = 0;
+    int32_t pred[64];
+    for (int by = 0; by < h; by += 8)
+      for (int bx = 0; bx < w; bx += 8) {
+        ref.predict(x0 + bx, y0 + by, 8, 8, mx, my, qpel, pred);
+        const uint16_t* s = &src.samples[static_cast<size_t>(y0 + by) * src.width + x0 + bx];
+        d += params.lossless ? sad_block(8, s, src.width, pred) : satd_block(8, s, src.width, pred);
+      }
+    return static_cast<double>(d) +
+           params.lambda * (signed_exp_golomb_bits(mx - px) + signed_exp_golomb_bits(my - py));
+  };
+  PartitionVector best;
+  best.cost = std::numeric_limits<double>::infinity();
+  const auto visit = [&](int mx, int my) {
+    if (std::abs(mx) > limit || std::abs(my) > limit) return false;
+    const double c = cost_of(mx, my);
+    if (c < best.cost) {
+      best = {mx, my, c};
+      return true;
+    }
+    return false;
+  };
+  for (size_t i = 0; i + 1 < starts.size(); i += 2) {
+    bool seen = false;
+    for (size_t j = 0; j < i; j += 2)
+      seen |= starts[j] == starts[i] && starts[j + 1] == starts[i + 1];
+    if (!seen) visit(starts[i], starts[i + 1]);
+  }
+  if (!(best.cost < std::numeric_limits<double>::infinity())) {
+    // Every start beyond the limit: the predictor clamped into it.
+    visit(std::clamp(px, -limit, limit), std::clamp(py, -limit, limit));
+  }
+  // Whole-sample diamond steps from the best start.
+  int from_x = best.mv_x + 1, from_y = best.mv_y;  // not the centre: the first step runs
+  for (int step = 0; step < params.max_steps && (best.mv_x != from_x || best.mv_y != from_y);
+       ++step) {
+    const int cx = best.mv_x, cy = best.mv_y;
+    from_x = cx;
+    from_y = cy;
+    visit(cx - unit, cy);
+    visit(cx + unit, cy);
+    visit(cx, cy - unit);
+    visit(cx, cy + unit);
+  }
+  if (!qpel) return best;
+  for (int step = 2; step >= (params.subpel >= 4 ? 1 : 2); step /= 2) {
+    const int cx = best.mv_x, cy = best.mv_y;
+    for (int dy = -step; dy <= step; dy += step)
+      for (int dx = -step; dx <= step; dx += step)
+        if (dx || dy) visit(cx + dx, cy + dy);
+  }
+  return best;
+}
+
+}  // namespace gvkit::codec
