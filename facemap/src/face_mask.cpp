@@ -200,6 +200,12 @@ std::string describe(const MeshTopology& t) {
 
 }  // namespace
 
+double mean_edge_length_mm(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
+  return sum / std::max<size_t>(mesh.n_edges(), 1);
+}
+
 double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor) {
   Point eyes(0, 0, 0), mouth(0, 0, 0);
   for (int i = 36; i < 48; ++i) eyes += to_point(landmarks.points_mm[i]);
@@ -234,8 +240,8 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
 
 Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                           const FaceMaskOptions& options,
-                          const std::vector<FeatureHole>& open_holes, FaceMask* info,
-                          Mesh* masked) {
+                          const std::vector<FeatureHole>& open_holes, FaceMask* info, Mesh* masked,
+                          const FaceMaskShared& shared) {
   GVKIT_RETURN_IF_ERROR(options.check());
   if (!open_holes.empty() && options.method != GeodesicMethod::kFastMarching)
     return invalid_argument("face mask: open eye and mouth holes need fast marching geodesics");
@@ -278,9 +284,8 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                          : default_mask_radius_mm(landmarks, options.radius_factor);
   const double radius = result.radius_mm;
 
-  double mean_edge = 0.0;
-  for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
-  mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
+  const double mean_edge =
+      shared.mean_edge_mm >= 0 ? shared.mean_edge_mm : mean_edge_length_mm(mesh);
   const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
                                          contour_points(landmarks, kLeftEyeContour),
                                          mouth_points(landmarks, options.mouth_contour)};
@@ -294,7 +299,10 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
     for (const auto& contour : contours)
       points.insert(points.end(), contour.begin(), contour.end());
     std::vector<double> d;
-    const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, points, &d);
+    GVKIT_CHECK(!shared.grid || &shared.grid->mesh() == &mesh,
+                "face mask: the shared nearest-vertex grid is not this mesh's");
+    const std::vector<Mesh::VertexHandle> nearest =
+        shared.grid ? shared.grid->nearest(points, &d) : nearest_vertices(mesh, points, &d);
     for (size_t k = 0; k < required.size(); ++k)
       if (d[k] > std::max(5.0, 4.0 * mean_edge))
         return failed_precondition("landmark " + std::to_string(required[k]) + " lies " +
