@@ -61,17 +61,6 @@ NearestVertexGrid::NearestVertexGrid(const Mesh& mesh)
   for (int i = 0; i < n; ++i) in_cell_[fill[cell_index[i]]++] = i;
 }
 
-int NearestVertexGrid::coord(double x, int k) const {
-  // NaN-safe: anything not inside goes to a border cell.
-  const double t = (x - lo_[k]) / cell_;
-  if (!(t >= 0)) return 0;
-  return t >= dims_[k] - 1 ? dims_[k] - 1 : static_cast<int>(t);
-}
-
-size_t NearestVertexGrid::cell_of(int x, int y, int z) const {
-  return (static_cast<size_t>(z) * dims_[1] + y) * dims_[0] + x;
-}
-
 std::vector<Mesh::VertexHandle> NearestVertexGrid::nearest(const std::vector<Mesh::Point>& points,
                                                            std::vector<double>* distances) const {
   GVKIT_CHECK(static_cast<int>(mesh_->n_vertices()) == n_,

@@ -25,8 +25,15 @@ class NearestVertexGrid {
   const Mesh& mesh() const { return *mesh_; }
 
  private:
-  int coord(double x, int k) const;  // the cell coordinate along axis k
-  size_t cell_of(int x, int y, int z) const;
+  // The cell coordinate along axis k; NaN-safe: anything not inside goes to a border cell.
+  int coord(double x, int k) const {
+    const double t = (x - lo_[k]) / cell_;
+    if (!(t >= 0)) return 0;
+    return t >= dims_[k] - 1 ? dims_[k] - 1 : static_cast<int>(t);
+  }
+  size_t cell_of(int x, int y, int z) const {
+    return (static_cast<size_t>(z) * dims_[1] + y) * dims_[0] + x;
+  }
 
   const Mesh* mesh_;
   int n_ = 0;
