@@ -32,10 +32,10 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 }
 
 // Moves required landmarks that lie off the surface to the nearest vertex (bounded).
-Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const CleanOptions& options) {
-  double mean_edge = 0.0;
-  for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
-  mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
+// `shared` holds the mesh's mean edge length and nearest-vertex grid (given on to the mask).
+Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const CleanOptions& options,
+                                 const FaceMaskShared& shared) {
+  const double mean_edge = shared.mean_edge_mm;
   const std::vector<int> required = required_landmarks();
   std::vector<Mesh::Point> targets;
   for (int i : required) {
@@ -43,7 +43,7 @@ Status snap_landmarks_to_surface(const Mesh& mesh, CleanedFace* face, const Clea
     targets.emplace_back(p[0], p[1], p[2]);
   }
   std::vector<double> distance;
-  const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, targets, &distance);
+  const std::vector<Mesh::VertexHandle> nearest = shared.grid->nearest(targets, &distance);
   for (size_t k = 0; k < required.size(); ++k) {
     const double d = distance[k];
     const Mesh::Point best = mesh.point(nearest[k]);
@@ -111,11 +111,21 @@ Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options,
   face->stats.holes_filled = filled->holes_filled;
   face->stats.vertices_added = filled->vertices_added;
   face->stats.fill_ms = ms_since(t);
-  GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(*mesh, face, options));
+  // The snapping and the first mask share the filled mesh's mean edge length and vertex grid;
+  // the masks after a further fill (below) compute their own. mask_ms counts the grid and the
+  // snapping.
   t = std::chrono::steady_clock::now();
   FaceMask mask;
-  Status masked =
-      geodesic_face_mask(*mesh, face->landmarks, options.mask, open_holes, &mask, &face->mesh);
+  Status masked = Status::ok();
+  {
+    const NearestVertexGrid grid(*mesh);
+    FaceMaskShared shared;
+    shared.mean_edge_mm = mean_edge_length_mm(*mesh);
+    shared.grid = &grid;
+    GVKIT_RETURN_IF_ERROR(snap_landmarks_to_surface(*mesh, face, options, shared));
+    masked = geodesic_face_mask(*mesh, face->landmarks, options.mask, open_holes, &mask,
+                                &face->mesh, shared);
+  }
   // Fills append vertices and faces, so the halfedges of the holes not yet filled stay valid.
   HoleFillingReport report;
   auto fill = [&](const FeatureHole& hole) {

@@ -45,6 +45,21 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
                                        : contour_points(landmarks, kOuterMouthContour);
 }
 
+// Per-mesh arrays of contour_region, kept over the three features' calls (each call leaves them
+// as it found them: reset where it wrote), so that only the first call allocates and clears them.
+struct ContourRegionScratch {
+  explicit ContourRegionScratch(const Mesh& mesh)
+      : mesh(&mesh),
+        paths(mesh),
+        on_path_edge(mesh.n_edges(), 0),
+        in_region(mesh.n_vertices(), 0),
+        component(mesh.n_faces(), -1) {}
+  const Mesh* mesh;
+  ShortestEdgePaths paths;
+  std::vector<char> on_path_edge, in_region;
+  std::vector<int> component;
+};
+
 // The vertices of the surface region enclosed by the closed edge path through `corners` (the
 // vertices nearest to the contour points), the path included. A degenerate contour (a closed eye
 // or mouth) encloses nothing and gives the path alone. Regions cut off from the mesh boundary by
@@ -55,7 +70,9 @@ std::vector<Point> mouth_points(const FaceLandmarks& landmarks, MouthContour mou
 // fill would be.
 std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
                                                const std::vector<Mesh::VertexHandle>& corners,
-                                               const std::vector<char>& open_edge = {}) {
+                                               const std::vector<char>& open_edge,
+                                               ContourRegionScratch* scratch) {
+  GVKIT_CHECK(scratch->mesh == &mesh, "contour region: scratch arrays of another mesh");
   // Faces outside a ball around the contour cannot be enclosed by it: they count as reaching
   // the boundary, so the flood fill of the outside stops there instead of crossing the mesh.
   Point centre(0, 0, 0);
@@ -64,7 +81,11 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
   double ball = 0.0;
   for (auto v : corners) ball = std::max(ball, (mesh.point(v) - centre).norm());
   ball = 2.0 * ball + 10.0;
-  std::vector<char> on_path_edge(mesh.n_edges(), 0), in_region(mesh.n_vertices(), 0);
+  std::vector<char>& on_path_edge = scratch->on_path_edge;
+  std::vector<char>& in_region = scratch->in_region;
+  std::vector<int>& component = scratch->component;
+  std::vector<int> path_edges;
+  std::vector<Mesh::FaceHandle> flooded;  // every face given a component
   std::vector<Mesh::VertexHandle> region;
   auto add = [&](Mesh::VertexHandle v) {
     if (!in_region[v.idx()]) {
@@ -72,14 +93,17 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
       region.push_back(v);
     }
   };
-  ShortestEdgePaths paths(mesh);
+  ShortestEdgePaths& paths = scratch->paths;
   for (size_t k = 0; k < corners.size(); ++k) {
     const auto path = paths.path(corners[k], corners[(k + 1) % corners.size()]);
     for (size_t i = 0; i < path.size(); ++i) {
       add(path[i]);
       if (i + 1 < path.size()) {
         const auto h = mesh.find_halfedge(path[i], path[i + 1]);
-        if (h.is_valid()) on_path_edge[mesh.edge_handle(h).idx()] = 1;
+        if (h.is_valid()) {
+          on_path_edge[mesh.edge_handle(h).idx()] = 1;
+          path_edges.push_back(mesh.edge_handle(h).idx());
+        }
       }
     }
   }
@@ -88,7 +112,6 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
   // touches it). A flood stops as soon as its component is known to be outside: at the boundary,
   // past the ball, or on a face of an earlier (outside) flood; only enclosed components are
   // flooded completely.
-  std::vector<int> component(mesh.n_faces(), -1);
   std::vector<Mesh::FaceHandle> seeds, stack, members;
   for (auto v : region)
     for (auto f : mesh.vf_range(v)) seeds.push_back(f);
@@ -130,7 +153,11 @@ std::vector<Mesh::VertexHandle> contour_region(const Mesh& mesh,
     if (!outside)
       for (auto g : members)
         for (auto v : mesh.fv_range(g)) add(v);
+    flooded.insert(flooded.end(), members.begin(), members.end());
   }
+  for (int e : path_edges) on_path_edge[e] = 0;
+  for (auto v : region) in_region[v.idx()] = 0;
+  for (auto g : flooded) component[g.idx()] = -1;
   std::sort(region.begin(), region.end());
   return region;
 }
@@ -200,6 +227,12 @@ std::string describe(const MeshTopology& t) {
 
 }  // namespace
 
+double mean_edge_length_mm(const Mesh& mesh) {
+  double sum = 0.0;
+  for (auto e : mesh.edges()) sum += mesh.calc_edge_length(e);
+  return sum / std::max<size_t>(mesh.n_edges(), 1);
+}
+
 double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor) {
   Point eyes(0, 0, 0), mouth(0, 0, 0);
   for (int i = 36; i < 48; ++i) eyes += to_point(landmarks.points_mm[i]);
@@ -234,8 +267,8 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
 
 Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                           const FaceMaskOptions& options,
-                          const std::vector<FeatureHole>& open_holes, FaceMask* info,
-                          Mesh* masked) {
+                          const std::vector<FeatureHole>& open_holes, FaceMask* info, Mesh* masked,
+                          const FaceMaskShared& shared) {
   GVKIT_RETURN_IF_ERROR(options.check());
   if (!open_holes.empty() && options.method != GeodesicMethod::kFastMarching)
     return invalid_argument("face mask: open eye and mouth holes need fast marching geodesics");
@@ -278,9 +311,8 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                          : default_mask_radius_mm(landmarks, options.radius_factor);
   const double radius = result.radius_mm;
 
-  double mean_edge = 0.0;
-  for (auto e : mesh.edges()) mean_edge += mesh.calc_edge_length(e);
-  mean_edge /= std::max<size_t>(mesh.n_edges(), 1);
+  const double mean_edge =
+      shared.mean_edge_mm >= 0 ? shared.mean_edge_mm : mean_edge_length_mm(mesh);
   const std::vector<Point> contours[] = {contour_points(landmarks, kRightEyeContour),
                                          contour_points(landmarks, kLeftEyeContour),
                                          mouth_points(landmarks, options.mouth_contour)};
@@ -294,7 +326,10 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
     for (const auto& contour : contours)
       points.insert(points.end(), contour.begin(), contour.end());
     std::vector<double> d;
-    const std::vector<Mesh::VertexHandle> nearest = nearest_vertices(mesh, points, &d);
+    GVKIT_CHECK(!shared.grid || &shared.grid->mesh() == &mesh,
+                "face mask: the shared nearest-vertex grid is not this mesh's");
+    const std::vector<Mesh::VertexHandle> nearest =
+        shared.grid ? shared.grid->nearest(points, &d) : nearest_vertices(mesh, points, &d);
     for (size_t k = 0; k < required.size(); ++k)
       if (d[k] > std::max(5.0, 4.0 * mean_edge))
         return failed_precondition("landmark " + std::to_string(required[k]) + " lies " +
@@ -339,9 +374,11 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   // enclose ends the call before any distance is computed.
   std::vector<Mesh::VertexHandle> regions[3];
   std::vector<Mesh::VertexHandle> all_features;
+  ContourRegionScratch region_scratch(cropped);
   for (int k = 0; k < 3; ++k) {
-    regions[k] = contour_region(
-        cropped, crop_mesh ? nearest_vertices(cropped, contours[k]) : corners[k], open_edge[k]);
+    regions[k] =
+        contour_region(cropped, crop_mesh ? nearest_vertices(cropped, contours[k]) : corners[k],
+                       open_edge[k], &region_scratch);
     all_features.insert(all_features.end(), regions[k].begin(), regions[k].end());
   }
   {

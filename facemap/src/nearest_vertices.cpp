@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "gvkit/core/status.hpp"
+
 namespace gvkit::facemap {
 
 std::vector<Mesh::VertexHandle> nearest_vertices_reference(const Mesh& mesh,
@@ -26,46 +28,46 @@ std::vector<Mesh::VertexHandle> nearest_vertices_reference(const Mesh& mesh,
   return best;
 }
 
-std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
-                                                 const std::vector<Mesh::Point>& points,
-                                                 std::vector<double>* distances) {
-  const int n = static_cast<int>(mesh.n_vertices());
-  if (n < 4096 || points.size() < 4) return nearest_vertices_reference(mesh, points, distances);
+NearestVertexGrid::NearestVertexGrid(const Mesh& mesh)
+    : mesh_(&mesh), n_(static_cast<int>(mesh.n_vertices())) {
+  if (n_ < 4096) return;
+  scan_ = false;
+  const int n = n_;
   const Mesh::Point* p = mesh.points();
   Mesh::Point lo = p[0], hi = p[0];
   for (int i = 1; i < n; ++i) {
     lo.minimize(p[i]);
     hi.maximize(p[i]);
   }
+  lo_ = lo;
   // About one cell per 8 vertices over the bounding box (a surface fills few of them), so the
   // grid stays small next to the mesh.
   const Mesh::Point size = hi - lo;
   const double volume = std::max(size[0], 1e-9) * std::max(size[1], 1e-9) * std::max(size[2], 1e-9);
-  const double cell = std::max(
+  cell_ = std::max(
       {std::cbrt(8.0 * volume / n), size[0] / 1000.0, size[1] / 1000.0, size[2] / 1000.0, 1e-9});
-  std::array<int, 3> dims;
-  for (int k = 0; k < 3; ++k) dims[k] = std::clamp(static_cast<int>(size[k] / cell) + 1, 1, 1024);
-  auto coord = [&](double x, int k) {  // NaN-safe: anything not inside goes to a border cell
-    const double t = (x - lo[k]) / cell;
-    if (!(t >= 0)) return 0;
-    return t >= dims[k] - 1 ? dims[k] - 1 : static_cast<int>(t);
-  };
-  const size_t n_cells = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  auto cell_of = [&](int x, int y, int z) {
-    return (static_cast<size_t>(z) * dims[1] + y) * dims[0] + x;
-  };
+  for (int k = 0; k < 3; ++k) dims_[k] = std::clamp(static_cast<int>(size[k] / cell_) + 1, 1, 1024);
+  const size_t n_cells = static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2];
   // Counting sort of the vertices by cell (in index order within a cell).
-  std::vector<int> start(n_cells + 1, 0), in_cell(n);
+  start_.assign(n_cells + 1, 0);
+  in_cell_.resize(n);
   std::vector<size_t> cell_index(n);
   for (int i = 0; i < n; ++i) {
     cell_index[i] = cell_of(coord(p[i][0], 0), coord(p[i][1], 1), coord(p[i][2], 2));
-    ++start[cell_index[i] + 1];
+    ++start_[cell_index[i] + 1];
   }
-  for (size_t c = 0; c < n_cells; ++c) start[c + 1] += start[c];
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int i = 0; i < n; ++i) in_cell[fill[cell_index[i]]++] = i;
-  }
+  for (size_t c = 0; c < n_cells; ++c) start_[c + 1] += start_[c];
+  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  for (int i = 0; i < n; ++i) in_cell_[fill[cell_index[i]]++] = i;
+}
+
+std::vector<Mesh::VertexHandle> NearestVertexGrid::nearest(const std::vector<Mesh::Point>& points,
+                                                           std::vector<double>* distances) const {
+  GVKIT_CHECK(static_cast<int>(mesh_->n_vertices()) == n_,
+              "nearest vertex grid: the mesh changed since the grid was built");
+  if (scan_) return nearest_vertices_reference(*mesh_, points, distances);
+  const Mesh::Point* p = mesh_->points();
+  const std::array<int, 3>& dims = dims_;
   std::vector<Mesh::VertexHandle> best(points.size());
   if (distances) distances->assign(points.size(), std::numeric_limits<double>::infinity());
   for (size_t k = 0; k < points.size(); ++k) {
@@ -86,8 +88,8 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
           for (int x = cx - r; x <= cx + r; x += std::max(step, 1)) {
             if (x < 0 || x >= dims[0]) continue;
             const size_t c = cell_of(x, y, z);
-            for (int j = start[c]; j < start[c + 1]; ++j) {
-              const int i = in_cell[j];
+            for (int j = start_[c]; j < start_[c + 1]; ++j) {
+              const int i = in_cell_[j];
               const double d2 = (p[i] - q).sqrnorm();
               if (d2 < best_d2 || (d2 == best_d2 && i < best_i)) best_d2 = d2, best_i = i;
             }
@@ -100,7 +102,7 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
       double reach = std::numeric_limits<double>::infinity();
       for (int a = 0; a < 3; ++a) {
         const int c = a == 0 ? cx : a == 1 ? cy : cz;
-        const double low = lo[a] + (c - r) * cell, high = lo[a] + (c + r + 1) * cell;
+        const double low = lo_[a] + (c - r) * cell_, high = lo_[a] + (c + r + 1) * cell_;
         reach = std::min({reach, q[a] - low, high - q[a]});
       }
       if (best_i >= 0 && reach > 0 && reach * reach > best_d2) break;
@@ -109,6 +111,14 @@ std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
     if (distances) (*distances)[k] = std::sqrt(best_d2);
   }
   return best;
+}
+
+std::vector<Mesh::VertexHandle> nearest_vertices(const Mesh& mesh,
+                                                 const std::vector<Mesh::Point>& points,
+                                                 std::vector<double>* distances) {
+  if (mesh.n_vertices() < 4096 || points.size() < 4)
+    return nearest_vertices_reference(mesh, points, distances);
+  return NearestVertexGrid(mesh).nearest(points, distances);
 }
 
 }  // namespace gvkit::facemap

@@ -204,6 +204,34 @@ TEST(FaceMask, NearestVerticesMatchTheReference) {
   }
 }
 
+// One grid queried several times (as landmark snapping and the mask do), with query sets of one
+// to all points, gives the reference's vertices and distances; so does a mesh too small for a
+// grid (queries scan its vertices).
+TEST(FaceMask, NearestVertexGridQueriedAgainMatchesTheReference) {
+  for (const int n : {90, 20}) {
+    Mesh mesh;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) mesh.add_vertex(Mesh::Point(x, y, 0.02 * (x - 9) * (y - 13)));
+    mesh.add_vertex(Mesh::Point(3, 4, 0.02 * -6 * -9));  // a duplicate position
+    const NearestVertexGrid grid(mesh);
+    EXPECT_EQ(&grid.mesh(), &mesh);
+    std::vector<Mesh::Point> all;
+    for (int i = 0; i < 30; ++i) all.emplace_back(3.1 * i - 7, 0.7 * n - 2.3 * i, (i % 7) - 3.0);
+    all.emplace_back(3, 4, 0.02 * -6 * -9);
+    for (const size_t count : {size_t{1}, size_t{3}, size_t{12}, all.size()}) {
+      const std::vector<Mesh::Point> points(all.end() - count, all.end());
+      std::vector<double> d, d_reference;
+      const auto found = grid.nearest(points, &d);
+      const auto reference = nearest_vertices_reference(mesh, points, &d_reference);
+      ASSERT_EQ(found.size(), points.size());
+      for (size_t k = 0; k < points.size(); ++k) {
+        EXPECT_EQ(found[k], reference[k]) << n << " " << count << " " << k;
+        EXPECT_DOUBLE_EQ(d[k], d_reference[k]) << n << " " << count << " " << k;
+      }
+    }
+  }
+}
+
 // Dijkstra with arrays kept across queries against the hash-map reference: the same vertex
 // sequence on a flat grid (many equal path lengths: the tie order), on a jittered grid with a
 // hole, for a == b and for a vertex on another component (no path).

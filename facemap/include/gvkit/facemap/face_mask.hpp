@@ -18,6 +18,7 @@
 #include "gvkit/facemap/face_features.hpp"
 #include "gvkit/facemap/fast_marching.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
+#include "gvkit/facemap/nearest_vertices.hpp"
 
 namespace gvkit::facemap {
 
@@ -83,9 +84,21 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
 // its contour (listed in info->open_holes_not_enclosed, found before any distance is computed)
 // or would not be cut away with the region; the caller then fills those and masks again.
 // Invalid argument with the heat method or a zero margin.
+// Per-frame data of `mesh` that the caller has already (landmark snapping needs them too), so
+// that the mask does not compute them again: the mean edge length (mm, as mean_edge_length_mm;
+// < 0: computed here) and a nearest-vertex grid built on this very mesh, unchanged since (null:
+// built here). Results are the same either way.
+struct FaceMaskShared {
+  double mean_edge_mm = -1.0;
+  const NearestVertexGrid* grid = nullptr;
+};
 Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
                           const FaceMaskOptions& options,
-                          const std::vector<FeatureHole>& open_holes, FaceMask* info, Mesh* masked);
+                          const std::vector<FeatureHole>& open_holes, FaceMask* info, Mesh* masked,
+                          const FaceMaskShared& shared = {});
+
+// The mean length of the mesh's edges (mm; 0 for a mesh without edges), summed in edge order.
+double mean_edge_length_mm(const Mesh& mesh);
 
 // The default radius for these landmarks: factor x |eyes midpoint - mouth centre| (mm).
 double default_mask_radius_mm(const FaceLandmarks& landmarks, double radius_factor);
