@@ -14,11 +14,11 @@
 
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/byte_io.hpp"
-#include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/core/atomic_file.hpp"
+#include "packet_surgery.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit::codec {
@@ -364,15 +364,7 @@ TEST(BFrames, BadBSyntaxIsRejectedWithAMessage) {
   std::mt19937 rng(3);
   int failures = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    std::string packet = b_packet;
-    const size_t payload = packet.size() - format::kPacketHeaderSize;
-    for (int k = 0; k < 1 + trial % 4; ++k)
-      packet[format::kPacketHeaderSize + 8 + rng() % (payload - 8)] ^=
-          static_cast<char>(1 << (rng() % 8));
-    auto h = format::read_packet_header(packet);
-    ASSERT_TRUE(h.is_ok());
-    h->payload_crc = crc32(packet.data() + format::kPacketHeaderSize, payload);
-    packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+    const std::string packet = testing::damage_payload(b_packet, rng, 1 + trial % 4, 8);
     auto d = decode_frame_packet(packet, info, 1, &i_planes, nullptr, &i_planes);
     if (!d.is_ok()) {
       ++failures;

@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include "geometry_video_material.hpp"
-#include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -21,6 +20,7 @@
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/core/atomic_file.hpp"
+#include "packet_surgery.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -253,21 +253,6 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   EXPECT_FALSE(*on == *off);
 }
 
-// The packet of the first frame of a stream (header + payload).
-std::string first_packet(const std::string& stream, size_t header_bytes) {
-  auto h = format::read_packet_header(std::string_view(stream).substr(header_bytes));
-  GVKIT_CHECK(h.is_ok());
-  return stream.substr(header_bytes, format::kPacketHeaderSize + h->payload_size);
-}
-
-std::string with_flags2(std::string packet, uint8_t flags2) {
-  auto h = format::read_packet_header(packet);
-  GVKIT_CHECK(h.is_ok());
-  h->flags2 = flags2;
-  packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
-  return packet;
-}
-
 TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = moving_video(32, 1);
   const SequenceInfo info = info_for(frames);
@@ -282,12 +267,13 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   ASSERT_TRUE(stream.is_ok());
   auto reader = GvidReader::open_memory(*stream, "x.gvid");
   ASSERT_TRUE(reader.is_ok());
-  const std::string packet = first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
+  const std::string packet =
+      testing::first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
   // The other unknown flags2 bits stay rejected (32 is inter partitions, partition_test).
   for (const uint8_t bits : {64, 128}) {
-    auto d =
-        decode_frame_packet(with_flags2(packet, format::kFrame2CrossPlaneContexts | bits), info, 0);
+    auto d = decode_frame_packet(
+        testing::with_flags2(packet, format::kFrame2CrossPlaneContexts | bits), info, 0);
     ASSERT_FALSE(d.is_ok());
     EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)
         << d.status().message();
@@ -297,15 +283,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   std::mt19937 rng(11);
   int failures = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    std::string p = packet;
-    const size_t payload = p.size() - format::kPacketHeaderSize;
-    for (int k = 0; k < 1 + trial % 4; ++k)
-      p[format::kPacketHeaderSize + 8 + rng() % (payload - 8)] ^=
-          static_cast<char>(1 << (rng() % 8));
-    auto h = format::read_packet_header(p);
-    ASSERT_TRUE(h.is_ok());
-    h->payload_crc = crc32(p.data() + format::kPacketHeaderSize, payload);
-    p.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+    const std::string p = testing::damage_payload(packet, rng, 1 + trial % 4, 8);
     auto d = decode_frame_packet(p, info, 0);
     if (!d.is_ok()) {
       ++failures;
@@ -315,7 +293,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   EXPECT_GT(failures, 0);
   // Without the bit, Y and Z are read with other contexts: rejected, or other samples.
   auto right = decode_frame_packet(packet, info, 0);
-  auto cleared = decode_frame_packet(with_flags2(packet, 0), info, 0);
+  auto cleared = decode_frame_packet(testing::with_flags2(packet, 0), info, 0);
   ASSERT_TRUE(right.is_ok());
   EXPECT_TRUE(!cleared.is_ok() || !same_samples(*cleared, *right));
 }

@@ -79,7 +79,8 @@ std::vector<GoldenCase> cases() {
     o->refs = 1;
     o->max_transform = 4;
   }
-  // The streams before 1.7 were written without cross-plane contexts.
+  // The streams before 1.7 were written without either 1.7 tool (the cross-plane contexts
+  // streams without inter partitions, below; the partitions stream without the contexts).
   for (EncoderOptions* o : {&lossless,     &fast,
                             &slow_no_gv,   &eight_bit,
                             &inter,        &lossless_inter,
@@ -89,8 +90,11 @@ std::vector<GoldenCase> cases() {
                             &bframes_fast, &bframes_lossless,
                             &refs_fast,    &refs_lossless,
                             &tx16_fast,    &tx8_slow,
-                            &cross_fast,   &cross_near})
+                            &cross_fast,   &cross_near}) {
     o->cross_plane_contexts = false;
+    o->partitions = false;
+  }
+  for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;
@@ -137,19 +141,6 @@ std::vector<GoldenCase> cases() {
   slow_no_gv.geometry_modes = false;
   eight_bit.bit_depth = 8;
   eight_bit.qp = 20;
-  // Every stream but the partitions one was written without inter partitions.
-  for (EncoderOptions* o : {&lossless,     &fast,
-                            &slow_no_gv,   &eight_bit,
-                            &inter,        &lossless_inter,
-                            &near_affine,  &plane_qp,
-                            &qpel_td,      &hpel_lossless,
-                            &shared_fast,  &shared_lossless,
-                            &bframes_fast, &bframes_lossless,
-                            &refs_fast,    &refs_lossless,
-                            &tx16_fast,    &tx8_slow,
-                            &cross_fast,   &cross_near,
-                            &ctx_fast,     &ctx_lossless})
-    o->partitions = false;
   return {{"analytic_lossless_48.gvid", 48, 2, lossless},
           {"analytic_qp6_fast_64.gvid", 64, 2, fast},
           {"analytic_qpm12_slow_nogv_64.gvid", 64, 2, slow_no_gv},

@@ -10,13 +10,13 @@
 #include <gtest/gtest.h>
 
 #include "geometry_video_material.hpp"
-#include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/sequence_encoder.hpp"
 #include "gvkit/core/atomic_file.hpp"
+#include "packet_surgery.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -172,14 +172,6 @@ TEST(MultiRef, ReturningContentIsPredictedFromTwoFramesBack) {
   }
 }
 
-std::string with_payload(const std::string& packet, std::string payload) {
-  auto header = format::read_packet_header(packet);
-  GVKIT_CHECK(header.is_ok());
-  header->payload_size = static_cast<uint32_t>(payload.size());
-  header->payload_crc = crc32(payload);
-  return format::write_packet_header(*header) + payload;
-}
-
 TEST(MultiRef, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 3);
   const SequenceInfo info = info_for(frames);
@@ -217,13 +209,15 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   for (int bad : {0, 1, 6, 255}) {
     std::string p = payload;
     p[1] = static_cast<char>(bad);
-    expect_error(with_payload(p2->packet, p), &older,
+    expect_error(testing::with_payload(p2->packet, p), &older,
                  "ref_count " + std::to_string(bad) + " out of range (2..5)");
   }
   std::string three = payload;
   three[1] = 3;
-  expect_error(with_payload(p2->packet, three), &older, "ref_count 3 names more reference frames");
-  expect_error(with_payload(p2->packet, payload.substr(0, 1)), &older, "ref_count missing");
+  expect_error(testing::with_payload(p2->packet, three), &older,
+               "ref_count 3 names more reference frames");
+  expect_error(testing::with_payload(p2->packet, payload.substr(0, 1)), &older,
+               "ref_count missing");
   auto header = format::read_packet_header(i0->packet);
   ASSERT_TRUE(header.is_ok());
   header->flags2 = format::kFrame2MultiRef;
@@ -236,8 +230,8 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   // A damaged macroblock layer fails naming the plane (no crash with the reference list).
   std::string cut = payload;
   cut[2 + 4 + 3] ^= 0x5a;
-  auto damaged = decode_frame_packet(with_payload(p2->packet, cut), info, 2, &p1->planes, nullptr,
-                                     nullptr, &older);
+  auto damaged = decode_frame_packet(testing::with_payload(p2->packet, cut), info, 2, &p1->planes,
+                                     nullptr, nullptr, &older);
   if (!damaged.is_ok()) {
     EXPECT_NE(damaged.status().message().find("plane"), std::string::npos)
         << damaged.status().message();

@@ -1,0 +1,44 @@
+#include "packet_surgery.hpp"
+
+#include <string_view>
+
+#include "gvkit/codec/crc32.hpp"
+#include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::testing {
+
+namespace format = codec::format;
+
+std::string first_packet(const std::string& stream, size_t header_bytes) {
+  auto h = format::read_packet_header(std::string_view(stream).substr(header_bytes));
+  GVKIT_CHECK(h.is_ok());
+  return stream.substr(header_bytes, format::kPacketHeaderSize + h->payload_size);
+}
+
+std::string with_flags2(std::string packet, uint8_t flags2) {
+  auto h = format::read_packet_header(packet);
+  GVKIT_CHECK(h.is_ok());
+  h->flags2 = flags2;
+  packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+  return packet;
+}
+
+std::string with_payload(const std::string& packet, std::string payload) {
+  auto h = format::read_packet_header(packet);
+  GVKIT_CHECK(h.is_ok());
+  h->payload_size = static_cast<uint32_t>(payload.size());
+  h->payload_crc = codec::crc32(payload);
+  return format::write_packet_header(*h) + payload;
+}
+
+std::string damage_payload(std::string packet, std::mt19937& rng, int flips, size_t keep) {
+  const size_t payload = packet.size() - format::kPacketHeaderSize;
+  GVKIT_CHECK(keep < payload);
+  for (int k = 0; k < flips; ++k)
+    packet[format::kPacketHeaderSize + keep + rng() % (payload - keep)] ^=
+        static_cast<char>(1 << (rng() % 8));
+  return with_payload(packet, packet.substr(format::kPacketHeaderSize));
+}
+
+}  // namespace gvkit::testing

@@ -1,0 +1,28 @@
+#pragma once
+// Packet surgery for the codec's corrupt-input tests: take a frame packet out of a .gvid stream,
+// change its header's flags, replace or damage its payload with the header's size and CRC fixed
+// up, so that the change reaches the payload parser and the macroblock layer instead of being
+// caught by the CRC check. Test code only (not part of the codec).
+
+#include <cstddef>
+#include <cstdint>
+#include <random>
+#include <string>
+
+namespace gvkit::testing {
+
+// The first frame packet (header + payload) of `stream`, whose file header and index take
+// `header_bytes`. Contract: a stream with a readable packet there.
+std::string first_packet(const std::string& stream, size_t header_bytes);
+
+// `packet` with its header's flags2 byte set to `flags2` (the CRC covers the payload only).
+std::string with_flags2(std::string packet, uint8_t flags2);
+
+// `packet`'s header with `payload` as the payload (size and CRC rewritten).
+std::string with_payload(const std::string& packet, std::string payload);
+
+// `packet` with `flips` random bits of its payload flipped, none in the payload's first `keep`
+// bytes (keep < payload size), and the CRC fixed up. Draws from `rng`.
+std::string damage_payload(std::string packet, std::mt19937& rng, int flips, size_t keep);
+
+}  // namespace gvkit::testing
