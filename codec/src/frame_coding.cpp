@@ -96,7 +96,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                                   const EncoderOptions& options, uint32_t frame_number,
                                   const std::vector<SamplePlane>* reference,
                                   const std::vector<SamplePlane>* reference1,
-                                  const std::vector<const std::vector<SamplePlane>*>* older) {
+                                  const std::vector<const std::vector<SamplePlane>*>* older,
+                                  ReferenceInterpolationCache* cache) {
   const std::string name = "frame " + std::to_string(frame_number);
   if (image.xyz_mm.rows != info.height || image.xyz_mm.cols != info.width)
     return invalid_argument(name + ": size differs from the sequence's");
@@ -219,10 +220,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
           joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
       const CrossPlaneLinks links = cross_links(i);
       if (bidirectional)
-        coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links);
+        coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links, cache);
       else
         coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint,
-                                more.empty() ? nullptr : &more, &links);
+                                more.empty() ? nullptr : &more, &links, cache);
     };
     if (!shared_motion && !cross_plane && !cross_contexts) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);

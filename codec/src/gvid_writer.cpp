@@ -110,7 +110,7 @@ Result<EncodedFrame> encode_sequence_frame(
     const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
     uint32_t number, const std::vector<SamplePlane>& reference, RateController* rate, int* qp_used,
     const std::vector<SamplePlane>* reference1, QualityController* quality,
-    const std::vector<const std::vector<SamplePlane>*>* older) {
+    const std::vector<const std::vector<SamplePlane>*>* older, ReferenceInterpolationCache* cache) {
   const bool intra = options.is_intra(number);
   GVKIT_CHECK(!intra || !reference1, "a B frame at an intra frame's position");
   const format::FrameType type =
@@ -119,7 +119,7 @@ Result<EncodedFrame> encode_sequence_frame(
   const std::vector<SamplePlane>* ref = intra ? nullptr : &reference;
   if (reference1 || intra) older = nullptr;  // several references: P frames only
   if (quality)
-    return quality->encode(frame, info, options, number, ref, reference1, qp_used, older);
+    return quality->encode(frame, info, options, number, ref, reference1, qp_used, older, cache);
   EncoderOptions o = options;
   if (rate) {
     o.qp = rate->next_qp(type);
@@ -130,7 +130,7 @@ Result<EncodedFrame> encode_sequence_frame(
   if (qp_used) *qp_used = o.bypass() ? 0 : std::min(51, o.qp + offset);
   for (;;) {
     GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frame, info, o, number, ref, reference1, older));
+                           encode_frame(frame, info, o, number, ref, reference1, older, cache));
     if (!rate) return encoded;
     const auto bits = static_cast<int64_t>(encoded.packet.size()) * 8;
     if (!rate->overflows(bits) || o.qp >= 51) {

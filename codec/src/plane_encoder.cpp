@@ -6,11 +6,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include "cross_plane_residual.hpp"
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/interpolation_cache.hpp"
 #include "gvkit/codec/motion_search.hpp"
 #include "gvkit/codec/partition_search.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -37,7 +39,8 @@ class MacroblockEncoder {
                     const PlaneCodingParams& p, const SamplePlane* reference,
                     const JointSearchPlanes* joint, const SamplePlane* reference1 = nullptr,
                     const std::vector<const SamplePlane*>* more_references = nullptr,
-                    const CrossPlaneResidual* cross = nullptr)
+                    const CrossPlaneResidual* cross = nullptr,
+                    ReferenceInterpolationCache* cache = nullptr)
       : src_(source),
         recon_(recon),
         st_(st),
@@ -46,30 +49,34 @@ class MacroblockEncoder {
         cross_(cross),
         max_value_((1 << p.bit_depth) - 1) {
     // Half-sample planes over the search area (the predictor's vector may reach further: the
-    // interpolation then falls back to the plain block-wise path).
-    if (reference) interp_.emplace(*reference, p.bit_depth, p.search_range + 4);
-    if (reference1) interp1_.emplace(*reference1, p.bit_depth, p.search_range + 4);
+    // interpolation then falls back to the plain block-wise path), from the encoder's cache when
+    // it has one.
+    const int margin = p.search_range + 4;
+    const auto interpolate = [&](const SamplePlane& plane) {
+      return cache ? cache->get(plane, p.bit_depth, margin)
+                   : std::make_shared<const InterpolatedReference>(plane, p.bit_depth, margin);
+    };
+    if (reference) interp_ = interpolate(*reference);
+    if (reference1) interp1_ = interpolate(*reference1);
     if (reference && joint) {
       joint_interp_.reserve(joint->references.size());
       for (size_t j = 0; j < joint->references.size(); ++j) {
-        joint_interp_.emplace_back(*joint->references[j], p.bit_depth, p.search_range + 4);
-        joint_planes_.push_back({joint->sources[j], &joint_interp_.back()});
+        joint_interp_.push_back(interpolate(*joint->references[j]));
+        joint_planes_.push_back({joint->sources[j], joint_interp_.back().get()});
       }
     }
     // Multiple reference frames (format 1.6): references 1 .. ref_count - 1 and, under joint
     // search, the other planes' references of the same index.
     const int more = reference && !reference1 ? p.ref_count - 1 : 0;
     more_interp_.reserve(more);
-    for (int k = 0; k < more; ++k)
-      more_interp_.emplace_back(*(*more_references)[k], p.bit_depth, p.search_range + 4);
+    for (int k = 0; k < more; ++k) more_interp_.push_back(interpolate(*(*more_references)[k]));
     if (more > 0 && joint && !joint->references.empty()) {
       more_joint_interp_.reserve(static_cast<size_t>(more) * joint->sources.size());
       more_joint_planes_.resize(more);
       for (int k = 0; k < more; ++k)
         for (size_t j = 0; j < joint->sources.size(); ++j) {
-          more_joint_interp_.emplace_back(*joint->more_references[k][j], p.bit_depth,
-                                          p.search_range + 4);
-          more_joint_planes_[k].push_back({joint->sources[j], &more_joint_interp_.back()});
+          more_joint_interp_.push_back(interpolate(*joint->more_references[k][j]));
+          more_joint_planes_[k].push_back({joint->sources[j], more_joint_interp_.back().get()});
         }
     }
     if (p.lossless && p.near_lossless > 0) {
@@ -420,7 +427,7 @@ class MacroblockEncoder {
 
   // P planes: the interpolated reference `ref` (0 = the nearest).
   const InterpolatedReference& interp(int ref) const {
-    return ref == 0 ? *interp_ : more_interp_[ref - 1];
+    return ref == 0 ? *interp_ : *more_interp_[ref - 1];
   }
 
   // B planes: the motion search of one list around its predictor (px, py).
@@ -1127,14 +1134,17 @@ class MacroblockEncoder {
   const CrossPlaneResidual* cross_;
   int alpha_ = 0;
   double extra_cost_ = 0;
-  std::optional<InterpolatedReference> interp_;   // of ref_, for P planes (list 0 of B planes)
-  std::optional<InterpolatedReference> interp1_;  // B planes: list 1
-  // Joint motion search: the other planes' interpolated references (reserved once, so the
-  // pointers in joint_planes_ stay valid) and the planes the search adds up.
-  std::vector<InterpolatedReference> joint_interp_;
+  // Interpolated references (shared with the encoder's cache, which may hand the same object
+  // to other planes and frames).
+  using Interpolated = std::shared_ptr<const InterpolatedReference>;
+  Interpolated interp_;   // of ref_, for P planes (list 0 of B planes)
+  Interpolated interp1_;  // B planes: list 1
+  // Joint motion search: the other planes' interpolated references and the planes the search
+  // adds up.
+  std::vector<Interpolated> joint_interp_;
   std::vector<JointMotionPlane> joint_planes_;
   // Multiple reference frames (format 1.6): references 1.. and their joint-search planes.
-  std::vector<InterpolatedReference> more_interp_, more_joint_interp_;
+  std::vector<Interpolated> more_interp_, more_joint_interp_;
   std::vector<std::vector<JointMotionPlane>> more_joint_planes_;
   // Per reference: the own search's vector, its whole-sample part and the candidate's cost.
   struct Searched {
@@ -1166,7 +1176,8 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
                                     const SamplePlane* reference, const MotionField* shared,
                                     const JointSearchPlanes* joint, const SamplePlane* reference1,
                                     const std::vector<const SamplePlane*>* more_references,
-                                    const CrossPlaneLinks* cross) {
+                                    const CrossPlaneLinks* cross,
+                                    ReferenceInterpolationCache* cache) {
   GVKIT_CHECK(
       plane.width > 0 && plane.height > 0 && plane.width % 16 == 0 && plane.height % 16 == 0,
       "encode_plane needs a plane of whole macroblocks");
@@ -1220,7 +1231,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   }
   MacroblockEncoder mb_encoder(plane, result.reconstruction, st, params, reference,
                                reference && !reference1 ? joint : nullptr, reference1,
-                               more_references, cross_source);
+                               more_references, cross_source, cache);
   for (int mb_y = 0; mb_y < st.mbs_y; ++mb_y)
     for (int mb_x = 0; mb_x < st.mbs_x; ++mb_x) {
       const MacroblockData mb =
@@ -1256,19 +1267,20 @@ PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams
                                const SamplePlane* reference, const MotionField* shared,
                                const JointSearchPlanes* joint,
                                const std::vector<const SamplePlane*>* more_references,
-                               const CrossPlaneLinks* cross) {
-  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references,
-                           cross);
+                               const CrossPlaneLinks* cross, ReferenceInterpolationCache* cache) {
+  return encode_plane_impl(plane, params, reference, shared, joint, nullptr, more_references, cross,
+                           cache);
 }
 
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                  const SamplePlane& reference0, const SamplePlane& reference1,
-                                 const CrossPlaneLinks* cross) {
+                                 const CrossPlaneLinks* cross, ReferenceInterpolationCache* cache) {
   PlaneCodingParams p = params;
   p.td_prediction = false;
   p.ref_count = 1;
   p.partitions = false;  // format 1.7: P planes only
-  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr, cross);
+  return encode_plane_impl(plane, p, &reference0, nullptr, nullptr, &reference1, nullptr, cross,
+                           cache);
 }
 
 }  // namespace gvkit::codec

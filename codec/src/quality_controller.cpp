@@ -58,7 +58,7 @@ Result<EncodedFrame> QualityController::encode(
     const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
     uint32_t number, const std::vector<SamplePlane>* reference,
     const std::vector<SamplePlane>* reference1, int* qp_used,
-    const std::vector<const std::vector<SamplePlane>*>* older) {
+    const std::vector<const std::vector<SamplePlane>*>* older, ReferenceInterpolationCache* cache) {
   const bool intra = reference == nullptr;
   GVKIT_CHECK(!intra || !reference1, "a B frame needs both references");
   const int type = intra ? 0 : (reference1 ? 2 : 1);
@@ -80,8 +80,8 @@ Result<EncodedFrame> QualityController::encode(
   auto try_qp = [&](int qp) -> Result<bool> {
     o.qp = qp;
     ++encodes;
-    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                           encode_frame(frame, info, o, number, reference, reference1, older));
+    GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded, encode_frame(frame, info, o, number, reference,
+                                                              reference1, older, cache));
     const GeometryError error = geometry_error(frame, encoded.reconstruction);
     last_rms_mm = error.rms_mm;
     if (meets(error, intra)) {

@@ -31,9 +31,11 @@ Result<SequenceFrame> SequenceEncoder::code(const GeometryImage& frame, uint32_t
   GVKIT_CHECK(intra == options_.is_intra(number));
   std::vector<const std::vector<SamplePlane>*> older;
   for (const auto& a : older_anchors_) older.push_back(&a);
-  GVKIT_ASSIGN_OR_RETURN(EncodedFrame encoded,
-                         encode_sequence_frame(frame, info_, options_, number, anchor_, rate_.get(),
-                                               &out.qp, reference1, quality_.get(), &older));
+  GVKIT_ASSIGN_OR_RETURN(
+      EncodedFrame encoded,
+      encode_sequence_frame(frame, info_, options_, number, anchor_, rate_.get(), &out.qp,
+                            reference1, quality_.get(), &older, &interpolation_));
+  interpolation_.next_frame();
   out.packet = std::move(encoded.packet);
   out.reconstruction = std::move(encoded.reconstruction);
   out.stats.intra = intra;

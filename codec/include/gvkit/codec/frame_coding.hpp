@@ -26,12 +26,14 @@ struct EncodedFrame {
 // frame (format 1.5; QP: qp + p_qp_offset + b_qp_offset). A P frame with options.reference_frames()
 // > 1 and `older` (the reconstructed planes of the anchors before `reference` since the last I
 // frame, nearest first) predicts from up to that many of them (format 1.6, flags2 bit 1). Fails
-// (naming the frame) when its size differs from the header's.
+// (naming the frame) when its size differs from the header's. `cache` (optional): the encoder's
+// store of interpolated references (interpolation_cache.hpp; the packet does not depend on it).
 Result<EncodedFrame> encode_frame(
     const GeometryImage& image, const SequenceInfo& info, const EncoderOptions& options,
     uint32_t frame_number, const std::vector<SamplePlane>* reference = nullptr,
     const std::vector<SamplePlane>* reference1 = nullptr,
-    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
+    ReferenceInterpolationCache* cache = nullptr);
 
 // Near-lossless residual bound (samples) that keeps the point error within max_error_mm at the
 // sequence's quantization step: 0 when off (or when only exact coding fits), -1 when even the

@@ -83,13 +83,15 @@ class GvidWriter {
 // `reference` and `reference1` when reference1 is given) at options.qp and its offsets, or with
 // rate control when `rate` is given, or at constant quality when `quality` is given (the QP used
 // is in *qp_used). `older` (P frames with options.reference_frames() > 1): the anchors before
-// `reference` since the last I frame, nearest first (encode_frame).
+// `reference` since the last I frame, nearest first (encode_frame). `cache` (optional): the
+// encoder's store of interpolated references, as for encode_frame.
 Result<EncodedFrame> encode_sequence_frame(
     const GeometryImage& frame, const SequenceInfo& info, const EncoderOptions& options,
     uint32_t number, const std::vector<SamplePlane>& reference, RateController* rate,
     int* qp_used = nullptr, const std::vector<SamplePlane>* reference1 = nullptr,
     QualityController* quality = nullptr,
-    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
+    ReferenceInterpolationCache* cache = nullptr);
 
 // The minor version a stream with these options is written as: 6 when P frames may use several
 // reference frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a

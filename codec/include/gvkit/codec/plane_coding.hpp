@@ -16,6 +16,8 @@
 
 namespace gvkit::codec {
 
+class ReferenceInterpolationCache;  // interpolation_cache.hpp (encoder only)
+
 struct PlaneCodingParams {
   int bit_depth = 16;     // 8..16
   int qp_prime = 0;       // QP + 6 (B - 8), 0..99; ignored when lossless
@@ -100,13 +102,15 @@ struct JointSearchPlanes {
 // reconstructions of this plane, nearest first, same size); `reference` is reference 0. With
 // cross->source (Y and Z planes, format 1.6; the X plane's residual, same size) a macroblock may
 // add a scaled copy of it to its residual (cross_plane.hpp); cross->residual_out receives the
-// plane's own residual.
+// plane's own residual. `cache` (optional): where the references' interpolated planes are taken
+// from and kept (interpolation_cache.hpp; the segment does not depend on it).
 PlaneEncodeResult encode_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                const SamplePlane* reference = nullptr,
                                const MotionField* shared = nullptr,
                                const JointSearchPlanes* joint = nullptr,
                                const std::vector<const SamplePlane*>* more_references = nullptr,
-                               const CrossPlaneLinks* cross = nullptr);
+                               const CrossPlaneLinks* cross = nullptr,
+                               ReferenceInterpolationCache* cache = nullptr);
 
 // Decodes a segment made by encode_plane with the same bit depth, QP, flags, shared motion and
 // cross-plane source. Fails with a message naming the macroblock and the field when the data
@@ -125,10 +129,11 @@ Result<SamplePlane> decode_plane(std::string_view bytes, int width, int height,
 // reference0 (list 0: the anchor before in display order), reference1 (list 1: the anchor
 // after) or the rounded average of both (bi), with a quarter- or whole-sample vector per list
 // (direct: the predicted vectors). params.td_prediction is ignored (no TD in B planes); both
-// references have the plane's size.
+// references have the plane's size. `cache` as for encode_plane.
 PlaneEncodeResult encode_b_plane(const SamplePlane& plane, const PlaneCodingParams& params,
                                  const SamplePlane& reference0, const SamplePlane& reference1,
-                                 const CrossPlaneLinks* cross = nullptr);
+                                 const CrossPlaneLinks* cross = nullptr,
+                                 ReferenceInterpolationCache* cache = nullptr);
 // Decodes a segment made by encode_b_plane; fails naming the macroblock and the field.
 Result<SamplePlane> decode_b_plane(std::string_view bytes, int width, int height,
                                    const PlaneCodingParams& params, const SamplePlane& reference0,

@@ -49,13 +49,14 @@ class QualityController {
   // Encodes frame `number` (intra when reference is null, P from it, or B from reference and
   // reference1 when both are given) at the coarsest QP that meets the target within the search
   // above; each frame type (I, P, B) keeps its own previous QP. *qp_used gets the QP. Fails as
-  // encode_frame fails.
+  // encode_frame fails; `cache` as for encode_frame.
   Result<EncodedFrame> encode(const GeometryImage& frame, const SequenceInfo& info,
                               const EncoderOptions& options, uint32_t number,
                               const std::vector<SamplePlane>* reference,
                               const std::vector<SamplePlane>* reference1 = nullptr,
                               int* qp_used = nullptr,
-                              const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
+                              const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
+                              ReferenceInterpolationCache* cache = nullptr);
 
   // Whether a frame's error meets the target (of an I frame when intra).
   bool meets(const GeometryError& error, bool intra) const;

@@ -16,6 +16,7 @@
 #include "gvkit/codec/encoder_options.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/interpolation_cache.hpp"
 #include "gvkit/codec/quality_controller.hpp"
 #include "gvkit/codec/rate_controller.hpp"
 #include "gvkit/codec/sequence_info.hpp"
@@ -68,6 +69,8 @@ class SequenceEncoder {
   // options.reference_frames() > 1: the anchors before anchor_ since the last I frame, nearest
   // first (at most refs - 1).
   std::deque<std::vector<SamplePlane>> older_anchors_;
+  // The anchors' interpolated planes, made once and kept while frames predict from them.
+  ReferenceInterpolationCache interpolation_;
   // Makes `planes` (frame `number`, an anchor) the last anchor.
   void set_anchor(std::vector<SamplePlane> planes, uint32_t number);
   struct Pending {
