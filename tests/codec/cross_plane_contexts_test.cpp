@@ -4,13 +4,12 @@
 // motion, lossless and near-lossless); a Y plane like X costs fewer bits; the tool off writes
 // the 1.6 stream byte for byte; bad flags2 bits, missing X states and damaged segments are
 // rejected with a message.
-#include <unistd.h>
-#include <cstring>
 #include <filesystem>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/cross_plane_contexts.hpp"
@@ -36,57 +35,6 @@ std::vector<GeometryImage> moving_video(int size, int frames) {
   return video;
 }
 
-SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
-  auto info = make_sequence_info(frames, 16, 30.0);
-  GVKIT_CHECK(info.is_ok(), info.status().message());
-  return std::move(info).value();
-}
-
-bool same_samples(const GeometryImage& a, const GeometryImage& b) {
-  for (int y = 0; y < a.xyz_mm.rows; ++y)
-    if (std::memcmp(a.xyz_mm.ptr(y), b.xyz_mm.ptr(y), a.xyz_mm.cols * a.xyz_mm.elemSize()) != 0)
-      return false;
-  return true;
-}
-
-// Encodes with GvidWriter (keeping the encoder's reconstructions), decodes every frame with
-// GvidReader and expects the same samples; returns the stream.
-std::string round_trip(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
-                       const EncoderOptions& o) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("gvkit_xctx_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / "x.gvid";
-  std::vector<GeometryImage> recon;
-  {
-    auto writer = GvidWriter::create(path, info, o);
-    GVKIT_CHECK(writer.is_ok(), writer.status().message());
-    for (const auto& f : frames) {
-      auto done = (*writer)->write(f);
-      GVKIT_CHECK(done.is_ok(), done.status().message());
-      for (auto& r : *done) recon.push_back(std::move(r));
-    }
-    auto rest = (*writer)->finish();
-    GVKIT_CHECK(rest.is_ok(), rest.status().message());
-    for (auto& r : *rest) recon.push_back(std::move(r));
-  }
-  auto bytes = read_file(path);
-  std::filesystem::remove_all(dir);
-  GVKIT_CHECK(bytes.is_ok());
-  auto reader = GvidReader::open_memory(*bytes, "x.gvid");
-  EXPECT_TRUE(reader.is_ok()) << reader.status().message();
-  if (!reader.is_ok()) return *bytes;
-  EXPECT_EQ((*reader)->frame_count(), static_cast<int64_t>(frames.size()));
-  for (size_t f = 0; f < frames.size(); ++f) {
-    auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
-    EXPECT_TRUE(decoded.is_ok()) << decoded.status().message();
-    if (decoded.is_ok()) {
-      EXPECT_TRUE(same_samples(*decoded, recon[f])) << "frame " << f;
-    }
-  }
-  return *bytes;
-}
-
 // The flags2 bits of every packet of a stream, or'ed, and whether every packet has `bit`.
 uint8_t all_flags2(const std::string& stream, uint8_t bit, bool* every) {
   auto reader = GvidReader::open_memory(stream, "x.gvid");
@@ -104,7 +52,7 @@ uint8_t all_flags2(const std::string& stream, uint8_t bit, bool* every) {
 
 TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   const auto frames = moving_video(48, 6);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   struct Case {
     std::string name;
     EncoderOptions o;
@@ -149,7 +97,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   cases.push_back({"intra only, qp -12", intra});
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::string bytes = round_trip(frames, info, c.o);
+    const std::string bytes = testing::writer_round_trip(frames, info, c.o);
     EXPECT_EQ(static_cast<uint8_t>(bytes[5]), 7);  // version 1.7
     bool every = false;
     all_flags2(bytes, format::kFrame2CrossPlaneContexts, &every);
@@ -227,7 +175,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   vo.frames = 5;
   auto frames = testing::make_analytic_video(vo);
   testing::move_in_picture(&frames, 0.75);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -255,7 +203,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
 
 TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = moving_video(32, 1);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -295,7 +243,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   auto right = decode_frame_packet(packet, info, 0);
   auto cleared = decode_frame_packet(testing::with_flags2(packet, 0), info, 0);
   ASSERT_TRUE(right.is_ok());
-  EXPECT_TRUE(!cleared.is_ok() || !same_samples(*cleared, *right));
+  EXPECT_TRUE(!cleared.is_ok() || !testing::same_samples(cleared->xyz_mm, right->xyz_mm));
 }
 
 }  // namespace

@@ -6,13 +6,12 @@
 // writes the older streams byte for byte; bad scale syntax, flags2 bits and damaged segments
 // are rejected with a message; with the other format 1.6 tools (several references, 8x8 / 16x16
 // transforms) on too, the round trip stays bit exact.
-#include <unistd.h>
-#include <cstring>
 #include <filesystem>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -136,19 +135,6 @@ std::vector<GeometryImage> moving_video(int size, int frames) {
   return video;
 }
 
-SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
-  auto info = make_sequence_info(frames, 16, 30.0);
-  GVKIT_CHECK(info.is_ok(), info.status().message());
-  return std::move(info).value();
-}
-
-bool same_samples(const GeometryImage& a, const GeometryImage& b) {
-  for (int y = 0; y < a.xyz_mm.rows; ++y)
-    if (std::memcmp(a.xyz_mm.ptr(y), b.xyz_mm.ptr(y), a.xyz_mm.cols * a.xyz_mm.elemSize()) != 0)
-      return false;
-  return true;
-}
-
 double max_error(const GeometryImage& a, const GeometryImage& b) {
   double worst = 0;
   for (int y = 0; y < a.xyz_mm.rows; ++y)
@@ -159,48 +145,9 @@ double max_error(const GeometryImage& a, const GeometryImage& b) {
   return worst;
 }
 
-// Encodes with GvidWriter (keeping the encoder's reconstructions), decodes every frame with
-// GvidReader and expects the same samples; returns the stream.
-std::string round_trip(const std::vector<GeometryImage>& frames, const SequenceInfo& info,
-                       const EncoderOptions& o, std::vector<FrameCodingStats>* stats = nullptr) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("gvkit_cross_plane_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / "x.gvid";
-  std::vector<GeometryImage> recon;
-  {
-    auto writer = GvidWriter::create(path, info, o);
-    GVKIT_CHECK(writer.is_ok(), writer.status().message());
-    for (const auto& f : frames) {
-      auto done = (*writer)->write(f);
-      GVKIT_CHECK(done.is_ok(), done.status().message());
-      for (auto& r : *done) recon.push_back(std::move(r));
-    }
-    auto rest = (*writer)->finish();
-    GVKIT_CHECK(rest.is_ok(), rest.status().message());
-    for (auto& r : *rest) recon.push_back(std::move(r));
-    if (stats) *stats = (*writer)->frame_stats();
-  }
-  auto bytes = read_file(path);
-  std::filesystem::remove_all(dir);
-  GVKIT_CHECK(bytes.is_ok());
-  auto reader = GvidReader::open_memory(*bytes, "x.gvid");
-  EXPECT_TRUE(reader.is_ok()) << reader.status().message();
-  if (!reader.is_ok()) return *bytes;
-  EXPECT_EQ((*reader)->frame_count(), static_cast<int64_t>(frames.size()));
-  for (size_t f = 0; f < frames.size(); ++f) {
-    auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
-    EXPECT_TRUE(decoded.is_ok()) << decoded.status().message();
-    if (decoded.is_ok()) {
-      EXPECT_TRUE(same_samples(*decoded, recon[f])) << "frame " << f;
-    }
-  }
-  return *bytes;
-}
-
 TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   const auto frames = moving_video(48, 5);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   struct Case {
     const char* name;
     EncoderOptions o;
@@ -240,7 +187,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Case& c : cases) {
     SCOPED_TRACE(std::string(c.name) + " " + preset_name(c.o.preset));
     std::vector<FrameCodingStats> stats;
-    const std::string bytes = round_trip(frames, info, c.o, &stats);
+    const std::string bytes = testing::writer_round_trip(frames, info, c.o, &stats);
     // Version 1.6 (1.7 with the slow preset's inter partitions in P frames).
     EXPECT_EQ(static_cast<uint8_t>(bytes[5]), c.o.use_partitions() && !c.o.intra_only ? 7 : 6);
     auto reader = GvidReader::open_memory(bytes, "x.gvid");
@@ -249,8 +196,8 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       auto d = (*reader)->decode_frame(f);
       ASSERT_TRUE(d.is_ok());
       if (c.o.lossless) {
-        EXPECT_TRUE(
-            same_samples(*d, dequantize_geometry(quantize_geometry(frames[f], info), info, f)));
+        EXPECT_TRUE(testing::same_samples(
+            d->xyz_mm, dequantize_geometry(quantize_geometry(frames[f], info), info, f).xyz_mm));
       }
       if (c.o.max_error_mm > 0) {
         EXPECT_LE(max_error(frames[f], *d), c.o.max_error_mm);
@@ -271,7 +218,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   vo.frames = 4;
   auto frames = testing::make_analytic_video(vo);
   testing::move_in_picture(&frames, 0.75);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -306,7 +253,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
 
 TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = moving_video(32, 1);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -353,7 +300,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
 TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
   // B frames carry the bit too (and nothing else of flags2).
   const auto frames = moving_video(32, 3);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -361,7 +308,7 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
   o.cross_plane = true;
   o.cross_plane_contexts = false;  // format 1.7 off
   std::vector<FrameCodingStats> stats;
-  const std::string bytes = round_trip(frames, info, o, &stats);
+  const std::string bytes = testing::writer_round_trip(frames, info, o, &stats);
   ASSERT_EQ(stats.size(), 3u);
   EXPECT_TRUE(stats[1].bidirectional);
 }
@@ -372,7 +319,7 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
 // the larger transforms do not apply and --refs is set explicitly); every tool is used.
 TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   const auto frames = moving_video(48, 7);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   struct Case {
     std::string name;
     EncoderOptions o;
@@ -414,7 +361,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     std::vector<FrameCodingStats> stats;
-    const std::string bytes = round_trip(frames, info, c.o, &stats);
+    const std::string bytes = testing::writer_round_trip(frames, info, c.o, &stats);
     EXPECT_EQ(static_cast<uint8_t>(bytes[5]), c.o.use_partitions() ? 7 : 6);
     // Which tools the packets announce, and what the Y and Z planes used.
     auto reader = GvidReader::open_memory(bytes, "x.gvid");

@@ -3,12 +3,12 @@
 // exactly in every configuration; content that returns after a frame is predicted from two
 // frames back; corrupt ref_count syntax is rejected with a message; refs = 1 writes the older
 // stream.
-#include <cstring>
 #include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
@@ -29,18 +29,6 @@ std::vector<GeometryImage> video(int size, int frames) {
   auto video = testing::make_analytic_video(o);
   testing::move_in_picture(&video, 0.75);
   return video;
-}
-
-SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
-  auto info = make_sequence_info(frames, 16, 30.0);
-  GVKIT_CHECK(info.is_ok(), info.status().message());
-  return std::move(info).value();
-}
-
-bool same_samples(const cv::Mat& a, const cv::Mat& b) {
-  if (a.empty() || b.empty()) return a.empty() && b.empty();  // no texture: no data to compare
-  return a.size() == b.size() && a.type() == b.type() &&
-         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
 }
 
 // Encodes with SequenceEncoder (reconstructions by display index) and with encode_gvid (the
@@ -79,8 +67,9 @@ void expect_round_trip(const std::vector<GeometryImage>& frames, const SequenceI
       ++multi;
     auto image = (*reader)->decode_frame(f);
     ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
-    ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
-    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " texture " << f;
+    ASSERT_TRUE(testing::same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
+    ASSERT_TRUE(testing::same_samples(image->texture, recon[f].texture))
+        << what << " texture " << f;
   }
   EXPECT_GT(multi, 0) << what << ": no P frame with several references";
   auto again = GvidReader::open_memory(*bytes, what);
@@ -89,14 +78,16 @@ void expect_round_trip(const std::vector<GeometryImage>& frames, const SequenceI
     if (f >= (*again)->frame_count()) continue;
     auto image = (*again)->decode_frame(f);
     ASSERT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
-    ASSERT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " random frame " << f;
-    ASSERT_TRUE(same_samples(image->texture, recon[f].texture)) << what << " random texture " << f;
+    ASSERT_TRUE(testing::same_samples(image->xyz_mm, recon[f].xyz_mm))
+        << what << " random frame " << f;
+    ASSERT_TRUE(testing::same_samples(image->texture, recon[f].texture))
+        << what << " random texture " << f;
   }
 }
 
 TEST(MultiRef, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = video(48, 8);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   for (Preset preset : {Preset::kFast, Preset::kSlow})
     for (int mode = 0; mode < 3; ++mode)  // lossy, lossless, near-lossless
       for (int refs : {2, 5})
@@ -132,7 +123,7 @@ TEST(MultiRef, TexturePlaneRoundTrips) {
         f.texture.at<float>(y, x) =
             ((x * 7 + y * 3 + static_cast<int>(i) * (i % 2 ? 40 : 2)) % 256) / 255.0f;
   }
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   ASSERT_TRUE(info.has_texture);
   EncoderOptions o;
   o.preset = Preset::kSlow;
@@ -156,7 +147,7 @@ TEST(MultiRef, ReturningContentIsPredictedFromTwoFramesBack) {
       frames[f].xyz_mm = flipped;
     }
   }
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   for (Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
     o.preset = preset;
@@ -174,7 +165,7 @@ TEST(MultiRef, ReturningContentIsPredictedFromTwoFramesBack) {
 
 TEST(MultiRef, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 3);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -240,7 +231,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
 
 TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   const auto frames = video(48, 4);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.bframes = 0;

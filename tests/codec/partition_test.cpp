@@ -4,12 +4,12 @@
 // differently is coded with partitions, and costs less with them in the slow preset; corrupt
 // partition syntax is rejected with a message; the tool off keeps the older stream.
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/crc32.hpp"
@@ -45,17 +45,6 @@ std::vector<GeometryImage> video(int size, int frames) {
       for (int x = 40; x < size; ++x)
         a[f].xyz_mm.at<cv::Vec3f>(y, x) = b[f].xyz_mm.at<cv::Vec3f>(y, x);
   return a;
-}
-
-SequenceInfo info_for(const std::vector<GeometryImage>& frames) {
-  auto info = make_sequence_info(frames, 16, 30.0);
-  GVKIT_CHECK(info.is_ok(), info.status().message());
-  return std::move(info).value();
-}
-
-bool same_samples(const cv::Mat& a, const cv::Mat& b) {
-  return a.size() == b.size() && a.type() == b.type() &&
-         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
 }
 
 // Encodes with SequenceEncoder and encode_gvid; expects the packets to agree and GvidReader to
@@ -109,7 +98,7 @@ int64_t expect_round_trip(const std::vector<GeometryImage>& frames, const Sequen
       auto image = (*reader)->decode_frame(f);
       EXPECT_TRUE(image.is_ok()) << what << " frame " << f << ": " << image.status().message();
       if (!image.is_ok()) return 0;
-      EXPECT_TRUE(same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
+      EXPECT_TRUE(testing::same_samples(image->xyz_mm, recon[f].xyz_mm)) << what << " frame " << f;
     }
   }
   return partitioned;
@@ -117,7 +106,7 @@ int64_t expect_round_trip(const std::vector<GeometryImage>& frames, const Sequen
 
 TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = video(64, 6);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   for (Preset preset : {Preset::kFast, Preset::kSlow})
     for (int mode = 0; mode < 4; ++mode)  // lossy QP 0, lossy QP 12, lossless, near-lossless
       for (int bframes : {0, 1}) {
@@ -145,7 +134,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
 // Slow preset: the partitions make the two-motion video smaller at the same QP.
 TEST(Partitions, TwoMotionsCostLessWithPartitions) {
   const auto frames = video(64, 5);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.preset = Preset::kSlow;
   o.qp = 6;
@@ -160,7 +149,7 @@ TEST(Partitions, TwoMotionsCostLessWithPartitions) {
 
 TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   const auto frames = video(48, 3);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -195,7 +184,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   vo.frames = 5;
   auto frames = testing::make_analytic_video(vo);
   testing::move_in_picture(&frames, 0.75);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -216,7 +205,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
 // the encoder's reconstruction; the macroblocks' motion is exported with partition 0's vector.
 TEST(Partitions, PlaneCodingWithoutRdoRoundTrips) {
   const auto frames = video(64, 2);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
   auto i0 = encode_frame(frames[0], info, o, 0);
@@ -291,7 +280,7 @@ std::string with_header(const std::string& packet, uint8_t flags2) {
 
 TEST(Partitions, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 2);
-  const SequenceInfo info = info_for(frames);
+  const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.preset = Preset::kSlow;
   o.qp = 0;

@@ -1,0 +1,72 @@
+#include "codec_round_trip.hpp"
+
+#include <unistd.h>
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/status.hpp"
+
+namespace gvkit::testing {
+
+codec::SequenceInfo info_for(const std::vector<GeometryImage>& frames, int bit_depth) {
+  auto info = codec::make_sequence_info(frames, bit_depth, 30.0);
+  GVKIT_CHECK(info.is_ok(), info.status().message());
+  return std::move(info).value();
+}
+
+bool same_samples(const cv::Mat& a, const cv::Mat& b) {
+  if (a.empty() || b.empty()) return a.empty() && b.empty();
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
+  for (int y = 0; y < a.rows; ++y)
+    if (std::memcmp(a.ptr(y), b.ptr(y), row_bytes) != 0) return false;
+  return true;
+}
+
+std::string writer_round_trip(const std::vector<GeometryImage>& frames,
+                              const codec::SequenceInfo& info, const codec::EncoderOptions& options,
+                              std::vector<codec::FrameCodingStats>* stats) {
+  static std::atomic<int> calls{0};
+  const auto dir =
+      std::filesystem::temp_directory_path() /
+      ("gvkit_round_trip_" + std::to_string(::getpid()) + "_" + std::to_string(calls++));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "x.gvid";
+  std::vector<GeometryImage> recon;
+  {
+    auto writer = codec::GvidWriter::create(path, info, options);
+    GVKIT_CHECK(writer.is_ok(), writer.status().message());
+    for (const auto& f : frames) {
+      auto done = (*writer)->write(f);
+      GVKIT_CHECK(done.is_ok(), done.status().message());
+      for (auto& r : *done) recon.push_back(std::move(r));
+    }
+    auto rest = (*writer)->finish();
+    GVKIT_CHECK(rest.is_ok(), rest.status().message());
+    for (auto& r : *rest) recon.push_back(std::move(r));
+    if (stats) *stats = (*writer)->frame_stats();
+  }
+  auto bytes = read_file(path);
+  std::filesystem::remove_all(dir);
+  GVKIT_CHECK(bytes.is_ok());
+  auto reader = codec::GvidReader::open_memory(*bytes, "x.gvid");
+  EXPECT_TRUE(reader.is_ok()) << reader.status().message();
+  if (!reader.is_ok()) return *bytes;
+  EXPECT_EQ((*reader)->frame_count(), static_cast<int64_t>(frames.size()));
+  for (size_t f = 0; f < frames.size() && f < recon.size(); ++f) {
+    auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
+    EXPECT_TRUE(decoded.is_ok()) << decoded.status().message();
+    if (decoded.is_ok()) {
+      EXPECT_TRUE(same_samples(decoded->xyz_mm, recon[f].xyz_mm)) << "frame " << f;
+    }
+  }
+  return *bytes;
+}
+
+}  // namespace gvkit::testing
