@@ -783,6 +783,16 @@ int main(int argc, char** argv) {
   int gop = 30, bframes = -1;
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
+  // A preset name into *out, or a message on stderr and false.
+  const auto read_preset = [](const char* name, Preset* out) {
+    auto preset = parse_preset(name);
+    if (!preset.is_ok()) {
+      std::fprintf(stderr, "%s\n", preset.status().message().c_str());
+      return false;
+    }
+    *out = *preset;
+    return true;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--ict" && i + 1 < argc)
@@ -802,12 +812,7 @@ int main(int argc, char** argv) {
     else if (a == "--bits-only")
       bits_only = true;
     else if (a == "--preset" && i + 1 < argc) {
-      auto preset = parse_preset(argv[++i]);
-      if (!preset.is_ok()) {
-        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
-        return 2;
-      }
-      mode_preset = *preset;
+      if (!read_preset(argv[++i], &mode_preset)) return 2;
     } else if (a == "--motion-only")
       motion_only = true;
     else if (a == "--qp-offsets-only")
@@ -824,20 +829,10 @@ int main(int argc, char** argv) {
       transform_only = true;
     else if (a == "--refs-only")
       refs_only = true;
-    else if (a == "--refs-preset" && i + 1 < argc) {
-      auto preset = parse_preset(argv[++i]);
-      if (!preset.is_ok()) {
-        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
-        return 2;
-      }
-      refs_presets = {*preset};
-    } else if (a == "--partitions-preset" && i + 1 < argc) {
-      auto preset = parse_preset(argv[++i]);
-      if (!preset.is_ok()) {
-        std::fprintf(stderr, "%s\n", preset.status().message().c_str());
-        return 2;
-      }
-      refs_presets = {*preset};
+    else if ((a == "--refs-preset" || a == "--partitions-preset") && i + 1 < argc) {
+      Preset preset;
+      if (!read_preset(argv[++i], &preset)) return 2;
+      refs_presets = {preset};
     } else if (a == "--bframes" && i + 1 < argc)
       bframes = std::atoi(argv[++i]);
     else if (a == "--no-peers")
