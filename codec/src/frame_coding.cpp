@@ -28,6 +28,21 @@ struct FrameSyntax {
   bool partitions = false;  // format 1.7: P frames with flags2 bit 5
 };
 
+// What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X: with
+// cross-plane prediction (flags2 bit 3) X records its residual and Y and Z read it, with
+// cross-plane contexts (bit 4) likewise X's final context states. The same for the encoder and
+// the decoder.
+CrossPlaneLinks plane_links(size_t plane, bool cross_plane, bool cross_contexts,
+                            CrossPlaneResidual* x_residual, CrossPlaneContextStates* x_states) {
+  CrossPlaneLinks links;
+  const bool x = plane == 0, y_or_z = plane == 1 || plane == 2;
+  if (cross_plane && x) links.residual_out = x_residual;
+  if (cross_plane && y_or_z) links.source = x_residual;
+  if (cross_contexts && x) links.contexts_out = x_states;
+  if (cross_contexts && y_or_z) links.contexts = x_states;
+  return links;
+}
+
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
                                const FrameSyntax& syntax) {
   PlaneCodingParams p;
@@ -187,14 +202,6 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     // Cross-plane prediction: X keeps its residual, which Y and Z predict from.
     CrossPlaneResidual x_residual;
     CrossPlaneContextStates x_states;  // format 1.7: X's final states, Y's and Z's initial ones
-    const auto cross_links = [&](int i) {
-      CrossPlaneLinks links;
-      if (cross_plane && i == 0) links.residual_out = &x_residual;
-      if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
-      if (cross_contexts && i == 0) links.contexts_out = &x_states;
-      if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
-      return links;
-    };
     const auto code = [&](int i) {
       PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
       p.rdo = options.preset == Preset::kSlow;
@@ -218,7 +225,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       if (!joint.sources.empty())
         for (int k = 0; k + 1 < syntax.ref_count; ++k)
           joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
-      const CrossPlaneLinks links = cross_links(i);
+      const CrossPlaneLinks links =
+          plane_links(i, cross_plane, cross_contexts, &x_residual, &x_states);
       if (bidirectional)
         coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links, cache);
       else
@@ -445,11 +453,8 @@ Result<GeometryImage> decode_frame_packet(
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
     const PlaneCodingParams params =
         plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
-    CrossPlaneLinks links;
-    if (cross_plane && i == 0) links.residual_out = &x_residual;
-    if (cross_plane && (i == 1 || i == 2)) links.source = &x_residual;
-    if (cross_contexts && i == 0) links.contexts_out = &x_states;
-    if (cross_contexts && (i == 1 || i == 2)) links.contexts = &x_states;
+    const CrossPlaneLinks links =
+        plane_links(i, cross_plane, cross_contexts, &x_residual, &x_states);
     auto plane =
         bidirectional
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)
