@@ -186,6 +186,7 @@ void run_encode(const EncodeArgs& args) {
         {"shared_motion", options.shared_motion},
         {"joint_motion_search", options.joint_motion_search},
         {"inter_decimation", options.inter_decimation},
+        {"rdoq", options.rdoq},
         {"skip_check", options.skip_check},
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
@@ -280,6 +281,10 @@ void add_encode_command(CLI::App& app) {
   cmd->add_flag("--no-decimation", args->no_decimation,
                 "P frames: keep sparse +-1 inter residual blocks and the intra rounding (no "
                 "inter dead zone)");
+  cmd->add_flag("--rdoq,!--no-rdoq", args->options.rdoq,
+                "Lossy frames: choose each block's levels by rate-distortion cost "
+                "(rate-distortion optimised quantization; on by default, encoder only); "
+                "--no-rdoq quantizes with fixed rounding offsets");
   cmd->add_flag("--skip-check", args->options.skip_check,
                 "P frames: try the predicted vector first and take a skip found there at once "
                 "(fast preset: about 2x faster encoding, slightly lower quality)");

@@ -15,6 +15,7 @@
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
 //                            [--ctx-only]
 //                            [--partitions-only [--partitions-preset fast|slow]]
+//                            [--rdoq-only [--rdoq-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -29,10 +30,12 @@
 // defaults, in both presets and lossless, the BD-rates against off and x265, and the bits per
 // syntax group at QP 6 and 12 off and on; --partitions-only: format 1.7 inter partitions off /
 // on in both presets, lossless, the BD-rates against off and x265, and the share of each
-// partition type)
+// partition type; --rdoq-only: rate-distortion optimised quantization off / on in both presets
+// (or the one of --rdoq-preset), the BD-rates against off and x265, and the encode speed)
 #include <time.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -413,6 +416,44 @@ void report_cross_plane_contexts(const Material& m, const EncoderOptions& base,
     }
 }
 
+// Rate-distortion optimised quantization (encoder only) off and on, in the given presets, with
+// the other options at their defaults: the BD-rates against off and x265, and the encode speed.
+void report_rdoq(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                 const std::vector<RdPoint>& x265, const std::string& source,
+                 const std::vector<Preset>& presets) {
+  print_header();
+  std::vector<std::array<std::vector<RdPoint>, 2>> curves(presets.size());  // [preset][on]
+  std::vector<std::array<double, 2>> fps(presets.size(), {0.0, 0.0});       // mean encode fps
+  for (size_t k = 0; k < presets.size(); ++k)
+    for (const bool on : {false, true}) {
+      const std::string name =
+          std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq");
+      for (int qp : qps) {
+        EncoderOptions o = base;
+        o.preset = presets[k];
+        o.qp = qp;
+        o.rdoq = on;
+        const Run r = run_ours(m, o);
+        print_row(name, "qp " + std::to_string(qp), r);
+        curves[k][on].push_back(r.point);
+        fps[k][on] += r.encode_fps / static_cast<double>(qps.size());
+      }
+    }
+  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  for (size_t k = 0; k < presets.size(); ++k)
+    print_bd(std::string(preset_name(presets[k])) + ": --rdoq vs --no-rdoq", curves[k][0],
+             curves[k][1]);
+  for (size_t k = 0; k < presets.size(); ++k)
+    for (int on = 0; on < 2; ++on)
+      print_bd(std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq") +
+                   " vs x265 12-bit (" + source + " points)",
+               x265, curves[k][on]);
+  for (size_t k = 0; k < presets.size(); ++k)
+    std::printf(
+        "\n%s preset: mean encode fps (CPU) %.2f without, %.2f with RDO quantization (%.3fx)\n",
+        preset_name(presets[k]), fps[k][0], fps[k][1], fps[k][1] / fps[k][0]);
+}
+
 // Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
 // presets), lossless and near-lossless; BD-rates on vs off and against x265, and the scales.
 void report_cross_plane(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -777,7 +818,7 @@ int main(int argc, char** argv) {
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
-       qp_offsets_only = false, ctx_only = false, partitions_only = false;
+       qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -825,11 +866,14 @@ int main(int argc, char** argv) {
       ctx_only = true;
     else if (a == "--partitions-only")
       partitions_only = true;
+    else if (a == "--rdoq-only")
+      rdoq_only = true;
     else if (a == "--transform-only")
       transform_only = true;
     else if (a == "--refs-only")
       refs_only = true;
-    else if ((a == "--refs-preset" || a == "--partitions-preset") && i + 1 < argc) {
+    else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset") &&
+             i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
       refs_presets = {preset};
@@ -846,7 +890,7 @@ int main(int argc, char** argv) {
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
           "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
-          "[--partitions-only [--partitions-preset P]]\n");
+          "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]]\n");
       return 2;
     }
   }
@@ -922,6 +966,11 @@ int main(int argc, char** argv) {
   if (partitions_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_partitions(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
+    return 0;
+  }
+  if (rdoq_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_rdoq(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
     return 0;
   }
   if (refs_only) {

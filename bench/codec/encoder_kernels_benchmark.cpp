@@ -1,7 +1,9 @@
 // Timings of the encoder's kernels against their plain reference versions: SAD of two 16x16
-// blocks, SATD of a 16x16 and a 4x4 block against a prediction, 4x4 quantization, and the
+// blocks, SATD of a 16x16 and a 4x4 block against a prediction, 4x4 quantization, a block's
+// quantization with fixed offsets against the rate-distortion optimised one, and the
 // quarter-sample prediction of a 16x16 block (all 16 phases) from the precomputed half-sample
 // planes against the block-wise interpolation; plus building those planes for a 320x320 plane.
+#include <cmath>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -9,6 +11,8 @@
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/transform.hpp"
+#include "gvkit/codec/transform16x16.hpp"
+#include "rdo_quantization.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -78,6 +82,37 @@ void BM_Quantize4x4(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Quantize4x4)->Arg(0)->Arg(1)->ArgName("reference");
+
+// One block's quantization, fixed offset (method 0) against rate-distortion optimised (1), on
+// the transform of a residual of Laplacian noise of two quantizer steps at QP' 48 (QP 0 of a
+// 16-bit plane), where about a third of the levels are nonzero.
+void BM_QuantizeBlock(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const bool rdo = state.range(1) != 0;
+  const int qp = 48;
+  std::mt19937 rng(3);
+  std::exponential_distribution<double> e(1.0 / (2.0 * quantizer_step(qp)));
+  int32_t residual[256], coeffs[256], levels[256];
+  for (int i = 0; i < n * n; ++i) residual[i] = static_cast<int32_t>((rng() & 1 ? 1 : -1) * e(rng));
+  if (n == 4)
+    forward_transform4x4(residual, coeffs);
+  else if (n == 8)
+    forward_transform8x8(residual, coeffs);
+  else
+    forward_transform16x16(residual, coeffs);
+  const detail::ContextSet ctx{};
+  const double lambda = 0.85 * std::pow(2.0, (qp - 12) / 3.0);
+  for (auto _ : state) {
+    if (rdo)
+      detail::quantize_rdo(n, coeffs, qp, lambda, ctx, levels);
+    else if (n == 16)
+      quantize16x16(coeffs, qp, false, levels);
+    else
+      quantize(n, coeffs, qp, levels);
+    benchmark::DoNotOptimize(levels);
+  }
+}
+BENCHMARK(BM_QuantizeBlock)->ArgsProduct({{4, 8, 16}, {0, 1}})->ArgNames({"n", "rdo"});
 
 void BM_QuarterSample16x16AllPhases(benchmark::State& state) {
   const SamplePlane ref = random_plane(64);

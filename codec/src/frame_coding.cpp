@@ -208,6 +208,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       p.allow_8x8 = options.preset == Preset::kSlow;
       p.search_range = options.search_range;
       p.inter_decimation = options.inter_decimation;
+      p.rdoq = options.rdoq;
       p.skip_check = options.skip_check;
       if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;

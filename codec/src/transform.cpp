@@ -224,6 +224,12 @@ void quantize_inter(int n, const int32_t* coeffs, int qp, int32_t* levels) {
   quantize_with_rounding(n, coeffs, qp, 6, levels);
 }
 
+int quantization_numerators(int n, const int32_t* coeffs, int qp, int64_t* numer) {
+  const int32_t* mf = n == 4 ? quant_tables().mf4[qp % 6] : quant_tables().mf8[qp % 6];
+  for (int k = 0; k < n * n; ++k) numer[k] = std::llabs(int64_t{coeffs[k]}) * mf[k];
+  return (n == 4 ? 15 : 16) + qp / 6;
+}
+
 void dequantize_reference(int n, const int32_t* levels, int qp, int64_t* coeffs) {
   const int per = qp / 6, rem = qp % 6;
   for (int i = 0; i < n; ++i)

@@ -178,6 +178,12 @@ void quantize16x16(const int32_t* coeffs, int qp, bool inter_dead_zone, int32_t*
   }
 }
 
+int quantization_numerators16x16(const int32_t* coeffs, int qp, int64_t* numer) {
+  const int64_t mf = kMf16[qp % 6];
+  for (int k = 0; k < 256; ++k) numer[k] = std::llabs(int64_t{coeffs[k]}) * mf;
+  return kQuantShift + qp / 6;
+}
+
 void dequantize16x16(const int32_t* levels, int qp, int64_t* coeffs) {
   const int64_t scale = int64_t{kStep16[qp % 6]} << (qp / 6);
   for (int k = 0; k < 256; ++k) coeffs[k] = levels[k] * scale;

@@ -228,6 +228,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.max_transform = 4;
   o.cross_plane = false;
   o.cross_plane_contexts = false;  // format 1.7 off
+  o.rdoq = false;                  // (written before RDO quantization)
   auto bytes = encode_gvid(frames, info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =

@@ -356,6 +356,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.cross_plane = false;  // ... and without cross-plane prediction
   o.cross_plane_contexts = false;  // format 1.7 off
   o.partitions = false;            // ... and inter partitions (format 1.7)
+  o.rdoq = false;                  // ... and RDO quantization
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok());
   auto golden =

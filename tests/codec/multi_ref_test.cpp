@@ -308,6 +308,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.cross_plane = false;
     c->options.cross_plane_contexts = false;
     c->options.partitions = false;  // nor the inter partitions of 1.7
+    c->options.rdoq = false;        // nor RDO quantization
   }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;

@@ -135,6 +135,29 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 5);
 }
 
+// RDO quantization is an encoder option (no syntax): on by default, recorded in the stats, and
+// both streams decode.
+TEST(CliCodec, RdoQuantizationIsAnOptionAndBothStreamsDecode) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  std::string bytes[2];
+  for (const bool on : {false, true}) {
+    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 6" +
+                         (on ? "" : " --no-rdoq"));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["rdoq"], on);
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+    auto read = read_file(gvid);
+    ASSERT_TRUE(read.is_ok());
+    bytes[on] = *read;
+  }
+  EXPECT_NE(bytes[1], bytes[0]);  // the option reaches the encoder
+}
+
 TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);

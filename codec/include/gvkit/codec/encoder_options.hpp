@@ -55,6 +55,10 @@ struct EncoderOptions {
   // Lossy P frames: inter residuals with the inter dead zone, sparse +-1 blocks dropped
   // (encoder only; the stream syntax does not change).
   bool inter_decimation = true;
+  // Lossy frames: rate-distortion optimised quantization, each block's levels and last
+  // coefficient chosen by SSD + lambda x estimated CABAC bits instead of a fixed rounding
+  // offset (encoder only; the stream syntax does not change; docs/benchmarks.md, RDOQ).
+  bool rdoq = true;
   // P frames: try the predicted vector before the motion search and, in the fast preset, take a
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
   bool skip_check = false;

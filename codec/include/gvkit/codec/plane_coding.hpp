@@ -55,6 +55,9 @@ struct PlaneCodingParams {
   // Encoder only, P planes: try the predicted vector on its own before the search (a skip
   // found there is taken at once by the fast path).
   bool skip_check = false;
+  // Encoder only, lossy planes: rate-distortion optimised quantization (rdo_quantization.hpp)
+  // instead of the intra rounding and the inter dead zone.
+  bool rdoq = false;
   bool rdo = true;       // encoder only: SSD + lambda * bits (else SATD-based decisions)
   int search_range = 4;  // encoder only: full-search motion range (samples) of P planes
 };

@@ -20,6 +20,11 @@ void quantize(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 // for inter blocks): a wider dead zone, fewer isolated small levels.
 void quantize_inter(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
+// The numerators of quantize (n = 4 or 8): numer[k] = |coeffs[k]| x the quantizer multiplier of
+// position k; returns qbits. quantize's level is (numer + offset) >> qbits, and
+// numer / 2^qbits is the unrounded magnitude in quantizer steps (rate-distortion optimised
+// quantization, rdo_quantization.hpp).
+int quantization_numerators(int n, const int32_t* coeffs, int qp_prime, int64_t* numer);
 // The plain per-position formulas of the same (kept to check the table-driven versions).
 void quantize_reference(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize_reference(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);

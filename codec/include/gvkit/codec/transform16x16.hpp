@@ -34,6 +34,9 @@ void inverse_transform16x16_reference(const int64_t* coeffs, int32_t* residual);
 // the step quantizer_step(qp'), rounded with the offset 1/3 of a step (intra) or 1/6 (inter,
 // the wider dead zone of quantize_inter).
 void quantize16x16(const int32_t* coeffs, int qp_prime, bool inter_dead_zone, int32_t* levels);
+// The numerators of quantize16x16: numer[k] = |coeffs[k]| x the quantizer multiplier; returns
+// qbits (numer / 2^qbits is the unrounded magnitude in quantizer steps).
+int quantization_numerators16x16(const int32_t* coeffs, int qp_prime, int64_t* numer);
 void dequantize16x16(const int32_t* levels, int qp_prime, int64_t* coeffs);
 
 }  // namespace gvkit::codec

@@ -1,0 +1,242 @@
+// Rate-distortion optimised quantization (codec/src/rdo_quantization.hpp): what it returns for
+// lambda 0 and a huge lambda, the levels it may choose, and that it lowers the real SSD +
+// lambda x CABAC bits of coded blocks against the fixed-offset quantizers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+#include "codec_round_trip.hpp"
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/cabac_encoder.hpp"
+#include "gvkit/codec/geometry_metrics.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/transform.hpp"
+#include "gvkit/codec/transform16x16.hpp"
+#include "macroblock_syntax.hpp"
+#include "rdo_quantization.hpp"
+
+namespace gvkit::codec::detail {
+namespace {
+
+// A residual block: a smooth ramp plus Laplacian-ish noise of `noise` samples (|value| < 2^16).
+std::vector<int32_t> residual_block(int n, double noise, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::exponential_distribution<double> e(1.0 / noise);
+  const double gx = 40 * u(rng), gy = 40 * u(rng), dc = 200 * u(rng);
+  std::vector<int32_t> r(static_cast<size_t>(n * n));
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const double v =
+          dc + gx * (x - n / 2.0) + gy * (y - n / 2.0) + (u(rng) < 0 ? -1 : 1) * e(rng);
+      r[static_cast<size_t>(y * n + x)] = static_cast<int32_t>(std::lround(v));
+    }
+  return r;
+}
+
+void forward(int n, const int32_t* residual, int32_t* coeffs) {
+  if (n == 4)
+    forward_transform4x4(residual, coeffs);
+  else if (n == 8)
+    forward_transform8x8(residual, coeffs);
+  else
+    forward_transform16x16(residual, coeffs);
+}
+
+// Squared error of the levels' reconstruction against the residual.
+double reconstruction_ssd(int n, const int32_t* levels, int qp, const int32_t* residual) {
+  int64_t dq[256];
+  int32_t rec[256];
+  if (n == 16) {
+    dequantize16x16(levels, qp, dq);
+    inverse_transform16x16(dq, rec);
+  } else {
+    dequantize(n, levels, qp, dq);
+    if (n == 4)
+      inverse_transform4x4(dq, rec);
+    else
+      inverse_transform8x8(dq, rec);
+  }
+  double ssd = 0;
+  for (int i = 0; i < n * n; ++i) {
+    const double d = static_cast<double>(residual[i]) - rec[i];
+    ssd += d * d;
+  }
+  return ssd;
+}
+
+enum class Quantizer { kIntra, kInter, kRdo };
+
+// SSD + lambda x bits over `blocks` blocks coded one after the other on one context set (the
+// contexts adapt as in a plane), each block's levels from `quantizer`.
+double total_cost(int n, int qp, double lambda, Quantizer quantizer, int blocks, double noise,
+                  unsigned seed) {
+  std::mt19937 rng(seed);
+  ContextSet ctx{};
+  double cost = 0;
+  for (int b = 0; b < blocks; ++b) {
+    const std::vector<int32_t> r = residual_block(n, noise, rng);
+    int32_t coeffs[256], levels[256];
+    forward(n, r.data(), coeffs);
+    if (quantizer == Quantizer::kRdo)
+      quantize_rdo(n, coeffs, qp, lambda, ctx, levels);
+    else if (n == 16)
+      quantize16x16(coeffs, qp, quantizer == Quantizer::kInter, levels);
+    else if (quantizer == Quantizer::kInter)
+      quantize_inter(n, coeffs, qp, levels);
+    else
+      quantize(n, coeffs, qp, levels);
+    CabacBitCounter counter;
+    counter.encode(ctx.cbf[0], any_nonzero(levels, n * n));
+    if (any_nonzero(levels, n * n)) write_residual(counter, ctx, levels, n);
+    cost += reconstruction_ssd(n, levels, qp, r.data()) + lambda * counter.bits();
+  }
+  return cost;
+}
+
+double lambda_of(int qp_prime) { return 0.85 * std::pow(2.0, (qp_prime - 12) / 3.0); }
+
+TEST(RdoQuantization, LambdaZeroRoundsToTheNearestLevel) {
+  std::mt19937 rng(7);
+  for (const int n : {4, 8, 16})
+    for (const int qp : {20, 48, 70}) {
+      for (int t = 0; t < 20; ++t) {
+        const std::vector<int32_t> r = residual_block(n, 300, rng);
+        int32_t coeffs[256], levels[256];
+        int64_t numer[256];
+        forward(n, r.data(), coeffs);
+        quantize_rdo(n, coeffs, qp, 0.0, ContextSet{}, levels);
+        const int qbits = n == 16 ? quantization_numerators16x16(coeffs, qp, numer)
+                                  : quantization_numerators(n, coeffs, qp, numer);
+        for (int k = 0; k < n * n; ++k) {
+          const int32_t nearest =
+              static_cast<int32_t>((numer[k] + (int64_t{1} << (qbits - 1))) >> qbits);
+          EXPECT_EQ(levels[k], coeffs[k] < 0 ? -nearest : nearest) << "n " << n << " qp " << qp;
+        }
+      }
+    }
+}
+
+TEST(RdoQuantization, LevelsStayBetweenZeroAndTheNearestWithTheCoefficientsSign) {
+  std::mt19937 rng(11);
+  ContextSet ctx{};
+  for (const int n : {4, 8, 16})
+    for (const int qp : {30, 60}) {
+      int nonzero = 0;
+      for (int t = 0; t < 30; ++t) {
+        const std::vector<int32_t> r = residual_block(n, 200, rng);
+        int32_t coeffs[256], levels[256], nearest[256];
+        int64_t numer[256];
+        forward(n, r.data(), coeffs);
+        quantize_rdo(n, coeffs, qp, lambda_of(qp), ctx, levels);
+        const int qbits = n == 16 ? quantization_numerators16x16(coeffs, qp, numer)
+                                  : quantization_numerators(n, coeffs, qp, numer);
+        for (int k = 0; k < n * n; ++k) {
+          nearest[k] = static_cast<int32_t>((numer[k] + (int64_t{1} << (qbits - 1))) >> qbits);
+          ASSERT_LE(std::abs(levels[k]), nearest[k]);
+          if (levels[k]) {
+            ASSERT_EQ(levels[k] < 0, coeffs[k] < 0);
+            ++nonzero;
+          }
+        }
+      }
+      EXPECT_GT(nonzero, 0) << "n " << n << " qp " << qp;
+    }
+}
+
+TEST(RdoQuantization, AHugeLambdaCodesNothing) {
+  std::mt19937 rng(3);
+  for (const int n : {4, 8, 16}) {
+    const std::vector<int32_t> r = residual_block(n, 50, rng);
+    int32_t coeffs[256], levels[256];
+    forward(n, r.data(), coeffs);
+    quantize_rdo(n, coeffs, 40, 1e30, ContextSet{}, levels);
+    EXPECT_FALSE(any_nonzero(levels, n * n)) << "n " << n;
+  }
+}
+
+// The real cost (SSD of the reconstruction + lambda x the bits write_residual codes, contexts
+// adapting over the blocks) with RDO quantization is below both fixed-offset quantizers'.
+TEST(RdoQuantization, LowersTheRateDistortionCostOfCodedBlocks) {
+  for (const int n : {4, 8, 16})
+    for (const int qp : {36, 60}) {
+      const double lambda = lambda_of(qp), noise = 2.0 * quantizer_step(qp);
+      const int blocks = n == 16 ? 60 : 200;
+      const double intra = total_cost(n, qp, lambda, Quantizer::kIntra, blocks, noise, 5);
+      const double inter = total_cost(n, qp, lambda, Quantizer::kInter, blocks, noise, 5);
+      const double rdo = total_cost(n, qp, lambda, Quantizer::kRdo, blocks, noise, 5);
+      EXPECT_LT(rdo, 0.99 * intra) << "n " << n << " qp " << qp;
+      EXPECT_LT(rdo, 0.99 * inter) << "n " << n << " qp " << qp;
+    }
+}
+
+// The analytic surface moving by (0.75, 0.375) pixels per frame and growing by 1 % per frame.
+std::vector<GeometryImage> moving_video(int size, int frames) {
+  testing::GeometryVideoOptions o;
+  o.size = size;
+  o.frames = frames;
+  auto video = testing::make_analytic_video(o);
+  testing::move_in_picture(&video, 0.75, 0.01);
+  return video;
+}
+
+// Squared point error (mm^2) of the decoded stream over every frame's domain pixels.
+double decoded_squared_error(const std::string& stream, const std::vector<GeometryImage>& frames) {
+  auto reader = GvidReader::open_memory(stream, "x.gvid");
+  GVKIT_CHECK(reader.is_ok());
+  GeometryError total;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    auto decoded = (*reader)->decode_frame(static_cast<int64_t>(f));
+    GVKIT_CHECK(decoded.is_ok());
+    accumulate(total, geometry_error(frames[f], *decoded));
+  }
+  return total.sum_squared_mm2;
+}
+
+// In whole streams (I, P and B frames, both presets, every transform size): the decoder
+// reproduces the encoder's reconstructions, and at the same QP RDO quantization lowers the
+// stream's SSD + lambda x bits against the fixed offsets, with neither term much larger.
+TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
+  const auto frames = moving_video(48, 6);
+  const SequenceInfo info = testing::info_for(frames);
+  const double step_mm2 = info.step_mm() * info.step_mm();
+  for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
+    EncoderOptions o;
+    o.qp = 12;
+    o.preset = preset;
+    o.intra_period = 4;
+    double bits[2], sse[2];
+    for (const bool rdoq : {false, true}) {
+      o.rdoq = rdoq;
+      const std::string stream = testing::writer_round_trip(frames, info, o);
+      bits[rdoq] = 8.0 * static_cast<double>(stream.size());
+      sse[rdoq] = decoded_squared_error(stream, frames) / step_mm2;  // in squared 16-bit steps
+    }
+    // RDO quantization weighs bits by half the mode decision's lambda (plane_encoder.cpp).
+    const double lambda = 0.5 * lambda_of(o.qp_prime());  // the I frames' (P and B: larger)
+    EXPECT_LT(sse[1] + lambda * bits[1], 0.99 * (sse[0] + lambda * bits[0])) << preset_name(preset);
+    EXPECT_LT(sse[1], 1.1 * sse[0]) << preset_name(preset);
+    EXPECT_LT(bits[1], 1.05 * bits[0]) << preset_name(preset);
+  }
+}
+
+// Lossless and near-lossless streams have no quantizer for it: byte for byte the same.
+TEST(RdoQuantization, LosslessAndNearLosslessStreamsDoNotChange) {
+  const auto frames = moving_video(32, 3);
+  const SequenceInfo info = testing::info_for(frames);
+  for (const double max_error : {0.0, 0.05}) {
+    EncoderOptions o;
+    o.lossless = max_error == 0;
+    o.max_error_mm = max_error;
+    o.intra_period = 2;
+    o.rdoq = false;
+    const std::string off = testing::writer_round_trip(frames, info, o);
+    o.rdoq = true;
+    EXPECT_EQ(testing::writer_round_trip(frames, info, o), off) << "max error " << max_error;
+  }
+}
+
+}  // namespace
+}  // namespace gvkit::codec::detail
