@@ -166,12 +166,18 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
       const HH g(hedge[c] + 1);  // b -> a
       mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
       mesh->set_face_handle(g, Mesh::FaceHandle());
-      const HH leaving(hedge[next_boundary[boundary_corner++]] + 1);
-      mesh->set_next_halfedge_handle(g, leaving);
-      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), leaving);
-    } else if (fans_start[from(c) + 1] == fans_start[from(c)]) {
-      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), h);
+      mesh->set_next_halfedge_handle(g, HH(hedge[next_boundary[boundary_corner++]] + 1));
     }
+  }
+  // Each vertex's halfedge, once per vertex: on the boundary the boundary halfedge leaving its
+  // last fan (of the largest boundary corner), inside the halfedge of its last corner (the
+  // largest c: out[] lists each vertex's corners in increasing order).
+  for (int a = 0; a < n_vertices; ++a) {
+    if (out_start[a + 1] == out_start[a]) continue;
+    const int last_fan = fans_start[a + 1] - 1;
+    const int leaving = last_fan >= fans_start[a] ? hedge[next_boundary[fans[last_fan]]] + 1
+                                                  : hedge[out[out_start[a + 1] - 1]];
+    mesh->set_halfedge_handle(Mesh::VertexHandle(a), HH(leaving));
   }
   return true;
 }
