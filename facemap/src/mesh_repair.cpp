@@ -36,8 +36,15 @@ std::string MeshRepairReport::summary() const {
 
 namespace {
 
+// Path halving (i moves to its grandparent, which becomes its parent), without the store when
+// the grandparent is already i's parent: the root's entry, read by every find, is not rewritten.
 int find_root(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  for (int p = parent[i]; p != i; p = parent[i]) {
+    const int g = parent[p];
+    if (g == p) return p;
+    parent[i] = g;
+    i = g;
+  }
   return i;
 }
 
@@ -255,18 +262,24 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   }
   sorted_corners.clear();
   sorted_corners.shrink_to_fit();
-  std::vector<std::array<int, 3>> faces;
-  faces.reserve(triangles.size());
-  for (size_t i = 0; i < triangles.size(); ++i)
-    if (!drop[i]) faces.push_back(triangles[i]);
+  // The faces not dropped (the caller's triangles themselves when none is).
+  std::vector<std::array<int, 3>> remaining;
+  const bool any_dropped = std::find(drop.begin(), drop.end(), 1) != drop.end();
+  if (any_dropped) {
+    remaining.reserve(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i)
+      if (!drop[i]) remaining.push_back(triangles[i]);
+  }
+  const std::vector<std::array<int, 3>>& faces = any_dropped ? remaining : triangles;
 
   // Components (union-find over face corners), keep the largest by face count.
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
+  // The roots depend only on the order of the unions, not on how paths are shortened.
   for (const auto& t : faces) {
     const int a = find_root(parent, t[0]);
-    parent[find_root(parent, t[1])] = a;
-    parent[find_root(parent, t[2])] = a;
+    for (int k = 1; k < 3; ++k)
+      if (const int root = find_root(parent, t[k]); root != a) parent[root] = a;
   }
   // Every vertex points at its root from here on (the same roots: flattening keeps them).
   for (int i = 0; i < n; ++i) parent[i] = find_root(parent, i);
@@ -282,6 +295,7 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   // Kept faces on compact vertex indices (in order of first use).
   std::vector<int> compact(n, -1);
   std::vector<int> original;
+  original.reserve(n);
   std::vector<std::array<int, 3>> kept;
   kept.reserve(faces.size());
   for (const auto& t : faces) {
@@ -299,8 +313,8 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
     }
     kept.push_back(c);
   }
-  faces.clear();
-  faces.shrink_to_fit();
+  remaining.clear();
+  remaining.shrink_to_fit();
 
   const bool with_colors = !colors.empty();
   GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");
