@@ -87,42 +87,44 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
       if (stamp[x] == a) twin[d] = leaving[x];
     }
   }
-  for (int c = 0; c < nc; ++c)
-    if (twin[c] >= 0 && twin[twin[c]] != c) return false;
-  for (int t = 0; t < nf; ++t)
-    if (twin[3 * t] >= 0 && twin[3 * t + 1] >= 0 && twin[3 * t + 2] >= 0 &&
-        twin[3 * t] / 3 == twin[3 * t + 1] / 3 && twin[3 * t] / 3 == twin[3 * t + 2] / 3)
-      return false;
+  // One pass over the faces (the twins are complete) checks them, numbers the halfedges and finds
+  // the open fans; a failed check ends the build, whichever pass would have found it.
   // OpenMesh halfedge ids: edge e holds 2e and 2e + 1; a boundary halfedge is the odd one.
-  std::vector<int> hedge(static_cast<size_t>(nc), -1);
-  int n_edges = 0;
-  for (int c = 0; c < nc; ++c) {
-    if (hedge[c] >= 0) continue;
-    hedge[c] = 2 * n_edges;
-    if (twin[c] >= 0) hedge[twin[c]] = 2 * n_edges + 1;
-    ++n_edges;
-  }
   // Boundary: around each vertex, every open fan of faces has a boundary halfedge entering it
   // (the twin of its first face halfedge a -> b) and one leaving it on its other side. As in
   // OpenMesh, the entering halfedge of one fan continues with the leaving halfedge of the next
   // fan (in a cycle), so circulating around a vertex visits all its fans.
+  std::vector<int> hedge(static_cast<size_t>(nc), -1);
+  int n_edges = 0;
   std::vector<int> fan_faces(n_vertices, 0);
   std::vector<int> fans_start(static_cast<size_t>(n_vertices) + 1, 0);
   std::vector<int> fan_in, fan_out;  // per fan (grouped by vertex): entering c, leaving prev(c)
   std::vector<int> fan_vertex;
-  for (int c = 0; c < nc; ++c) {
-    if (twin[c] >= 0) continue;
-    const int a = from(c);
-    int cur = c, steps = 1;
-    for (; twin[prev(cur)] >= 0; ++steps) {
-      cur = twin[prev(cur)];
-      if (steps > out_start[a + 1] - out_start[a]) return false;
+  for (int t = 0; t < nf; ++t) {
+    const int* tw = &twin[3 * t];
+    if (tw[0] >= 0 && tw[1] >= 0 && tw[2] >= 0 && tw[0] / 3 == tw[1] / 3 && tw[0] / 3 == tw[2] / 3)
+      return false;  // a face equal to its three neighbours
+    for (int c = 3 * t; c < 3 * t + 3; ++c) {
+      const int tc = twin[c];
+      if (tc >= 0 && twin[tc] != c) return false;
+      if (hedge[c] < 0) {
+        hedge[c] = 2 * n_edges;
+        if (tc >= 0) hedge[tc] = 2 * n_edges + 1;
+        ++n_edges;
+      }
+      if (tc >= 0) continue;
+      const int a = from(c);
+      int cur = c, steps = 1;
+      for (; twin[prev(cur)] >= 0; ++steps) {
+        cur = twin[prev(cur)];
+        if (steps > out_start[a + 1] - out_start[a]) return false;
+      }
+      fan_in.push_back(c);
+      fan_out.push_back(prev(cur));  // its twin (a -> x) is the boundary halfedge leaving a
+      fan_vertex.push_back(a);
+      fan_faces[a] += steps;
+      ++fans_start[a + 1];
     }
-    fan_in.push_back(c);
-    fan_out.push_back(prev(cur));  // its twin (a -> x) is the boundary halfedge leaving a
-    fan_vertex.push_back(a);
-    fan_faces[a] += steps;
-    ++fans_start[a + 1];
   }
   for (int i = 0; i < n_vertices; ++i) fans_start[i + 1] += fans_start[i];
   std::vector<int> fans(fan_in.size());
