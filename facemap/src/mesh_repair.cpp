@@ -164,19 +164,22 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
   mesh->resize(n_vertices, n_edges, nf);
   using HH = Mesh::HalfedgeHandle;
   int boundary_corner = 0;  // the boundary corners c come in the order of fan_in
-  for (int c = 0; c < nc; ++c) {
-    const HH h(hedge[c]);
-    const int t = c / 3;
-    mesh->set_vertex_handle(h, Mesh::VertexHandle(to(c)));
-    mesh->set_face_handle(h, Mesh::FaceHandle(t));
-    mesh->set_next_halfedge_handle(h, HH(hedge[next(c)]));
-    if (c % 3 == 0) mesh->set_halfedge_handle(Mesh::FaceHandle(t), h);
-    if (twin[c] < 0) {
-      const HH g(hedge[c] + 1);  // b -> a
-      mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
-      mesh->set_face_handle(g, Mesh::FaceHandle());
-      mesh->set_next_halfedge_handle(g, HH(hedge[next_boundary[boundary_corner++]] + 1));
+  for (int t = 0; t < nf; ++t) {
+    const Mesh::FaceHandle f(t);
+    const HH h[3] = {HH(hedge[3 * t]), HH(hedge[3 * t + 1]), HH(hedge[3 * t + 2])};
+    for (int k = 0; k < 3; ++k) {
+      const int c = 3 * t + k;
+      mesh->set_vertex_handle(h[k], Mesh::VertexHandle(to(c)));
+      mesh->set_face_handle(h[k], f);
+      mesh->set_next_halfedge_handle(h[k], h[k == 2 ? 0 : k + 1]);
+      if (twin[c] < 0) {
+        const HH g(h[k].idx() + 1);  // b -> a
+        mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
+        mesh->set_face_handle(g, Mesh::FaceHandle());
+        mesh->set_next_halfedge_handle(g, HH(hedge[next_boundary[boundary_corner++]] + 1));
+      }
     }
+    mesh->set_halfedge_handle(f, h[0]);
   }
   // Each vertex's halfedge, once per vertex: on the boundary the boundary halfedge leaving its
   // last fan (of the largest boundary corner), inside the halfedge of its last corner (the
