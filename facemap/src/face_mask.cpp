@@ -432,10 +432,11 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
     result.cropped_vertices = static_cast<int>(
         std::count_if(d_features.begin(), d_features.end(), [](double d) { return d < 1e300; }));
     for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], d_features[i] - radius);
-    for (int k = 0; k < 3; ++k) {
-      const std::vector<double> d = marching->distance(regions[k], margins[k] + 3.0 * mean_edge);
-      for (size_t i = 0; i < f.size(); ++i) f[i] = std::max(f[i], margins[k] - d[i]);
-    }
+    // The regions' queries reach few vertices; elsewhere margin_k - d_k is -infinity and
+    // leaves f as it is.
+    for (int k = 0; k < 3; ++k)
+      for (const auto& [v, d] : marching->reached(regions[k], margins[k] + 3.0 * mean_edge))
+        f[v] = std::max(f[v], margins[k] - d);
   }
   lap(&result.timing.distances_ms);
   LevelSetClipOptions clip;

@@ -161,19 +161,51 @@ std::vector<double> FastMarching::distance_reference(const std::vector<Mesh::Ver
 // vertex: vertices are accepted in the same order as in the reference, and every update reads
 // the same accepted neighbours, so the values are the same to the last bit. Within one vertex the
 // order of its triangles does not matter either: a vertex keeps the minimum of its updates.
+namespace {
+constexpr int kAccepted = -2;
+}  // namespace
+
 std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>& sources,
                                            double max_distance_mm) const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  constexpr int kAccepted = -2;
-  constexpr int kArity = 4;
   const int n = static_cast<int>(points_.size());
   std::vector<double> d(n, kInf);
+  std::vector<int> state(n, -1);  // heap slot, -1 (not reached) or kAccepted
+  march(sources, max_distance_mm, d.data(), state.data(), nullptr);
+  for (int i = 0; i < n; ++i)
+    if (state[i] != kAccepted) d[i] = kInf;
+  return d;
+}
+
+std::vector<std::pair<int, double>> FastMarching::reached(
+    const std::vector<Mesh::VertexHandle>& sources, double max_distance_mm) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const size_t n = points_.size();
+  if (reached_d_.size() != n) {
+    reached_d_.assign(n, kInf);
+    reached_state_.assign(n, -1);
+  }
+  std::vector<int> touched;
+  march(sources, max_distance_mm, reached_d_.data(), reached_state_.data(), &touched);
+  std::vector<std::pair<int, double>> out;
+  out.reserve(touched.size());
+  for (int v : touched) {
+    if (reached_state_[v] == kAccepted) out.emplace_back(v, reached_d_[v]);
+    reached_d_[v] = kInf;
+    reached_state_[v] = -1;
+  }
+  return out;
+}
+
+void FastMarching::march(const std::vector<Mesh::VertexHandle>& sources, double max_distance_mm,
+                         double* d, int* state, std::vector<int>* touched) const {
+  constexpr int kArity = 4;
+  const int n = static_cast<int>(points_.size());
   struct Entry {
     double d;
     int v;
   };
   std::vector<Entry> heap;
-  std::vector<int> state(n, -1);  // heap slot, -1 (not reached) or kAccepted
   heap.reserve(1024);
   auto less = [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.v < b.v); };
   auto sift_up = [&](int i) {
@@ -210,6 +242,7 @@ std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>
     if (!(value < d[target])) return;
     d[target] = value;
     if (state[target] < 0) {
+      if (touched) touched->push_back(target);
       heap.push_back({value, target});
       sift_up(static_cast<int>(heap.size()) - 1);
     } else {
@@ -250,9 +283,6 @@ std::vector<double> FastMarching::distance(const std::vector<Mesh::VertexHandle>
                             : dv + (points[b] - pv).norm());
     }
   }
-  for (int i = 0; i < n; ++i)
-    if (state[i] != kAccepted) d[i] = kInf;
-  return d;
 }
 
 }  // namespace gvkit::facemap

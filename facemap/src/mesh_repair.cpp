@@ -36,8 +36,15 @@ std::string MeshRepairReport::summary() const {
 
 namespace {
 
+// Path halving (i moves to its grandparent, which becomes its parent), without the store when
+// the grandparent is already i's parent: the root's entry, read by every find, is not rewritten.
 int find_root(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  for (int p = parent[i]; p != i; p = parent[i]) {
+    const int g = parent[p];
+    if (g == p) return p;
+    parent[i] = g;
+    i = g;
+  }
   return i;
 }
 
@@ -80,42 +87,44 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
       if (stamp[x] == a) twin[d] = leaving[x];
     }
   }
-  for (int c = 0; c < nc; ++c)
-    if (twin[c] >= 0 && twin[twin[c]] != c) return false;
-  for (int t = 0; t < nf; ++t)
-    if (twin[3 * t] >= 0 && twin[3 * t + 1] >= 0 && twin[3 * t + 2] >= 0 &&
-        twin[3 * t] / 3 == twin[3 * t + 1] / 3 && twin[3 * t] / 3 == twin[3 * t + 2] / 3)
-      return false;
+  // One pass over the faces (the twins are complete) checks them, numbers the halfedges and finds
+  // the open fans; a failed check ends the build, whichever pass would have found it.
   // OpenMesh halfedge ids: edge e holds 2e and 2e + 1; a boundary halfedge is the odd one.
-  std::vector<int> hedge(static_cast<size_t>(nc), -1);
-  int n_edges = 0;
-  for (int c = 0; c < nc; ++c) {
-    if (hedge[c] >= 0) continue;
-    hedge[c] = 2 * n_edges;
-    if (twin[c] >= 0) hedge[twin[c]] = 2 * n_edges + 1;
-    ++n_edges;
-  }
   // Boundary: around each vertex, every open fan of faces has a boundary halfedge entering it
   // (the twin of its first face halfedge a -> b) and one leaving it on its other side. As in
   // OpenMesh, the entering halfedge of one fan continues with the leaving halfedge of the next
   // fan (in a cycle), so circulating around a vertex visits all its fans.
+  std::vector<int> hedge(static_cast<size_t>(nc), -1);
+  int n_edges = 0;
   std::vector<int> fan_faces(n_vertices, 0);
   std::vector<int> fans_start(static_cast<size_t>(n_vertices) + 1, 0);
   std::vector<int> fan_in, fan_out;  // per fan (grouped by vertex): entering c, leaving prev(c)
   std::vector<int> fan_vertex;
-  for (int c = 0; c < nc; ++c) {
-    if (twin[c] >= 0) continue;
-    const int a = from(c);
-    int cur = c, steps = 1;
-    for (; twin[prev(cur)] >= 0; ++steps) {
-      cur = twin[prev(cur)];
-      if (steps > out_start[a + 1] - out_start[a]) return false;
+  for (int t = 0; t < nf; ++t) {
+    const int* tw = &twin[3 * t];
+    if (tw[0] >= 0 && tw[1] >= 0 && tw[2] >= 0 && tw[0] / 3 == tw[1] / 3 && tw[0] / 3 == tw[2] / 3)
+      return false;  // a face equal to its three neighbours
+    for (int c = 3 * t; c < 3 * t + 3; ++c) {
+      const int tc = twin[c];
+      if (tc >= 0 && twin[tc] != c) return false;
+      if (hedge[c] < 0) {
+        hedge[c] = 2 * n_edges;
+        if (tc >= 0) hedge[tc] = 2 * n_edges + 1;
+        ++n_edges;
+      }
+      if (tc >= 0) continue;
+      const int a = from(c);
+      int cur = c, steps = 1;
+      for (; twin[prev(cur)] >= 0; ++steps) {
+        cur = twin[prev(cur)];
+        if (steps > out_start[a + 1] - out_start[a]) return false;
+      }
+      fan_in.push_back(c);
+      fan_out.push_back(prev(cur));  // its twin (a -> x) is the boundary halfedge leaving a
+      fan_vertex.push_back(a);
+      fan_faces[a] += steps;
+      ++fans_start[a + 1];
     }
-    fan_in.push_back(c);
-    fan_out.push_back(prev(cur));  // its twin (a -> x) is the boundary halfedge leaving a
-    fan_vertex.push_back(a);
-    fan_faces[a] += steps;
-    ++fans_start[a + 1];
   }
   for (int i = 0; i < n_vertices; ++i) fans_start[i + 1] += fans_start[i];
   std::vector<int> fans(fan_in.size());
@@ -155,23 +164,32 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
   mesh->resize(n_vertices, n_edges, nf);
   using HH = Mesh::HalfedgeHandle;
   int boundary_corner = 0;  // the boundary corners c come in the order of fan_in
-  for (int c = 0; c < nc; ++c) {
-    const HH h(hedge[c]);
-    const int t = c / 3;
-    mesh->set_vertex_handle(h, Mesh::VertexHandle(to(c)));
-    mesh->set_face_handle(h, Mesh::FaceHandle(t));
-    mesh->set_next_halfedge_handle(h, HH(hedge[next(c)]));
-    if (c % 3 == 0) mesh->set_halfedge_handle(Mesh::FaceHandle(t), h);
-    if (twin[c] < 0) {
-      const HH g(hedge[c] + 1);  // b -> a
-      mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
-      mesh->set_face_handle(g, Mesh::FaceHandle());
-      const HH leaving(hedge[next_boundary[boundary_corner++]] + 1);
-      mesh->set_next_halfedge_handle(g, leaving);
-      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), leaving);
-    } else if (fans_start[from(c) + 1] == fans_start[from(c)]) {
-      mesh->set_halfedge_handle(Mesh::VertexHandle(from(c)), h);
+  for (int t = 0; t < nf; ++t) {
+    const Mesh::FaceHandle f(t);
+    const HH h[3] = {HH(hedge[3 * t]), HH(hedge[3 * t + 1]), HH(hedge[3 * t + 2])};
+    for (int k = 0; k < 3; ++k) {
+      const int c = 3 * t + k;
+      mesh->set_vertex_handle(h[k], Mesh::VertexHandle(to(c)));
+      mesh->set_face_handle(h[k], f);
+      mesh->set_next_halfedge_handle(h[k], h[k == 2 ? 0 : k + 1]);
+      if (twin[c] < 0) {
+        const HH g(h[k].idx() + 1);  // b -> a
+        mesh->set_vertex_handle(g, Mesh::VertexHandle(from(c)));
+        mesh->set_face_handle(g, Mesh::FaceHandle());
+        mesh->set_next_halfedge_handle(g, HH(hedge[next_boundary[boundary_corner++]] + 1));
+      }
     }
+    mesh->set_halfedge_handle(f, h[0]);
+  }
+  // Each vertex's halfedge, once per vertex: on the boundary the boundary halfedge leaving its
+  // last fan (of the largest boundary corner), inside the halfedge of its last corner (the
+  // largest c: out[] lists each vertex's corners in increasing order).
+  for (int a = 0; a < n_vertices; ++a) {
+    if (out_start[a + 1] == out_start[a]) continue;
+    const int last_fan = fans_start[a + 1] - 1;
+    const int leaving = last_fan >= fans_start[a] ? hedge[next_boundary[fans[last_fan]]] + 1
+                                                  : hedge[out[out_start[a + 1] - 1]];
+    mesh->set_halfedge_handle(Mesh::VertexHandle(a), HH(leaving));
   }
   return true;
 }
@@ -249,18 +267,24 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   }
   sorted_corners.clear();
   sorted_corners.shrink_to_fit();
-  std::vector<std::array<int, 3>> faces;
-  faces.reserve(triangles.size());
-  for (size_t i = 0; i < triangles.size(); ++i)
-    if (!drop[i]) faces.push_back(triangles[i]);
+  // The faces not dropped (the caller's triangles themselves when none is).
+  std::vector<std::array<int, 3>> remaining;
+  const bool any_dropped = std::find(drop.begin(), drop.end(), 1) != drop.end();
+  if (any_dropped) {
+    remaining.reserve(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i)
+      if (!drop[i]) remaining.push_back(triangles[i]);
+  }
+  const std::vector<std::array<int, 3>>& faces = any_dropped ? remaining : triangles;
 
   // Components (union-find over face corners), keep the largest by face count.
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
+  // The roots depend only on the order of the unions, not on how paths are shortened.
   for (const auto& t : faces) {
     const int a = find_root(parent, t[0]);
-    parent[find_root(parent, t[1])] = a;
-    parent[find_root(parent, t[2])] = a;
+    for (int k = 1; k < 3; ++k)
+      if (const int root = find_root(parent, t[k]); root != a) parent[root] = a;
   }
   // Every vertex points at its root from here on (the same roots: flattening keeps them).
   for (int i = 0; i < n; ++i) parent[i] = find_root(parent, i);
@@ -276,6 +300,7 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   // Kept faces on compact vertex indices (in order of first use).
   std::vector<int> compact(n, -1);
   std::vector<int> original;
+  original.reserve(n);
   std::vector<std::array<int, 3>> kept;
   kept.reserve(faces.size());
   for (const auto& t : faces) {
@@ -293,8 +318,8 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
     }
     kept.push_back(c);
   }
-  faces.clear();
-  faces.shrink_to_fit();
+  remaining.clear();
+  remaining.shrink_to_fit();
 
   const bool with_colors = !colors.empty();
   GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");

@@ -1,6 +1,7 @@
 // Heat-method geodesics against exact distances on a plane and a sphere.
 #include "gvkit/facemap/geodesic_distance.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -202,6 +203,32 @@ TEST(FastMarching, HeapWithKeysMatchesTheReference) {
       ASSERT_EQ(fast.size(), reference.size());
       for (size_t i = 0; i < fast.size(); ++i)
         ASSERT_EQ(fast[i], reference[i]) << "vertex " << i << ", bound " << bound;
+    }
+  }
+}
+
+// reached() gives the finite entries of distance() alone, to the bit, and its arrays reset
+// between calls (a second query on the same object is not affected by the first).
+TEST(FastMarching, ReachedGivesTheFiniteDistances) {
+  const Mesh jittered = plane_grid(41, 0.3, 0.0);
+  FastMarching marching(jittered);
+  const int n = static_cast<int>(jittered.n_vertices());
+  const std::vector<Mesh::VertexHandle> first = {jittered.vertex_handle(n / 3)},
+                                        second = {jittered.vertex_handle(n / 2),
+                                                  jittered.vertex_handle(n - 5)};
+  for (const auto* sources : {&first, &second, &first}) {
+    for (const double bound : {2.0, 5.0, std::numeric_limits<double>::infinity()}) {
+      const auto full = marching.distance(*sources, bound);
+      std::vector<double> sparse(n, std::numeric_limits<double>::infinity());
+      const auto reached = marching.reached(*sources, bound);
+      for (const auto& [v, d] : reached) {
+        ASSERT_TRUE(v >= 0 && v < n);
+        ASSERT_TRUE(std::isinf(sparse[v])) << "vertex " << v << " given twice";
+        sparse[v] = d;
+      }
+      for (int i = 0; i < n; ++i) ASSERT_EQ(sparse[i], full[i]) << "vertex " << i;
+      EXPECT_EQ(reached.size(), static_cast<size_t>(std::count_if(
+                                    full.begin(), full.end(), [](double d) { return d < 1e300; })));
     }
   }
 }

@@ -147,5 +147,33 @@ TEST(MeshRepair, DirectBuildRefusesWhatItCannotRepresent) {
   EXPECT_EQ(repaired.n_faces(), 2u);
 }
 
+// mesh_topology finds the boundary loops in its pass over the edges: the same loops as
+// boundary_loops (lengths, longest first), and the same counts with the halfedge status (the
+// path that calls boundary_loops), on grids with holes and pinches.
+TEST(MeshTopology, LoopsAreThoseOfBoundaryLoops) {
+  for (double p_valid : {1.0, 0.95, 0.8}) {
+    std::vector<Mesh::Point> points;
+    std::vector<std::array<int, 3>> triangles;
+    random_grid(40, p_valid, 23, &points, &triangles);
+    MeshRepairOptions options;
+    options.keep_largest_component = false;
+    MeshRepairReport report;
+    Mesh mesh = mesh_from_triangles(points, {}, triangles, options, &report);
+    SCOPED_TRACE(p_valid);
+    const MeshTopology t = mesh_topology(mesh);
+    std::vector<int> lengths;
+    for (const auto& loop : boundary_loops(mesh)) lengths.push_back(static_cast<int>(loop.size()));
+    EXPECT_EQ(t.boundary_loop_lengths, lengths);
+    EXPECT_EQ(t.boundary_loops, static_cast<int>(lengths.size()));
+    if (p_valid < 1.0) EXPECT_GT(t.boundary_loops, 2);
+    mesh.request_halfedge_status();
+    const MeshTopology with_status = mesh_topology(mesh);
+    EXPECT_EQ(with_status.boundary_loop_lengths, t.boundary_loop_lengths);
+    EXPECT_EQ(with_status.components, t.components);
+    EXPECT_EQ(with_status.genus, t.genus);
+    EXPECT_EQ(with_status.euler_characteristic, t.euler_characteristic);
+  }
+}
+
 }  // namespace
 }  // namespace gvkit::facemap
