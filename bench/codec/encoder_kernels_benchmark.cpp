@@ -94,12 +94,7 @@ void BM_QuantizeBlock(benchmark::State& state) {
   std::exponential_distribution<double> e(1.0 / (2.0 * quantizer_step(qp)));
   int32_t residual[256], coeffs[256], levels[256];
   for (int i = 0; i < n * n; ++i) residual[i] = static_cast<int32_t>((rng() & 1 ? 1 : -1) * e(rng));
-  if (n == 4)
-    forward_transform4x4(residual, coeffs);
-  else if (n == 8)
-    forward_transform8x8(residual, coeffs);
-  else
-    forward_transform16x16(residual, coeffs);
+  forward_transform(n, residual, coeffs);
   const detail::ContextSet ctx{};
   const double lambda = 0.85 * std::pow(2.0, (qp - 12) / 3.0);
   for (auto _ : state) {

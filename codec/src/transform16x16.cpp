@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdlib>
 
+#include "gvkit/codec/transform.hpp"
+
 namespace gvkit::codec {
 namespace {
 
@@ -133,6 +135,15 @@ void inverse_transform16x16(const int64_t* coeffs, int32_t* residual) {
   for (int x = 0; x < 16; ++x) inverse_butterfly(coeffs + x, 16, kInverseShift1, t + x, 16);
   for (int y = 0; y < 16; ++y) inverse_butterfly(t + 16 * y, 1, kInverseShift2, out + 16 * y, 1);
   for (int i = 0; i < 256; ++i) residual[i] = clamp_output(out[i]);
+}
+
+void forward_transform(int n, const int32_t* residual, int32_t* coeffs) {
+  if (n == 4)
+    forward_transform4x4(residual, coeffs);
+  else if (n == 8)
+    forward_transform8x8(residual, coeffs);
+  else
+    forward_transform16x16(residual, coeffs);
 }
 
 void forward_transform16x16_reference(const int32_t* r, int32_t* c) {

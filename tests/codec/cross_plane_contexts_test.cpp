@@ -24,17 +24,6 @@
 namespace gvkit::codec {
 namespace {
 
-// The analytic surface moving by (0.75, 0.375) pixels per frame and growing by 1 % per frame
-// about its centre (so that x, y and z change together).
-std::vector<GeometryImage> moving_video(int size, int frames) {
-  testing::GeometryVideoOptions o;
-  o.size = size;
-  o.frames = frames;
-  auto video = testing::make_analytic_video(o);
-  testing::move_in_picture(&video, 0.75, 0.01);
-  return video;
-}
-
 // The flags2 bits of every packet of a stream, or'ed, and whether every packet has `bit`.
 uint8_t all_flags2(const std::string& stream, uint8_t bit, bool* every) {
   auto reader = GvidReader::open_memory(stream, "x.gvid");
@@ -51,7 +40,7 @@ uint8_t all_flags2(const std::string& stream, uint8_t bit, bool* every) {
 }
 
 TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
-  const auto frames = moving_video(48, 6);
+  const auto frames = testing::make_moving_analytic_video(48, 6);
   const SequenceInfo info = testing::info_for(frames);
   struct Case {
     std::string name;
@@ -203,7 +192,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
 }
 
 TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
-  const auto frames = moving_video(32, 1);
+  const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;

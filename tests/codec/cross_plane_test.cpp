@@ -124,17 +124,6 @@ TEST(CrossPlane, CorrelatedPlaneCostsLessAndDecodesExactly) {
     }
 }
 
-// The analytic surface moving by (0.75, 0.375) pixels per frame and growing by 1 % per frame
-// about its centre (so that x, y and z change together).
-std::vector<GeometryImage> moving_video(int size, int frames) {
-  testing::GeometryVideoOptions o;
-  o.size = size;
-  o.frames = frames;
-  auto video = testing::make_analytic_video(o);
-  testing::move_in_picture(&video, 0.75, 0.01);
-  return video;
-}
-
 double max_error(const GeometryImage& a, const GeometryImage& b) {
   double worst = 0;
   for (int y = 0; y < a.xyz_mm.rows; ++y)
@@ -146,7 +135,7 @@ double max_error(const GeometryImage& a, const GeometryImage& b) {
 }
 
 TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
-  const auto frames = moving_video(48, 5);
+  const auto frames = testing::make_moving_analytic_video(48, 5);
   const SequenceInfo info = testing::info_for(frames);
   struct Case {
     const char* name;
@@ -253,7 +242,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
 }
 
 TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
-  const auto frames = moving_video(32, 1);
+  const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
@@ -300,7 +289,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
 
 TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
   // B frames carry the bit too (and nothing else of flags2).
-  const auto frames = moving_video(32, 3);
+  const auto frames = testing::make_moving_analytic_video(32, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.qp = 0;
@@ -319,7 +308,7 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
 // fast and slow coding with P and with B frames, and in lossless and near-lossless coding (where
 // the larger transforms do not apply and --refs is set explicitly); every tool is used.
 TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
-  const auto frames = moving_video(48, 7);
+  const auto frames = testing::make_moving_analytic_video(48, 7);
   const SequenceInfo info = testing::info_for(frames);
   struct Case {
     std::string name;

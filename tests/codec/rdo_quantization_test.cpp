@@ -36,15 +36,6 @@ std::vector<int32_t> residual_block(int n, double noise, std::mt19937& rng) {
   return r;
 }
 
-void forward(int n, const int32_t* residual, int32_t* coeffs) {
-  if (n == 4)
-    forward_transform4x4(residual, coeffs);
-  else if (n == 8)
-    forward_transform8x8(residual, coeffs);
-  else
-    forward_transform16x16(residual, coeffs);
-}
-
 // Squared error of the levels' reconstruction against the residual.
 double reconstruction_ssd(int n, const int32_t* levels, int qp, const int32_t* residual) {
   int64_t dq[256];
@@ -79,7 +70,7 @@ double total_cost(int n, int qp, double lambda, Quantizer quantizer, int blocks,
   for (int b = 0; b < blocks; ++b) {
     const std::vector<int32_t> r = residual_block(n, noise, rng);
     int32_t coeffs[256], levels[256];
-    forward(n, r.data(), coeffs);
+    forward_transform(n, r.data(), coeffs);
     if (quantizer == Quantizer::kRdo)
       quantize_rdo(n, coeffs, qp, lambda, ctx, levels);
     else if (n == 16)
@@ -106,7 +97,7 @@ TEST(RdoQuantization, LambdaZeroRoundsToTheNearestLevel) {
         const std::vector<int32_t> r = residual_block(n, 300, rng);
         int32_t coeffs[256], levels[256];
         int64_t numer[256];
-        forward(n, r.data(), coeffs);
+        forward_transform(n, r.data(), coeffs);
         quantize_rdo(n, coeffs, qp, 0.0, ContextSet{}, levels);
         const int qbits = n == 16 ? quantization_numerators16x16(coeffs, qp, numer)
                                   : quantization_numerators(n, coeffs, qp, numer);
@@ -129,7 +120,7 @@ TEST(RdoQuantization, LevelsStayBetweenZeroAndTheNearestWithTheCoefficientsSign)
         const std::vector<int32_t> r = residual_block(n, 200, rng);
         int32_t coeffs[256], levels[256], nearest[256];
         int64_t numer[256];
-        forward(n, r.data(), coeffs);
+        forward_transform(n, r.data(), coeffs);
         quantize_rdo(n, coeffs, qp, lambda_of(qp), ctx, levels);
         const int qbits = n == 16 ? quantization_numerators16x16(coeffs, qp, numer)
                                   : quantization_numerators(n, coeffs, qp, numer);
@@ -151,7 +142,7 @@ TEST(RdoQuantization, AHugeLambdaCodesNothing) {
   for (const int n : {4, 8, 16}) {
     const std::vector<int32_t> r = residual_block(n, 50, rng);
     int32_t coeffs[256], levels[256];
-    forward(n, r.data(), coeffs);
+    forward_transform(n, r.data(), coeffs);
     quantize_rdo(n, coeffs, 40, 1e30, ContextSet{}, levels);
     EXPECT_FALSE(any_nonzero(levels, n * n)) << "n " << n;
   }
@@ -172,16 +163,6 @@ TEST(RdoQuantization, LowersTheRateDistortionCostOfCodedBlocks) {
     }
 }
 
-// The analytic surface moving by (0.75, 0.375) pixels per frame and growing by 1 % per frame.
-std::vector<GeometryImage> moving_video(int size, int frames) {
-  testing::GeometryVideoOptions o;
-  o.size = size;
-  o.frames = frames;
-  auto video = testing::make_analytic_video(o);
-  testing::move_in_picture(&video, 0.75, 0.01);
-  return video;
-}
-
 // Squared point error (mm^2) of the decoded stream over every frame's domain pixels.
 double decoded_squared_error(const std::string& stream, const std::vector<GeometryImage>& frames) {
   auto reader = GvidReader::open_memory(stream, "x.gvid");
@@ -199,7 +180,7 @@ double decoded_squared_error(const std::string& stream, const std::vector<Geomet
 // reproduces the encoder's reconstructions, and at the same QP RDO quantization lowers the
 // stream's SSD + lambda x bits against the fixed offsets, with neither term much larger.
 TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
-  const auto frames = moving_video(48, 6);
+  const auto frames = testing::make_moving_analytic_video(48, 6);
   const SequenceInfo info = testing::info_for(frames);
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
@@ -224,7 +205,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
 
 // Lossless and near-lossless streams have no quantizer for it: byte for byte the same.
 TEST(RdoQuantization, LosslessAndNearLosslessStreamsDoNotChange) {
-  const auto frames = moving_video(32, 3);
+  const auto frames = testing::make_moving_analytic_video(32, 3);
   const SequenceInfo info = testing::info_for(frames);
   for (const double max_error : {0.0, 0.05}) {
     EncoderOptions o;

@@ -149,4 +149,13 @@ void move_in_picture(std::vector<GeometryImage>* video, double shift_px, double 
   }
 }
 
+std::vector<GeometryImage> make_moving_analytic_video(int size, int frames) {
+  GeometryVideoOptions o;
+  o.size = size;
+  o.frames = frames;
+  auto video = make_analytic_video(o);
+  move_in_picture(&video, 0.75, 0.01);
+  return video;
+}
+
 }  // namespace gvkit::testing

@@ -25,6 +25,10 @@ Result<std::vector<GeometryImage>> make_ict_face_video(const std::filesystem::pa
 
 std::vector<GeometryImage> make_analytic_video(const GeometryVideoOptions& options);
 
+// make_analytic_video (size x size, `frames` frames) moving by (0.75, 0.375) pixels per frame
+// and growing by 1 % per frame about its centre (so that x, y and z change together).
+std::vector<GeometryImage> make_moving_analytic_video(int size, int frames);
+
 // Real motion in the picture: warps frame f's xyz (bicubic, edges replicated) so that its
 // content moves by (-shift_px f, -shift_px f / 2) pixels and is scaled by 1 + scale_per_frame f
 // about the picture's centre. The texture and the domain mask stay as they are.

@@ -26,6 +26,8 @@ extern const std::array<uint16_t, 256> kZigzag16x16;
 // values, bit for bit).
 void forward_transform16x16(const int32_t* residual, int32_t* coeffs);
 void inverse_transform16x16(const int64_t* coeffs, int32_t* residual);
+// forward_transform4x4, forward_transform8x8 or forward_transform16x16 by n (4, 8 or 16).
+void forward_transform(int n, const int32_t* residual, int32_t* coeffs);
 // Plain matrix products with the same shifts and rounding.
 void forward_transform16x16_reference(const int32_t* residual, int32_t* coeffs);
 void inverse_transform16x16_reference(const int64_t* coeffs, int32_t* residual);
