@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
-#include <limits>
 
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
@@ -105,6 +103,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
 
   // Levels in coding order (reverse scan), each priced as if a later coefficient were the last.
   double chosen_cost[256], zero_distortion[256], last_extra[256];
+  double all_zero = 0;  // the distortion of the block coded as all zero
   int32_t chosen[256];
   int num_gt1 = 0, num_eq1 = 0;
   LevelBits level_bits(ctx, cat, 0, 0);
@@ -113,6 +112,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
     const double q = static_cast<double>(v) * inv;
     const double d0 = q * q * unit;
     zero_distortion[i] = d0;
+    all_zero += d0;
     // The last scan position codes no significance flags (it is implied when it is the last).
     const bool flags = i < count - 1;
     const int c = scan.map[i];
@@ -153,9 +153,8 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
   double before[257];
   before[0] = 0;
   for (int i = 0; i <= last_nearest; ++i) before[i + 1] = before[i] + chosen_cost[i];
-  double after = 0;       // distortion of leaving out every coefficient after j
-  double best_total = 0;  // the block all zero
-  for (int i = 0; i <= last_nearest; ++i) best_total += zero_distortion[i];
+  double after = 0;  // distortion of leaving out every coefficient after j
+  double best_total = all_zero;
   int best_last = -1;
   for (int j = last_nearest; j >= 0; --j) {
     if (chosen[j]) {
