@@ -131,16 +131,22 @@ void print_bd(const std::string& what, const std::vector<RdPoint>& anchor,
     std::printf("| %s | no overlap |\n", what.c_str());
 }
 
+// `base` at each QP, a row per point; mean_encode_fps (optional): the mean of the rows' encode
+// frames per CPU second.
 std::vector<RdPoint> qp_curve(const Material& m, const EncoderOptions& base,
-                              const std::string& name, const std::vector<int>& qps) {
+                              const std::string& name, const std::vector<int>& qps,
+                              double* mean_encode_fps = nullptr) {
   std::vector<RdPoint> points;
+  double fps = 0;
   for (int qp : qps) {
     EncoderOptions o = base;
     o.qp = qp;
     const Run r = run_ours(m, o);
     print_row(name, "qp " + std::to_string(qp), r);
     points.push_back(r.point);
+    fps += r.encode_fps;
   }
+  if (mean_encode_fps) *mean_encode_fps = qps.empty() ? 0.0 : fps / static_cast<double>(qps.size());
   return points;
 }
 
@@ -426,18 +432,12 @@ void report_rdoq(const Material& m, const EncoderOptions& base, const std::vecto
   std::vector<std::array<double, 2>> fps(presets.size(), {0.0, 0.0});       // mean encode fps
   for (size_t k = 0; k < presets.size(); ++k)
     for (const bool on : {false, true}) {
-      const std::string name =
-          std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq");
-      for (int qp : qps) {
-        EncoderOptions o = base;
-        o.preset = presets[k];
-        o.qp = qp;
-        o.rdoq = on;
-        const Run r = run_ours(m, o);
-        print_row(name, "qp " + std::to_string(qp), r);
-        curves[k][on].push_back(r.point);
-        fps[k][on] += r.encode_fps / static_cast<double>(qps.size());
-      }
+      EncoderOptions o = base;
+      o.preset = presets[k];
+      o.rdoq = on;
+      curves[k][on] =
+          qp_curve(m, o, std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq"),
+                   qps, &fps[k][on]);
     }
   std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
   for (size_t k = 0; k < presets.size(); ++k)
