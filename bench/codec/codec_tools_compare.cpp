@@ -15,7 +15,7 @@
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
 //                            [--ctx-only]
 //                            [--partitions-only [--partitions-preset fast|slow]]
-//                            [--rdoq-only [--rdoq-preset fast|slow]]
+//                            [--rdoq-only [--rdoq-preset fast|slow]] [--write-streams DIR]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -31,7 +31,9 @@
 // syntax group at QP 6 and 12 off and on; --partitions-only: format 1.7 inter partitions off /
 // on in both presets, lossless, the BD-rates against off and x265, and the share of each
 // partition type; --rdoq-only: rate-distortion optimised quantization off / on in both presets
-// (or the one of --rdoq-preset), the BD-rates against off and x265, and the encode speed)
+// (or the one of --rdoq-preset), the BD-rates against off and x265, and the encode speed;
+// --write-streams DIR: also write every stream of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run
+// order, e.g. for codec_decoder_benchmark)
 #include <time.h>
 
 #include <algorithm>
@@ -73,6 +75,10 @@ struct Material {
   double vertices = 0, peak = 0;
 };
 
+// --write-streams DIR: where run_ours writes each stream (empty: nowhere), and how many so far.
+std::string g_stream_dir;
+int g_streams_written = 0;
+
 struct Run {
   RdPoint point;
   double max_mm = 0, encode_fps = 0, decode_fps = 0, kbps = 0;
@@ -91,6 +97,19 @@ Run run_ours(const Material& m, const EncoderOptions& options,
     std::exit(1);
   }
   run.encode_fps = m.frames.size() / (cpu_now() - t0);
+  if (!g_stream_dir.empty()) {
+    // --write-streams: every encoded stream, numbered in run order (for codec_decoder_benchmark).
+    char name[64];
+    std::snprintf(name, sizeof name, "/%03d_%s_qp%d.gvid", g_streams_written++,
+                  preset_name(options.preset), options.qp);
+    const std::string path = g_stream_dir + name;
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f || std::fwrite(bytes->data(), 1, bytes->size(), f) != bytes->size()) {
+      std::fprintf(stderr, "cannot write %s\n", path.c_str());
+      std::exit(1);
+    }
+    std::fclose(f);
+  }
   auto reader = GvidReader::open_memory(*bytes, "tools").value();
   GeometryError total;
   int64_t bits = 0;
@@ -850,6 +869,8 @@ int main(int argc, char** argv) {
       rate_only = true;
     else if (a == "--subpel-only")
       subpel_only = true;
+    else if (a == "--write-streams" && i + 1 < argc)
+      g_stream_dir = argv[++i];
     else if (a == "--bits-only")
       bits_only = true;
     else if (a == "--preset" && i + 1 < argc) {
@@ -890,7 +911,8 @@ int main(int argc, char** argv) {
           "[--gop N] [--bframes N] [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only] "
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
           "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
-          "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]]\n");
+          "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
+          "[--write-streams DIR]\n");
       return 2;
     }
   }

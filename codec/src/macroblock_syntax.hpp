@@ -778,14 +778,23 @@ inline bool is_coded(int px, int py, int width, int mb_x, int mb_y, int block) {
 inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
                               const PlaneCodingParams& p, uint16_t* plane, int stride, int x0,
                               int y0) {
-  int64_t residual[256];
   const int count = n * n;
+  const int max_value = (1 << p.bit_depth) - 1;
+  if (!any_nonzero(levels, count)) {  // no residual: the clipped prediction
+    for (int y = 0; y < n; ++y) {
+      uint16_t* row = plane + static_cast<size_t>(y0 + y) * stride + x0;
+      for (int x = 0; x < n; ++x) {
+        const int32_t v = pred[y * n + x];
+        row[x] = static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+      }
+    }
+    return;
+  }
+  int64_t residual[256];
   if (p.lossless) {
     // Near-lossless: a level counts 2 near + 1 samples (|level| < 2^24, so no overflow).
     const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
     for (int i = 0; i < count; ++i) residual[i] = levels[i] * step;
-  } else if (!any_nonzero(levels, count)) {
-    std::fill(residual, residual + count, 0);
   } else {
     int64_t coeffs[256];
     int32_t transformed[256];
@@ -801,7 +810,6 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
     }
     std::copy(transformed, transformed + count, residual);
   }
-  const int max_value = (1 << p.bit_depth) - 1;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const int64_t v = pred[y * n + x] + residual[y * n + x];
@@ -896,29 +904,46 @@ IntraNeighbors td_neighbors_from(const SamplePlane& recon, const MotionSample& m
   return make_neighbors(local, stride, 1, 1, n, y0 > 0, x0 > 0, top_right, bit_depth);
 }
 
-inline IntraNeighbors td_neighbors(const SamplePlane& recon, const SamplePlane& ref, int mv_x,
-                                   int mv_y, bool quarter_pel, int x0, int y0, int mb_x, int mb_y,
-                                   int block, int bit_depth) {
-  return td_neighbors_from(
-      recon,
-      [&](int x, int y) { return motion_sample(ref, x, y, mv_x, mv_y, quarter_pel, bit_depth); },
-      x0, y0, mb_x, mb_y, block, bit_depth);
+// The motion-compensated reference over a macroblock and the samples its 4x4 blocks' TD
+// neighbours read: one column left, one row above and up to 4 samples beyond the right edge,
+// i.e. picture positions (16 mb_x - 1 .. 16 mb_x + 19, 16 mb_y - 1 .. 16 mb_y + 15).
+struct TdWindow {
+  static constexpr int kWidth = 21, kHeight = 17;
+  int x0 = 0, y0 = 0;  // picture position of mc[0] (the macroblock's corner - (1, 1))
+  int32_t mc[kWidth * kHeight];
+  // motion_sample's value at picture position (x, y) inside the window.
+  int32_t at(int x, int y) const { return mc[(y - y0) * kWidth + x - x0]; }
+};
+
+// Fills `w` for macroblock (mb_x, mb_y): predict(x, y, width, height, pred) writes the
+// motion-compensated block at (x, y) (predict_motion_block's values, any size up to 16 x 16).
+template <class PredictBlock>
+void fill_td_window(int mb_x, int mb_y, const PredictBlock& predict, TdWindow& w) {
+  w.x0 = mb_x * 16 - 1;
+  w.y0 = mb_y * 16 - 1;
+  // Tiles of at most 16 x 16: columns 0..15 and 16..20, rows 0..15 and 16.
+  constexpr int kTiles[4][4] = {{0, 0, 16, 16}, {16, 0, 5, 16}, {0, 16, 16, 1}, {16, 16, 5, 1}};
+  int32_t block[256];
+  for (const auto& t : kTiles) {
+    predict(w.x0 + t[0], w.y0 + t[1], t[2], t[3], block);
+    for (int y = 0; y < t[3]; ++y)
+      for (int x = 0; x < t[2]; ++x)
+        w.mc[(t[1] + y) * TdWindow::kWidth + t[0] + x] = block[y * t[2] + x];
+  }
 }
 
-// The temporal-difference prediction of a 4x4 block: motion-compensated reference plus the
-// intra prediction (mode) of the difference plane, 2^(B-1) removed; not clipped.
-inline void predict_td(const SamplePlane& recon, const SamplePlane& ref, int mv_x, int mv_y,
-                       bool quarter_pel, int x0, int y0, int mb_x, int mb_y, int block, int mode,
-                       int bit_depth, int32_t* pred) {
-  const IntraNeighbors nb =
-      td_neighbors(recon, ref, mv_x, mv_y, quarter_pel, x0, y0, mb_x, mb_y, block, bit_depth);
+// The temporal-difference prediction of the 4x4 block at (x0, y0) (z-order index `block` of
+// the window's macroblock (mb_x, mb_y)): motion-compensated reference plus the intra prediction
+// (mode) of the difference plane, 2^(B-1) removed; not clipped.
+inline void predict_td(const SamplePlane& recon, const TdWindow& w, int x0, int y0, int mb_x,
+                       int mb_y, int block, int mode, int bit_depth, int32_t* pred) {
+  const IntraNeighbors nb = td_neighbors_from(
+      recon, [&](int x, int y) { return w.at(x, y); }, x0, y0, mb_x, mb_y, block, bit_depth);
   int32_t pd[16];
   predict_intra(4, mode, nb, (1 << bit_depth) - 1, pd);
   const int32_t c = 1 << (bit_depth - 1);
   for (int y = 0; y < 4; ++y)
-    for (int x = 0; x < 4; ++x)
-      pred[y * 4 + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth) +
-                        pd[y * 4 + x] - c;
+    for (int x = 0; x < 4; ++x) pred[y * 4 + x] = w.at(x0 + x, y0 + y) + pd[y * 4 + x] - c;
 }
 
 // Neighbours of the n x n block at (x0, y0), the top-left 4x4 unit of which has z-order index

@@ -85,6 +85,21 @@ int32_t interpolate_quarter_sample(const SamplePlane& ref, int xq, int yq, int b
   }
 }
 
+namespace {
+
+// Quarter-sample phase 4 fy + fx as the rounded average of two stored samples (or one): plane
+// (0 G, 1 b, 2 h, 3 j) and offset (dx, dy) of each, as in the switch of predict_motion_block.
+struct PhaseTaps {
+  int8_t plane1, dx1, dy1, plane2, dx2, dy2;  // plane2 < 0: the first sample alone
+};
+constexpr PhaseTaps kPhaseTaps[16] = {
+    {0, 0, 0, -1, 0, 0}, {0, 0, 0, 1, 0, 0}, {1, 0, 0, -1, 0, 0}, {1, 0, 0, 0, 1, 0},
+    {0, 0, 0, 2, 0, 0},  {1, 0, 0, 2, 0, 0}, {1, 0, 0, 3, 0, 0},  {1, 0, 0, 2, 1, 0},
+    {2, 0, 0, -1, 0, 0}, {2, 0, 0, 3, 0, 0}, {3, 0, 0, -1, 0, 0}, {3, 0, 0, 2, 1, 0},
+    {0, 0, 1, 2, 0, 0},  {2, 0, 0, 1, 0, 1}, {3, 0, 0, 1, 0, 1},  {2, 1, 0, 1, 0, 1}};
+
+}  // namespace
+
 void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x,
                                     int mv_y, bool quarter_pel, int bit_depth, int32_t* pred) {
   for (int y = 0; y < h; ++y)
@@ -101,7 +116,15 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
     mv_y >>= 2;
   }
   if (!quarter_pel) {
-    predict_motion_block_reference(ref, x0, y0, w, h, mv_x, mv_y, false, bit_depth, pred);
+    const int sx = x0 + mv_x, sy = y0 + mv_y;
+    if (sx < 0 || sy < 0 || sx + w > ref.width || sy + h > ref.height) {
+      predict_motion_block_reference(ref, x0, y0, w, h, mv_x, mv_y, false, bit_depth, pred);
+      return;
+    }
+    for (int y = 0; y < h; ++y) {  // inside the picture: no clamping
+      const uint16_t* row = &ref.samples[static_cast<size_t>(sy + y) * ref.width + sx];
+      for (int x = 0; x < w; ++x) pred[y * w + x] = row[x];
+    }
     return;
   }
   // Every sample of the block has the same fractional phase: gather the clamped integer window
@@ -117,100 +140,54 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
            v[5 * stride];
   };
   int32_t win[kWin * kWin];
+  const bool inside = xi >= 0 && yi >= 0 && xi + w + 6 <= ref.width && yi + h + 6 <= ref.height;
   for (int y = 0; y < h + 6; ++y) {
     const int sy = std::clamp(yi + y, 0, ref.height - 1);
-    for (int x = 0; x < w + 6; ++x)
-      win[y * kWin + x] = ref.at(std::clamp(xi + x, 0, ref.width - 1), sy);
+    const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
+    if (inside)
+      for (int x = 0; x < w + 6; ++x) win[y * kWin + x] = row[xi + x];
+    else
+      for (int x = 0; x < w + 6; ++x) win[y * kWin + x] = row[std::clamp(xi + x, 0, ref.width - 1)];
   }
   // Only the half-sample planes the phase combines (bit c of a mask: phase c = 4 fy + fx uses it).
   const int phase = fy * 4 + fx;
   const bool need_b = (0xE0EE >> phase) & 1, need_h = (0xBBB0 >> phase) & 1,
              need_j = (0x4E40 >> phase) & 1;
   // b1 rows for the area's columns (j needs window rows 0 .. h + 5, b rows 2 .. h + 2).
-  int32_t b1[kWin * kArea], g[kArea * kArea], b[kArea * kArea], hh[kArea * kArea], j[kArea * kArea];
+  int32_t b1[kWin * kArea], b[kArea * kArea], hh[kArea * kArea], j[kArea * kArea];
   if (need_b || need_j) {
     const int first = need_j ? 0 : 2, last = need_j ? h + 6 : h + 3;
     for (int y = first; y < last; ++y)
       for (int x = 0; x <= w; ++x) b1[y * kArea + x] = tap6(&win[y * kWin + x], 1);
   }
-  for (int y = 0; y <= h; ++y)
-    for (int x = 0; x <= w; ++x) {
-      const int a = y * kArea + x;
-      g[a] = win[(y + 2) * kWin + x + 2];
-      if (need_b) b[a] = clip((b1[(y + 2) * kArea + x] + 16) >> 5);
-      if (need_h) hh[a] = clip((tap6(&win[y * kWin + x + 2], kWin) + 16) >> 5);
-      if (need_j) j[a] = clip((tap6(&b1[y * kArea + x], kArea) + 512) >> 10);
-    }
-  const int right = 1, below = kArea;
+  // One plane at a time, so that each loop vectorizes.
+  if (need_b)
+    for (int y = 0; y <= h; ++y)
+      for (int x = 0; x <= w; ++x) b[y * kArea + x] = clip((b1[(y + 2) * kArea + x] + 16) >> 5);
+  if (need_h)
+    for (int y = 0; y <= h; ++y)
+      for (int x = 0; x <= w; ++x)
+        hh[y * kArea + x] = clip((tap6(&win[y * kWin + x + 2], kWin) + 16) >> 5);
+  if (need_j)
+    for (int y = 0; y <= h; ++y)
+      for (int x = 0; x <= w; ++x)
+        j[y * kArea + x] = clip((tap6(&b1[y * kArea + x], kArea) + 512) >> 10);
+  // The phase's one or two samples (kPhaseTaps); G is read from the window itself.
+  const int32_t* const plane_of[4] = {&win[2 * kWin + 2], b, hh, j};
+  const int stride_of[4] = {kWin, kArea, kArea, kArea};
+  const PhaseTaps& t = kPhaseTaps[phase];
+  const int s1 = stride_of[t.plane1];
+  const int32_t* p1 = plane_of[t.plane1] + t.dy1 * s1 + t.dx1;
+  if (t.plane2 < 0) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) pred[y * w + x] = p1[y * s1 + x];
+    return;
+  }
+  const int s2 = stride_of[t.plane2];
+  const int32_t* p2 = plane_of[t.plane2] + t.dy2 * s2 + t.dx2;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int a = y * kArea + x;
-      int32_t v;
-      switch (fy * 4 + fx) {
-        case 1:
-          v = avg(g[a], b[a]);
-          break;
-        case 2:
-          v = b[a];
-          break;
-        case 3:
-          v = avg(b[a], g[a + right]);
-          break;
-        case 4:
-          v = avg(g[a], hh[a]);
-          break;
-        case 5:
-          v = avg(b[a], hh[a]);
-          break;
-        case 6:
-          v = avg(b[a], j[a]);
-          break;
-        case 7:
-          v = avg(b[a], hh[a + right]);
-          break;
-        case 8:
-          v = hh[a];
-          break;
-        case 9:
-          v = avg(hh[a], j[a]);
-          break;
-        case 10:
-          v = j[a];
-          break;
-        case 11:
-          v = avg(j[a], hh[a + right]);
-          break;
-        case 12:
-          v = avg(g[a + below], hh[a]);
-          break;
-        case 13:
-          v = avg(hh[a], b[a + below]);
-          break;
-        case 14:
-          v = avg(j[a], b[a + below]);
-          break;
-        default:
-          v = avg(hh[a + right], b[a + below]);
-          break;
-      }
-      pred[y * w + x] = v;
-    }
+    for (int x = 0; x < w; ++x) pred[y * w + x] = avg(p1[y * s1 + x], p2[y * s2 + x]);
 }
-
-namespace {
-
-// Quarter-sample phase 4 fy + fx as the rounded average of two stored samples (or one): plane
-// (0 G, 1 b, 2 h, 3 j) and offset (dx, dy) of each, as in the switch of predict_motion_block.
-struct PhaseTaps {
-  int8_t plane1, dx1, dy1, plane2, dx2, dy2;  // plane2 < 0: the first sample alone
-};
-constexpr PhaseTaps kPhaseTaps[16] = {
-    {0, 0, 0, -1, 0, 0}, {0, 0, 0, 1, 0, 0}, {1, 0, 0, -1, 0, 0}, {1, 0, 0, 0, 1, 0},
-    {0, 0, 0, 2, 0, 0},  {1, 0, 0, 2, 0, 0}, {1, 0, 0, 3, 0, 0},  {1, 0, 0, 2, 1, 0},
-    {2, 0, 0, -1, 0, 0}, {2, 0, 0, 3, 0, 0}, {3, 0, 0, -1, 0, 0}, {3, 0, 0, 2, 1, 0},
-    {0, 0, 1, 2, 0, 0},  {2, 0, 0, 1, 0, 1}, {3, 0, 0, 1, 0, 1},  {2, 1, 0, 1, 0, 1}};
-
-}  // namespace
 
 InterpolatedReference::InterpolatedReference(const SamplePlane& ref, int bit_depth, int margin)
     : ref_(ref), bit_depth_(bit_depth), margin_(margin), stride_(ref.width + 2 * margin) {

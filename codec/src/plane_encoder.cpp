@@ -796,19 +796,14 @@ class MacroblockEncoder {
     // Intra: neighbours from the reconstruction; temporal difference: from the difference plane.
     const IntraNeighbors nb =
         td ? td_neighbors_from(
-                 recon_,
-                 [&](int x, int y) {
-                   return td_mc_[(y - mb_y_ * 16 + 1) * kTdMcWidth + x - mb_x_ * 16 + 1];
-                 },
-                 x0, y0, mb_x_, mb_y_, block, p_.bit_depth)
+                 recon_, [&](int x, int y) { return td_window_.at(x, y); }, x0, y0, mb_x_, mb_y_,
+                 block, p_.bit_depth)
            : block_neighbors(recon_, x0, y0, n, mb_x_, mb_y_, block, p_.bit_depth);
     int32_t ref_block[16];
     if (td)
       for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x)
-          ref_block[y * 4 + x] =
-              td_mc_[(y0 + y - mb_y_ * 16 + 1) * kTdMcWidth + x0 + x - mb_x_ * 16 + 1] -
-              (1 << (p_.bit_depth - 1));
+          ref_block[y * 4 + x] = td_window_.at(x0 + x, y0 + y) - (1 << (p_.bit_depth - 1));
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
@@ -898,8 +893,10 @@ class MacroblockEncoder {
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     // The motion-compensated reference over the macroblock and the samples its blocks' TD
     // neighbours read (one column left, one row above, up to 4 beyond the right edge).
-    interp(cur_ref_).predict(mb_x_ * 16 - 1, mb_y_ * 16 - 1, kTdMcWidth, 17, mv_x_, mv_y_,
-                             p_.subpel != 0, td_mc_);
+    td_window_.x0 = mb_x_ * 16 - 1;
+    td_window_.y0 = mb_y_ * 16 - 1;
+    interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
+                             mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
@@ -1198,8 +1195,7 @@ class MacroblockEncoder {
   // Cost of the best candidate so far: a candidate whose partial cost (a sum of non-negative
   // block costs) reaches it stops early, as it cannot be chosen.
   double bound_ = std::numeric_limits<double>::infinity();
-  static constexpr int kTdMcWidth = 21;
-  int32_t td_mc_[17 * kTdMcWidth];       // TD candidate: reference at (x0 - 1 .., y0 - 1 ..)
+  TdWindow td_window_;                   // TD candidate: the motion-compensated reference
   int mv_x_ = 0, mv_y_ = 0;              // motion vector of the inter candidate (reused by try_td)
   int whole_mv_x_ = 0, whole_mv_y_ = 0;  // the whole-sample search result (vector units)
 };
