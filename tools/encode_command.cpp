@@ -192,6 +192,7 @@ void run_encode(const EncodeArgs& args) {
         {"cross_plane", options.cross_plane},
         {"cross_plane_contexts", options.cross_plane_contexts},
         {"partitions", options.partitions},
+        {"deblocking", options.deblocking},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -302,6 +303,10 @@ void add_encode_command(CLI::App& app) {
                 "partitions with their own reference and vector (inter partitions, format 1.7; "
                 "on by default; the fast preset codes 16x16 only); --no-partitions writes the 1.6 "
                 "stream");
+  cmd->add_flag("--deblock,!--no-deblock", args->options.deblocking,
+                "Lossy frames: filter the 8x8 block edges of every reconstructed plane in the "
+                "loop (deblocking filter, format 1.8; on by default); --no-deblock writes the "
+                "1.7 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

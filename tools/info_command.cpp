@@ -182,6 +182,7 @@ void describe_gvid(const fs::path& path) {
       if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
       if (h->flags2 & codec::format::kFrame2CrossPlaneContexts) tools += "  cross-plane-contexts";
       if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
+      if (h->flags2 & codec::format::kFrame2Deblocking) tools += "  deblocking";  // format 1.8
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)

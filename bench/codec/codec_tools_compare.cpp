@@ -16,6 +16,8 @@
 //                            [--ctx-only]
 //                            [--partitions-only [--partitions-preset fast|slow]]
 //                            [--rdoq-only [--rdoq-preset fast|slow]] [--write-streams DIR]
+//                            [--deblock-only [--deblock-preset fast|slow] [--deblock-beta N]
+//                             [--deblock-tc N]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -32,8 +34,10 @@
 // on in both presets, lossless, the BD-rates against off and x265, and the share of each
 // partition type; --rdoq-only: rate-distortion optimised quantization off / on in both presets
 // (or the one of --rdoq-preset), the BD-rates against off and x265, and the encode speed;
-// --write-streams DIR: also write every stream of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run
-// order, e.g. for codec_decoder_benchmark)
+// --deblock-only: the format 1.8 deblocking filter off / on likewise, with the strength of
+// --deblock-beta (quarter quantizer steps) and --deblock-tc (sixteenths; defaults: the
+// encoder's); --write-streams DIR: also write every stream of ours to DIR/NNN_PRESET_qpQ.gvid, NNN
+// in run order, e.g. for codec_decoder_benchmark)
 #include <time.h>
 
 #include <algorithm>
@@ -441,11 +445,14 @@ void report_cross_plane_contexts(const Material& m, const EncoderOptions& base,
     }
 }
 
-// Rate-distortion optimised quantization (encoder only) off and on, in the given presets, with
-// the other options at their defaults: the BD-rates against off and x265, and the encode speed.
-void report_rdoq(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
-                 const std::vector<RdPoint>& x265, const std::string& source,
-                 const std::vector<Preset>& presets) {
+// One switchable tool off and on (set(options, on)) in each preset: the QP curves, the BD-rates
+// of on against off and of both against x265, and the mean encode speed. The rows are named
+// "PRESET, ON_FLAG" and "PRESET, OFF_FLAG".
+template <class Set>
+void report_on_off(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                   const std::vector<RdPoint>& x265, const std::string& source,
+                   const std::vector<Preset>& presets, const std::string& on_flag,
+                   const std::string& off_flag, const Set& set) {
   print_header();
   std::vector<std::array<std::vector<RdPoint>, 2>> curves(presets.size());  // [preset][on]
   std::vector<std::array<double, 2>> fps(presets.size(), {0.0, 0.0});       // mean encode fps
@@ -453,24 +460,24 @@ void report_rdoq(const Material& m, const EncoderOptions& base, const std::vecto
     for (const bool on : {false, true}) {
       EncoderOptions o = base;
       o.preset = presets[k];
-      o.rdoq = on;
+      set(o, on);
       curves[k][on] =
-          qp_curve(m, o, std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq"),
+          qp_curve(m, o, std::string(preset_name(presets[k])) + ", " + (on ? on_flag : off_flag),
                    qps, &fps[k][on]);
     }
   std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
   for (size_t k = 0; k < presets.size(); ++k)
-    print_bd(std::string(preset_name(presets[k])) + ": --rdoq vs --no-rdoq", curves[k][0],
-             curves[k][1]);
+    print_bd(std::string(preset_name(presets[k])) + ": " + on_flag + " vs " + off_flag,
+             curves[k][0], curves[k][1]);
   for (size_t k = 0; k < presets.size(); ++k)
     for (int on = 0; on < 2; ++on)
-      print_bd(std::string(preset_name(presets[k])) + (on ? ", --rdoq" : ", --no-rdoq") +
+      print_bd(std::string(preset_name(presets[k])) + ", " + (on ? on_flag : off_flag) +
                    " vs x265 12-bit (" + source + " points)",
                x265, curves[k][on]);
   for (size_t k = 0; k < presets.size(); ++k)
-    std::printf(
-        "\n%s preset: mean encode fps (CPU) %.2f without, %.2f with RDO quantization (%.3fx)\n",
-        preset_name(presets[k]), fps[k][0], fps[k][1], fps[k][1] / fps[k][0]);
+    std::printf("\n%s preset: mean encode fps (CPU) %.2f with %s, %.2f with %s (%.3fx)\n",
+                preset_name(presets[k]), fps[k][0], off_flag.c_str(), fps[k][1], on_flag.c_str(),
+                fps[k][1] / fps[k][0]);
 }
 
 // Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
@@ -837,7 +844,9 @@ int main(int argc, char** argv) {
   std::string ict = "../shared/data/ict-facekit", gv_dir, peer_preset = "medium";
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
-       qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false;
+       qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
+       deblock_only = false;
+  int deblock_beta = EncoderOptions{}.deblock_beta, deblock_tc = EncoderOptions{}.deblock_tc;
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -869,6 +878,12 @@ int main(int argc, char** argv) {
       rate_only = true;
     else if (a == "--subpel-only")
       subpel_only = true;
+    else if (a == "--deblock-only")
+      deblock_only = true;
+    else if (a == "--deblock-beta" && i + 1 < argc)
+      deblock_beta = std::atoi(argv[++i]);
+    else if (a == "--deblock-tc" && i + 1 < argc)
+      deblock_tc = std::atoi(argv[++i]);
     else if (a == "--write-streams" && i + 1 < argc)
       g_stream_dir = argv[++i];
     else if (a == "--bits-only")
@@ -893,7 +908,8 @@ int main(int argc, char** argv) {
       transform_only = true;
     else if (a == "--refs-only")
       refs_only = true;
-    else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset") &&
+    else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
+              a == "--deblock-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -912,6 +928,7 @@ int main(int argc, char** argv) {
           "[--bits-only | --qp-offsets-only] [--preset P] [--motion-only] [--bframes-only] "
           "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
+          "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--write-streams DIR]\n");
       return 2;
     }
@@ -951,6 +968,8 @@ int main(int argc, char** argv) {
   base.intra_period = gop;
   // The B frames of every row but those of --bframes-only (default: the encoder's, -1).
   base.bframes = bframes;
+  base.deblock_beta = deblock_beta;  // --deblock-beta / --deblock-tc (format 1.8)
+  base.deblock_tc = deblock_tc;
   const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
 
   if (rate_only) {
@@ -992,7 +1011,14 @@ int main(int argc, char** argv) {
   }
   if (rdoq_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_rdoq(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--rdoq",
+                  "--no-rdoq", [](EncoderOptions& o, bool on) { o.rdoq = on; });
+    return 0;
+  }
+  if (deblock_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--deblock",
+                  "--no-deblock", [](EncoderOptions& o, bool on) { o.deblocking = on; });
     return 0;
   }
   if (refs_only) {

@@ -26,6 +26,8 @@ struct FrameSyntax {
   int ref_count = 1;        // format 1.6: P frames with flags2 bit 1, 2..5
   int max_transform = 4;    // format 1.6 (flags2 bit 2): 8 or 16
   bool partitions = false;  // format 1.7: P frames with flags2 bit 5
+  bool deblocking = false;  // format 1.8: flags2 bit 6
+  DeblockingParams deblock;
 };
 
 // What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X: with
@@ -55,6 +57,8 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.ref_count = syntax.ref_count;
   p.max_transform = syntax.max_transform;
   p.partitions = syntax.partitions;
+  p.deblocking = syntax.deblocking;  // format 1.8
+  p.deblock = syntax.deblock;
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -164,6 +168,11 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (p_frame && options.use_partitions()) {  // format 1.7
     header.flags2 |= format::kFrame2Partitions;
     syntax.partitions = true;
+  }
+  if (options.deblocking && !bypass) {  // format 1.8
+    header.flags2 |= format::kFrame2Deblocking;
+    syntax.deblocking = true;
+    syntax.deblock = {options.deblock_beta, options.deblock_tc};
   }
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
@@ -284,6 +293,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (header.flags2 & format::kFrame2MultiRef) payload.u8(static_cast<uint8_t>(syntax.ref_count));
   if (header.flags2 & format::kFrame2LargeTransforms)
     payload.u8(static_cast<uint8_t>(syntax.max_transform));
+  if (header.flags2 & format::kFrame2Deblocking) {  // format 1.8
+    payload.u8(static_cast<uint8_t>(syntax.deblock.beta));
+    payload.u8(static_cast<uint8_t>(syntax.deblock.tc));
+  }
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
@@ -370,6 +383,8 @@ Result<GeometryImage> decode_frame_packet(
     return corrupt_data("frame flags2: larger transforms in a lossless frame");
   if ((header.flags2 & format::kFrame2Partitions) && header.type != format::FrameType::kPredicted)
     return corrupt_data("frame flags2: inter partitions outside a P frame");
+  if ((header.flags2 & format::kFrame2Deblocking) && lossless)
+    return corrupt_data("frame flags2: deblocking in a lossless frame");
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
@@ -428,6 +443,12 @@ Result<GeometryImage> decode_frame_packet(
     syntax.max_transform = r.u8();
     if (!r.ok() || (syntax.max_transform != 8 && syntax.max_transform != 16))
       return corrupt_data("max transform missing or not 8 or 16 (larger transforms)");
+  }
+  if (header.flags2 & format::kFrame2Deblocking) {  // format 1.8
+    syntax.deblocking = true;
+    syntax.deblock.beta = r.u8();
+    syntax.deblock.tc = r.u8();
+    if (!r.ok()) return corrupt_data("deblocking parameters missing");
   }
   const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   for (int l = 0; l < 2 && predicted; ++l) {

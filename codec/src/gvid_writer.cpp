@@ -175,7 +175,8 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
-  if (options.cross_plane_contexts) return format::kMinorVersionCrossPlaneContexts;  // 1.7
+  if (options.deblocking && !options.bypass()) return format::kMinorVersionDeblocking;  // 1.8
+  if (options.cross_plane_contexts) return format::kMinorVersionCrossPlaneContexts;     // 1.7
   if (options.use_partitions() && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionPartitions;  // format 1.7: P frames with partitions
   if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cross_plane_residual.hpp"
+#include "deblocking_strengths.hpp"
 #include "gvkit/codec/cabac_decoder.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "macroblock_syntax.hpp"
@@ -558,6 +559,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
     }
   if (!decoder.decode_terminate() || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
+  deblock_coded_plane(plane, st, params);  // format 1.8
   if (reference && motion_out) st.export_motion(*motion_out);
   if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return plane;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cross_plane_residual.hpp"
+#include "deblocking_strengths.hpp"
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/cabac_encoder.hpp"
 #include "gvkit/codec/interpolation_cache.hpp"
@@ -1286,6 +1287,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
       if (st.partitions && mb.type == kMbInter && !mb.skip && !mb.shared && !mb.td)
         ++result.stats.partition_mbs[mb.partition];  // format 1.7
     }
+  deblock_coded_plane(result.reconstruction, st, params);  // format 1.8
   encoder.encode_terminate(1);
   result.bytes = encoder.finish();
   if (reference && !reference1) st.export_motion(result.motion);

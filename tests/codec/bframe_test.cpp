@@ -97,6 +97,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   double p_worst[2] = {0, 0};
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
+    o.deblocking = false;  // (syntax before the format 1.8 filter)
     o.qp = 4;
     o.preset = preset;
     auto reader = open_bytes(encode_gvid(frames, info, o).value());
@@ -111,6 +112,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         SCOPED_TRACE("bframes " + std::to_string(bframes) + (lossless ? " lossless " : " qp 4 ") +
                      preset_name(preset));
         EncoderOptions o;
+        o.deblocking = false;  // (syntax before the format 1.8 filter)
         o.bframes = bframes;
         o.lossless = lossless;
         o.qp = 4;
@@ -380,6 +382,8 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   const auto frames = moving_video(48, 4);
   const SequenceInfo info = info_for(frames);
   EncoderOptions fast, slow;
+  fast.deblocking = false;  // (syntax before the format 1.8 filter)
+  slow.deblocking = false;  // (syntax before the format 1.8 filter)
   fast.qp = 0;
   fast.preset = Preset::kFast;
   fast.intra_period = 3;

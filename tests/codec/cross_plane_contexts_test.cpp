@@ -52,6 +52,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
+      o.deblocking = false;  // (syntax before the format 1.8 filter)
       o.qp = 6;
       o.preset = preset;
       o.bframes = bframes;
@@ -61,6 +62,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
           {std::string(preset_name(preset)) + (bframes ? ", B frames" : ", P frames"), o});
     }
   EncoderOptions shared;
+  shared.deblocking = false;  // (syntax before the format 1.8 filter)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
   shared.bframes = 0;
@@ -79,6 +81,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.preset = Preset::kSlow;
   cases.push_back({"near-lossless, slow", near});
   EncoderOptions intra;
+  intra.deblocking = false;  // (syntax before the format 1.8 filter)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -166,6 +169,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.bframes = 1;
@@ -195,6 +199,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -208,8 +213,9 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const std::string packet =
       testing::first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The other unknown flags2 bits stay rejected (32 is inter partitions, partition_test).
-  for (const uint8_t bits : {64, 128}) {
+  // The unknown flags2 bit stays rejected (32 is inter partitions, partition_test; 64 the
+  // deblocking filter of 1.8, deblocking_test).
+  for (const uint8_t bits : {128}) {
     auto d = decode_frame_packet(
         testing::with_flags2(packet, format::kFrame2CrossPlaneContexts | bits), info, 0);
     ASSERT_FALSE(d.is_ok());

@@ -145,6 +145,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
+      o.deblocking = false;  // (syntax before the format 1.8 filter)
       o.qp = 0;
       o.preset = preset;
       o.bframes = bframes;
@@ -166,6 +167,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.threads = 3;
   cases.push_back({"near-lossless, shared motion, 3 threads", near});
   EncoderOptions intra;
+  intra.deblocking = false;  // (syntax before the format 1.8 filter)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -209,6 +211,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_period = 3;
@@ -245,6 +248,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -258,9 +262,9 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const std::string packet =
       testing::first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The unknown flags2 bits stay rejected (bits 4 and 5: format 1.7, cross_plane_contexts_test
-  // and partition_test).
-  for (const uint8_t bits : {64, 128}) {
+  // The unknown flags2 bit stays rejected (bits 4 and 5: format 1.7, cross_plane_contexts_test
+  // and partition_test; bit 6: format 1.8, deblocking_test).
+  for (const uint8_t bits : {128}) {
     auto d = decode_frame_packet(testing::with_flags2(packet, format::kFrame2CrossPlane | bits),
                                  info, 0);
     ASSERT_FALSE(d.is_ok());
@@ -321,6 +325,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
     for (const int bframes : {0, 2})
       for (const int qp : {6, 24}) {
         EncoderOptions o;
+        o.deblocking = false;  // (syntax before the format 1.8 filter)
         o.qp = qp;
         o.preset = preset;
         o.bframes = bframes;

@@ -287,6 +287,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
     for (const int max_transform : {4, 8, 16}) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " max " + std::to_string(max_transform));
       EncoderOptions o;
+      o.deblocking = false;  // (syntax before the format 1.8 filter)
       o.qp = 6;
       o.preset = preset;
       o.intra_period = 3;
@@ -348,6 +349,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 6;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -380,6 +382,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;
@@ -424,7 +427,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
       with_payload(payload, h->flags, h->flags2 & ~format::kFrame2LargeTransforms), *info, 0);
   EXPECT_FALSE(unflagged.is_ok());
   // Unknown flags2 bits stay rejected.
-  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 64), *info, 0);
+  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 128), *info, 0);
   ASSERT_FALSE(unknown.is_ok());
   EXPECT_NE(unknown.status().message().find("unknown bits"), std::string::npos);
   // Damage inside the plane segments (CRC fixed): frames or a Status naming the plane.

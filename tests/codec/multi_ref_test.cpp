@@ -167,6 +167,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.preset = Preset::kFast;
   o.qp = 0;
   o.refs = 2;
@@ -233,6 +234,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   const auto frames = video(48, 4);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
@@ -257,6 +259,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.intra_only = true;
   EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
   EncoderOptions automatic;
+  automatic.deblocking = false;  // (syntax before the format 1.8 filter)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
   automatic.lossless = false;
@@ -264,6 +267,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EXPECT_EQ(automatic.reference_frames(), 1);
   for (int bad : {0, -2, 6}) {
     EncoderOptions b;
+    b.deblocking = false;  // (syntax before the format 1.8 filter)
     b.refs = bad;
     const Status s = b.check();
     ASSERT_FALSE(s.is_ok());
@@ -309,6 +313,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.cross_plane_contexts = false;
     c->options.partitions = false;  // nor the inter partitions of 1.7
     c->options.rdoq = false;        // nor RDO quantization
+    c->options.deblocking = false;  // nor the deblocking filter of 1.8
   }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;

@@ -112,6 +112,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (int bframes : {0, 1}) {
         if (preset == Preset::kFast && mode > 0) continue;  // the fast preset codes 16x16 only
         EncoderOptions o;
+        o.deblocking = false;  // (syntax before the format 1.8 filter)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
         o.lossless = mode == 2;
@@ -151,6 +152,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.cross_plane_contexts = false;  // the other 1.7 tool off: "older" = 1.6
@@ -186,6 +188,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.qp = 0;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -283,6 +286,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;  // (syntax before the format 1.8 filter)
   o.preset = Preset::kSlow;
   o.qp = 0;
   o.partitions = true;
@@ -301,7 +305,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   EXPECT_NE(r.status().message().find("inter partitions outside a P frame"), std::string::npos)
       << r.status().message();
   // An unknown flags2 bit next to it is still rejected.
-  r = decode_frame_packet(with_header(p1->packet, static_cast<uint8_t>(p1->packet[7] | 64)), info,
+  r = decode_frame_packet(with_header(p1->packet, static_cast<uint8_t>(p1->packet[7] | 128)), info,
                           1, &i0->planes);
   ASSERT_FALSE(r.is_ok());
   EXPECT_NE(r.status().message().find("unknown bits"), std::string::npos) << r.status().message();

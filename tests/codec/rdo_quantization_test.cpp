@@ -185,6 +185,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
+    o.deblocking = false;  // (syntax before the format 1.8 filter)
     o.qp = 12;
     o.preset = preset;
     o.intra_period = 4;

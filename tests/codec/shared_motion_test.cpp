@@ -114,6 +114,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
@@ -148,6 +149,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
@@ -196,6 +198,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
+  o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;

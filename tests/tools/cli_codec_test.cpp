@@ -108,7 +108,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts");  // on by default
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -125,7 +125,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
   auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                          " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-                         " --no-cross-plane-contexts");
+                         " --no-cross-plane-contexts --no-deblock");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -158,12 +158,36 @@ TEST(CliCodec, RdoQuantizationIsAnOptionAndBothStreamsDecode) {
   EXPECT_NE(bytes[1], bytes[0]);  // the option reaches the encoder
 }
 
+// The deblocking filter (format 1.8): on by default, in the stats and in `gvkit info`;
+// --no-deblock writes a version 1.7 stream; both decode.
+TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  for (const bool on : {true, false}) {
+    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
+                         (on ? "" : " --no-deblock"));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["deblocking"], on);
+    auto bytes = read_file(gvid);
+    ASSERT_TRUE(bytes.is_ok());
+    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 8 : 7);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_EQ(contains(info.output, "  deblocking"), on) << info.output;
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  }
+}
+
 TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast");  // on by default
+                       " --qp 0 --preset fast --no-deblock");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -179,7 +203,7 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
   auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts");
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -194,7 +218,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset slow --bframes 0 --partitions");
+                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -210,7 +234,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // On by default in the slow preset: the same stream.
   auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                            " --qp 0 --preset slow --bframes 0");
+                            " --qp 0 --preset slow --bframes 0 --no-deblock");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -219,7 +243,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // preset codes 16x16 only.
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
     auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                           " --qp 0 --bframes 0 --no-cross-plane-contexts" + args);
+                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock" + args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);
     ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;

@@ -33,6 +33,8 @@ inline constexpr uint8_t kMinorVersionCrossPlane = 6;
 inline constexpr uint8_t kMinorVersionCrossPlaneContexts = 7;
 // A stream with inter partitions (flags2 bit 5, docs/bitstream.md 4.11) is written as 1.7.
 inline constexpr uint8_t kMinorVersionPartitions = 7;
+// Format 1.8: a stream with the deblocking filter (flags2 bit 6, docs/bitstream.md 4.12).
+inline constexpr uint8_t kMinorVersionDeblocking = 8;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -65,7 +67,10 @@ enum FrameFlag2 : uint8_t {
   kFrame2CrossPlane = 8,           // since 1.6: Y and Z may add a scaled X residual per MB (4.9)
   kFrame2CrossPlaneContexts = 16,  // since 1.7: Y and Z contexts start as X's final (4.10)
   kFrame2Partitions = 32,          // since 1.7: P frames, 16x8 / 8x16 / 8x8 inter partitions (4.11)
-  kFrame2Known = 1 | 2 | 4 | 8 | 16 | 32,  // every bit a reader understands
+  // since 1.8: lossy frames, every plane deblocked after its last macroblock (payload: u8 beta,
+  // u8 tc; docs/bitstream.md 4.12)
+  kFrame2Deblocking = 64,
+  kFrame2Known = 1 | 2 | 4 | 8 | 16 | 32 | 64,  // every bit a reader understands
 };
 
 struct PacketHeader {

@@ -18,6 +18,13 @@ namespace gvkit::codec {
 
 class ReferenceInterpolationCache;  // interpolation_cache.hpp (encoder only)
 
+// Format 1.8, the deblocking filter's per-frame parameters (the packet payload's two bytes,
+// deblocking.hpp): beta in quarter quantizer steps, tc in sixteenths of a step; 0..255 each.
+struct DeblockingParams {
+  int beta = 6;  // 1.5 steps
+  int tc = 4;    // 0.25 steps (twice that at edges of intra or TD macroblocks)
+};
+
 struct PlaneCodingParams {
   int bit_depth = 16;     // 8..16
   int qp_prime = 0;       // QP + 6 (B - 8), 0..99; ignored when lossless
@@ -48,6 +55,10 @@ struct PlaneCodingParams {
   // may split into two 16x8 or 8x16 partitions or four 8x8 ones, each with its own reference
   // and vector (vector predictors then read the motion per 8x8 block).
   bool partitions = false;
+  // Format 1.8 (deblocking filter, docs/bitstream.md 4.12), lossy planes: the reconstruction is
+  // filtered after the last macroblock (deblocking.hpp), as every reference and output is.
+  bool deblocking = false;
+  DeblockingParams deblock;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).

@@ -1,0 +1,83 @@
+#pragma once
+// The boundary strengths of a coded plane's edges (format 1.8, docs/bitstream.md 4.12), from
+// the macroblock state that the encoder and the decoder both keep (PlaneState).
+
+#include <cstdlib>
+
+#include "gvkit/codec/deblocking.hpp"
+#include "macroblock_syntax.hpp"
+
+namespace gvkit::codec::detail {
+
+// Strength of the edge between 4x4 blocks a and b (block coordinates; a left of or above b) of
+// a plane whose vectors are in quarter samples when quarter_pel:
+// - 2 at a macroblock edge where either side is intra or TD-predicted, and inside such a
+//   macroblock at its transform blocks' edges (I16x16: only where a side has coded levels);
+// - 1 at a transform block edge where either block has coded levels (coded_block_flag), at a
+//   macroblock edge where either side is a non-skip inter macroblock, or where the blocks'
+//   motion differs (reference, lists, or a vector component by a whole sample or more);
+// - else 0. No edge lies inside a 16x16 transform but the edges of inter partitions.
+inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay, int bx, int by) {
+  const size_t ma = static_cast<size_t>(ay / 4) * st.mbs_x + ax / 4,
+               mb = static_cast<size_t>(by / 4) * st.mbs_x + bx / 4;
+  const bool internal = ma == mb;
+  const bool transform_edge = !internal || st.transform[ma] != 2;
+  const int w4 = st.mbs_x * 4;
+  const bool coded =
+      st.cbf4[static_cast<size_t>(ay) * w4 + ax] || st.cbf4[static_cast<size_t>(by) * w4 + bx];
+  const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
+  if (intra_like(ma) || intra_like(mb)) {
+    if (!internal) return 2;
+    if (!transform_edge) return 0;
+    return st.mb_type[ma] == kMbI16x16 && !coded ? 0 : 2;
+  }
+  if (transform_edge && coded) return 1;
+  if (!internal && (!st.skip[ma] || !st.skip[mb])) return 1;
+  const int unit = quarter_pel ? 4 : 1;  // a whole sample
+  const auto differs = [&](int x0, int y0, int x1, int y1) {
+    return std::abs(x0 - x1) >= unit || std::abs(y0 - y1) >= unit;
+  };
+  if (st.bidirectional) {
+    if (internal) return 0;
+    if (st.lists[ma] != st.lists[mb]) return 1;
+    if ((st.lists[ma] & 1) && differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb])) return 1;
+    if ((st.lists[ma] & 2) && differs(st.mv_x1[ma], st.mv_y1[ma], st.mv_x1[mb], st.mv_y1[mb]))
+      return 1;
+    return 0;
+  }
+  if (st.partitions) {  // format 1.7: motion per 8x8 block
+    const size_t ga = st.grid.index(ax / 2, ay / 2), gb = st.grid.index(bx / 2, by / 2);
+    if (st.grid.ref[ga] != st.grid.ref[gb]) return 1;
+    return differs(st.grid.mv_x[ga], st.grid.mv_y[ga], st.grid.mv_x[gb], st.grid.mv_y[gb]) ? 1 : 0;
+  }
+  if (internal) return 0;
+  if (st.ref_idx[ma] != st.ref_idx[mb]) return 1;
+  return differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
+}
+
+// The strengths of every edge on the plane's 8x8 grid.
+inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
+  const int w4 = st.mbs_x * 4, h4 = st.mbs_y * 4;
+  out.reset(w4, h4);
+  for (int gy = 0; gy < h4; ++gy)
+    for (int gx = 0; gx < w4; ++gx) {
+      const size_t i = static_cast<size_t>(gy) * w4 + gx;
+      if (gx > 0 && gx % 2 == 0)
+        out.vertical[i] = static_cast<uint8_t>(edge_strength(st, quarter_pel, gx - 1, gy, gx, gy));
+      if (gy > 0 && gy % 2 == 0)
+        out.horizontal[i] =
+            static_cast<uint8_t>(edge_strength(st, quarter_pel, gx, gy - 1, gx, gy));
+    }
+}
+
+// The deblocking of a coded plane after its last macroblock (encoder and decoder), when
+// p.deblocking is on in a lossy plane.
+inline void deblock_coded_plane(SamplePlane& plane, const PlaneState& st,
+                                const PlaneCodingParams& p) {
+  if (!p.deblocking || p.lossless) return;
+  DeblockingStrengths strengths;
+  deblocking_strengths(st, p.subpel != 0, strengths);
+  deblock_plane(plane, strengths, p.qp_prime, p.bit_depth, p.deblock);
+}
+
+}  // namespace gvkit::codec::detail
