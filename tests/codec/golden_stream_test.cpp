@@ -34,7 +34,10 @@ std::vector<GoldenCase> cases() {
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
       bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near,
       ctx_fast, ctx_lossless;
-  EncoderOptions part_slow;
+  EncoderOptions part_slow, deblock_fast;
+  deblock_fast.qp = 12;  // version 1.8: the deblocking filter on every 1.7 default, fast, I P B
+  deblock_fast.preset = Preset::kFast;
+  deblock_fast.bframes = 1;
   part_slow.qp = 0;  // version 1.7: inter partitions, slow preset, P frames with the 1.6 tools
   part_slow.preset = Preset::kSlow;
   part_slow.bframes = 0;
@@ -95,6 +98,20 @@ std::vector<GoldenCase> cases() {
     o->partitions = false;
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
+  // The streams before 1.8 were written without the deblocking filter.
+  for (EncoderOptions* o : {&lossless,     &fast,
+                            &slow_no_gv,   &eight_bit,
+                            &inter,        &lossless_inter,
+                            &near_affine,  &plane_qp,
+                            &qpel_td,      &hpel_lossless,
+                            &shared_fast,  &shared_lossless,
+                            &bframes_fast, &bframes_lossless,
+                            &refs_fast,    &refs_lossless,
+                            &tx16_fast,    &tx8_slow,
+                            &cross_fast,   &cross_near,
+                            &ctx_fast,     &ctx_lossless,
+                            &part_slow})
+    o->deblocking = false;
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;
@@ -163,7 +180,8 @@ std::vector<GoldenCase> cases() {
           {"analytic_xplane_near_ipp_v1_6_48.gvid", 48, 3, cross_near, 0.5},
           {"analytic_xctx_qp0_ibpbp_v1_7_48.gvid", 48, 5, ctx_fast, 0.75},
           {"analytic_xctx_lossless_ipp_v1_7_48.gvid", 48, 3, ctx_lossless, 0.5},
-          {"analytic_part_slow_qp0_ipppp_v1_7_48.gvid", 48, 5, part_slow, 0.75}};
+          {"analytic_part_slow_qp0_ipppp_v1_7_48.gvid", 48, 5, part_slow, 0.75},
+          {"analytic_deblock_qp12_ibpbp_v1_8_48.gvid", 48, 5, deblock_fast, 0.75}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {
