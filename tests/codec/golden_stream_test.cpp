@@ -96,22 +96,11 @@ std::vector<GoldenCase> cases() {
                             &cross_fast,   &cross_near}) {
     o->cross_plane_contexts = false;
     o->partitions = false;
+    o->deblocking = false;
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
-  // The streams before 1.8 were written without the deblocking filter.
-  for (EncoderOptions* o : {&lossless,     &fast,
-                            &slow_no_gv,   &eight_bit,
-                            &inter,        &lossless_inter,
-                            &near_affine,  &plane_qp,
-                            &qpel_td,      &hpel_lossless,
-                            &shared_fast,  &shared_lossless,
-                            &bframes_fast, &bframes_lossless,
-                            &refs_fast,    &refs_lossless,
-                            &tx16_fast,    &tx8_slow,
-                            &cross_fast,   &cross_near,
-                            &ctx_fast,     &ctx_lossless,
-                            &part_slow})
-    o->deblocking = false;
+  // The streams before 1.8 were written without the deblocking filter (the ones above too).
+  for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow}) o->deblocking = false;
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;
