@@ -846,7 +846,7 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false;
-  int deblock_beta = EncoderOptions{}.deblock_beta, deblock_tc = EncoderOptions{}.deblock_tc;
+  DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -881,9 +881,9 @@ int main(int argc, char** argv) {
     else if (a == "--deblock-only")
       deblock_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
-      deblock_beta = std::atoi(argv[++i]);
+      deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
-      deblock_tc = std::atoi(argv[++i]);
+      deblock.tc = std::atoi(argv[++i]);
     else if (a == "--write-streams" && i + 1 < argc)
       g_stream_dir = argv[++i];
     else if (a == "--bits-only")
@@ -968,8 +968,7 @@ int main(int argc, char** argv) {
   base.intra_period = gop;
   // The B frames of every row but those of --bframes-only (default: the encoder's, -1).
   base.bframes = bframes;
-  base.deblock_beta = deblock_beta;  // --deblock-beta / --deblock-tc (format 1.8)
-  base.deblock_tc = deblock_tc;
+  base.deblock = deblock;
   const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
 
   if (rate_only) {

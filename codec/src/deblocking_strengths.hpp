@@ -22,7 +22,7 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
                mb = static_cast<size_t>(by / 4) * st.mbs_x + bx / 4;
   const bool internal = ma == mb;
   const bool transform_edge = !internal || st.transform[ma] != 2;
-  const int w4 = st.mbs_x * 4;
+  const int w4 = st.w4();
   const bool coded =
       st.cbf4[static_cast<size_t>(ay) * w4 + ax] || st.cbf4[static_cast<size_t>(by) * w4 + bx];
   const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
@@ -57,7 +57,7 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
 
 // The strengths of every edge on the plane's 8x8 grid.
 inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
-  const int w4 = st.mbs_x * 4, h4 = st.mbs_y * 4;
+  const int w4 = st.w4(), h4 = st.mbs_y * 4;
   out.reset(w4, h4);
   for (int gy = 0; gy < h4; ++gy)
     for (int gx = 0; gx < w4; ++gx) {

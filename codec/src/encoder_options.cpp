@@ -97,9 +97,9 @@ Status EncoderOptions::check() const {
   if (max_transform != 4 && max_transform != 8 && max_transform != 16)
     return invalid_argument("max transform " + std::to_string(max_transform) +
                             " is not 4, 8 or 16");
-  if (deblock_beta < 1 || deblock_beta > 255 || deblock_tc < 1 || deblock_tc > 255)
-    return invalid_argument("deblocking strength " + std::to_string(deblock_beta) + "/" +
-                            std::to_string(deblock_tc) + " out of range (1..255 each)");
+  if (deblock.beta < 1 || deblock.beta > 255 || deblock.tc < 1 || deblock.tc > 255)
+    return invalid_argument("deblocking strength " + std::to_string(deblock.beta) + "/" +
+                            std::to_string(deblock.tc) + " out of range (1..255 each)");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

@@ -172,7 +172,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   if (options.deblocking && !bypass) {  // format 1.8
     header.flags2 |= format::kFrame2Deblocking;
     syntax.deblocking = true;
-    syntax.deblock = {options.deblock_beta, options.deblock_tc};
+    syntax.deblock = options.deblock;
   }
   header.qp = bypass ? 0
                      : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +

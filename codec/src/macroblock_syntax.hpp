@@ -780,16 +780,18 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
                               int y0) {
   const int count = n * n;
   const int max_value = (1 << p.bit_depth) - 1;
-  if (!any_nonzero(levels, count)) {  // no residual: the clipped prediction
+  // Writes value(i) for the block's raster positions i, clipped to the sample range.
+  const auto store = [&](const auto& value) {
     for (int y = 0; y < n; ++y) {
       uint16_t* row = plane + static_cast<size_t>(y0 + y) * stride + x0;
       for (int x = 0; x < n; ++x) {
-        const int32_t v = pred[y * n + x];
+        const int64_t v = value(y * n + x);
         row[x] = static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
       }
     }
-    return;
-  }
+  };
+  // No residual: the clipped prediction.
+  if (!any_nonzero(levels, count)) return store([&](int i) { return int64_t{pred[i]}; });
   int64_t residual[256];
   if (p.lossless) {
     // Near-lossless: a level counts 2 near + 1 samples (|level| < 2^24, so no overflow).
@@ -810,12 +812,7 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
     }
     std::copy(transformed, transformed + count, residual);
   }
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const int64_t v = pred[y * n + x] + residual[y * n + x];
-      plane[static_cast<size_t>(y0 + y) * stride + x0 + x] =
-          static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
-    }
+  store([&](int i) { return pred[i] + residual[i]; });
 }
 
 // The residual of an inter or I16x16 macroblock added to its 16x16 prediction pred16 at

@@ -4,6 +4,7 @@
 // for bit in I, P and B frames of both presets, the filter lowers the error of a coarse encode,
 // lossless and near-lossless streams never use it, the tool off writes the 1.7 stream, and a
 // packet that asks for it in a lossless frame or lacks its parameters is rejected.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -90,8 +91,10 @@ TEST(Deblocking, ShrinksABlockingStepAndKeepsRealEdgesAndStrengthZero) {
   }
 }
 
-TEST(Deblocking, KeepsSamplesInRange) {
-  // Blocks alternating between the range's ends by a step the filter acts on.
+TEST(Deblocking, KeepsSamplesBetweenTheBlocksValues) {
+  // Flat blocks at the top of the range alternating by a step the filter acts on: filtered
+  // samples move toward the other side, never past it or out of the range (a wrong sign or a
+  // 16-bit wrap-around would).
   for (const int bit_depth : {8, 16}) {
     const int max_value = (1 << bit_depth) - 1;
     const SamplePlane p0 = make_plane(32, [&](int x, int y) {
@@ -100,7 +103,11 @@ TEST(Deblocking, KeepsSamplesInRange) {
     SamplePlane p = p0;
     deblock_plane(p, all_edges(32, 2), bit_depth == 8 ? 40 : kQpPrime, bit_depth, {});
     EXPECT_NE(p.samples, p0.samples);
-    for (const uint16_t v : p.samples) EXPECT_LE(v, max_value);
+    const auto [lo, hi] = std::minmax_element(p0.samples.begin(), p0.samples.end());
+    for (const uint16_t v : p.samples) {
+      EXPECT_GE(v, *lo);
+      EXPECT_LE(v, *hi);
+    }
   }
 }
 

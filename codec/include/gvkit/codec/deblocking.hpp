@@ -40,7 +40,8 @@ struct DeblockingStrengths {
 int64_t deblocking_step16(int qp_prime);
 
 // Filters `plane` in place (width and height multiples of 8; strengths of its 4x4 blocks) with
-// the thresholds of qp_prime and params (plane_coding.hpp), samples kept in [0, 2^bit_depth - 1].
+// the thresholds of qp_prime and params (deblocking_params.hpp), samples kept in [0, 2^bit_depth -
+// 1].
 void deblock_plane(SamplePlane& plane, const DeblockingStrengths& strengths, int qp_prime,
                    int bit_depth, const DeblockingParams& params);
 

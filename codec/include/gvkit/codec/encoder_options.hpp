@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include "gvkit/codec/deblocking_params.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::codec {
@@ -130,13 +131,8 @@ struct EncoderOptions {
   // filtered planes). false writes no flags2 bit 6 (the 1.7 stream, byte for byte). Lossless
   // and near-lossless frames never use it (the max-error bound holds sample by sample).
   bool deblocking = true;
-  // The filter's strength in the frame payload: beta in quarter quantizer steps, tc in
-  // sixteenths of a step, 1..255 each. The defaults (1.5 and 0.25 steps) were the best of a
-  // sweep on the ICT face: -12.9 % BD-rate against the filter off in the fast preset, -12.2 %
-  // in the slow one (docs/benchmarks.md, format 1.8).
-  int deblock_beta = 6;
-  int deblock_tc = 4;
-  int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
+  DeblockingParams deblock;  // the filter's strength in the frame payload
+  int threads = 1;           // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
   Status check() const;

@@ -12,18 +12,12 @@
 
 #include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/codec/cross_plane.hpp"
+#include "gvkit/codec/deblocking_params.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::codec {
 
 class ReferenceInterpolationCache;  // interpolation_cache.hpp (encoder only)
-
-// Format 1.8, the deblocking filter's per-frame parameters (the packet payload's two bytes,
-// deblocking.hpp): beta in quarter quantizer steps, tc in sixteenths of a step; 0..255 each.
-struct DeblockingParams {
-  int beta = 6;  // 1.5 steps
-  int tc = 4;    // 0.25 steps (twice that at edges of intra or TD macroblocks)
-};
 
 struct PlaneCodingParams {
   int bit_depth = 16;     // 8..16
