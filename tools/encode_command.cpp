@@ -187,6 +187,7 @@ void run_encode(const EncodeArgs& args) {
         {"joint_motion_search", options.joint_motion_search},
         {"inter_decimation", options.inter_decimation},
         {"rdoq", options.rdoq},
+        {"intra_rdo", options.intra_rdo},
         {"skip_check", options.skip_check},
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
@@ -303,6 +304,10 @@ void add_encode_command(CLI::App& app) {
                 "partitions with their own reference and vector (inter partitions, format 1.7; "
                 "on by default; the fast preset codes 16x16 only); --no-partitions writes the 1.6 "
                 "stream");
+  cmd->add_flag("--intra-rdo,!--no-intra-rdo", args->options.intra_rdo,
+                "Fast preset, lossy I frames: decide macroblock types and modes by "
+                "rate-distortion cost on a shortlist of the cheapest modes by SATD (on by "
+                "default; the slow preset decides every frame so); the stream syntax is the same");
   cmd->add_flag("--deblock,!--no-deblock", args->options.deblocking,
                 "Lossy frames: filter the 8x8 block edges of every reconstructed plane in the "
                 "loop (deblocking filter, format 1.8; on by default); --no-deblock writes the "

@@ -17,7 +17,7 @@
 //                            [--partitions-only [--partitions-preset fast|slow]]
 //                            [--rdoq-only [--rdoq-preset fast|slow]] [--write-streams DIR]
 //                            [--deblock-only [--deblock-preset fast|slow] [--deblock-beta N]
-//                             [--deblock-tc N]]
+//                             [--deblock-tc N]] [--intra-rdo-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -36,8 +36,9 @@
 // (or the one of --rdoq-preset), the BD-rates against off and x265, and the encode speed;
 // --deblock-only: the format 1.8 deblocking filter off / on likewise, with the strength of
 // --deblock-beta (quarter quantizer steps) and --deblock-tc (sixteenths; defaults: the
-// encoder's); --write-streams DIR: also write every stream of ours to DIR/NNN_PRESET_qpQ.gvid, NNN
-// in run order, e.g. for codec_decoder_benchmark)
+// encoder's); --intra-rdo-only: the fast preset's RDO in I frames off / on (the slow preset
+// ignores the option); --write-streams DIR: also write every stream of ours to
+// DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark)
 #include <time.h>
 
 #include <algorithm>
@@ -845,7 +846,7 @@ int main(int argc, char** argv) {
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
-       deblock_only = false;
+       deblock_only = false, intra_rdo_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -880,6 +881,8 @@ int main(int argc, char** argv) {
       subpel_only = true;
     else if (a == "--deblock-only")
       deblock_only = true;
+    else if (a == "--intra-rdo-only")
+      intra_rdo_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
@@ -929,6 +932,7 @@ int main(int argc, char** argv) {
           "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
+          "[--intra-rdo-only] "
           "[--write-streams DIR]\n");
       return 2;
     }
@@ -1018,6 +1022,12 @@ int main(int argc, char** argv) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--deblock",
                   "--no-deblock", [](EncoderOptions& o, bool on) { o.deblocking = on; });
+    return 0;
+  }
+  if (intra_rdo_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", {Preset::kFast}, "--intra-rdo",
+                  "--no-intra-rdo", [](EncoderOptions& o, bool on) { o.intra_rdo = on; });
     return 0;
   }
   if (refs_only) {

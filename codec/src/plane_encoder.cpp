@@ -808,7 +808,12 @@ class MacroblockEncoder {
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
-    if (n == 4 && !p_.rdo) {
+    // RDO on a shortlist (p_.intra_rdo_shortlist > 0, 4x4 blocks): the modes of the lowest
+    // SATD-based costs are coded; the others are not tried.
+    const int shortlist = n == 4 && p_.rdo ? p_.intra_rdo_shortlist : 0;
+    bool listed[kIntra4x4ModeCount];
+    std::fill(listed, listed + kIntra4x4ModeCount, shortlist == 0);
+    if (n == 4 && (!p_.rdo || shortlist > 0)) {
       // Fast decision: every mode predicted and measured in one pass over the neighbours.
       int32_t preds[kIntra4x4ModeCount][16];
       int64_t distortion[kIntra4x4ModeCount];
@@ -820,17 +825,27 @@ class MacroblockEncoder {
         for (int mode = 0; mode < mode_count; ++mode) add_cross(4, x0, y0, preds[mode]);
       distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
                      src_.width, preds, mode_count, distortion);
+      double costs[kIntra4x4ModeCount];
       for (int mode = 0; mode < mode_count; ++mode) {
-        const double cost =
+        costs[mode] =
             static_cast<double>(distortion[mode]) + lambda_sad_ * mode_bits_estimate(mode, mpm);
-        if (cost < best_cost) {
-          best_cost = cost;
+        if (costs[mode] < best_cost) {
+          best_cost = costs[mode];
           best_mode = mode;
         }
       }
       std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
+      if (shortlist > 0) {
+        int order[kIntra4x4ModeCount];
+        for (int mode = 0; mode < mode_count; ++mode) order[mode] = mode;
+        std::partial_sort(order, order + std::min(shortlist, mode_count), order + mode_count,
+                          [&](int a, int b) { return costs[a] < costs[b]; });
+        for (int k = 0; k < std::min(shortlist, mode_count); ++k) listed[order[k]] = true;
+        best_cost = std::numeric_limits<double>::infinity();
+      }
     }
     for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
+      if (!listed[mode] && n == 4) continue;
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
@@ -929,7 +944,25 @@ class MacroblockEncoder {
     int32_t pred[256];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
+    // RDO on a shortlist (p_.intra_rdo_shortlist > 0): only the modes of the lowest SATD-based
+    // costs are coded.
+    bool listed[kIntra16x16ModeCount] = {true, true, true, true};
+    if (p_.rdo && p_.intra_rdo_shortlist > 0 && p_.intra_rdo_shortlist < kIntra16x16ModeCount) {
+      double estimate[kIntra16x16ModeCount];
+      int order[kIntra16x16ModeCount];
+      for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+        predict_intra(16, mode, nb, max_value_, pred);
+        add_cross(16, x0, y0, pred);
+        estimate[mode] = static_cast<double>(distortion_estimate(16, pred, x0, y0));
+        order[mode] = mode;
+        listed[mode] = false;
+      }
+      std::sort(order, order + kIntra16x16ModeCount,
+                [&](int a, int b) { return estimate[a] < estimate[b]; });
+      for (int k = 0; k < p_.intra_rdo_shortlist; ++k) listed[order[k]] = true;
+    }
     for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+      if (!listed[mode]) continue;
       predict_intra(16, mode, nb, max_value_, pred);
       add_cross(16, x0, y0, pred);
       double cost;

@@ -98,6 +98,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
     o.deblocking = false;  // (syntax before the format 1.8 filter)
+    o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
     auto reader = open_bytes(encode_gvid(frames, info, o).value());
@@ -113,6 +114,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
                      preset_name(preset));
         EncoderOptions o;
         o.deblocking = false;  // (syntax before the format 1.8 filter)
+        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
         o.qp = 4;
@@ -383,7 +385,9 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions fast, slow;
   fast.deblocking = false;  // (syntax before the format 1.8 filter)
+  fast.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;  // (syntax before the format 1.8 filter)
+  slow.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;
   fast.intra_period = 3;

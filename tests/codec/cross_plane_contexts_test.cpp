@@ -53,6 +53,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
       o.deblocking = false;  // (syntax before the format 1.8 filter)
+      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.bframes = bframes;
@@ -63,6 +64,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     }
   EncoderOptions shared;
   shared.deblocking = false;  // (syntax before the format 1.8 filter)
+  shared.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
   shared.bframes = 0;
@@ -82,6 +84,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   cases.push_back({"near-lossless, slow", near});
   EncoderOptions intra;
   intra.deblocking = false;  // (syntax before the format 1.8 filter)
+  intra.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -170,6 +173,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.bframes = 1;
@@ -200,6 +204,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;

@@ -146,6 +146,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
       o.deblocking = false;  // (syntax before the format 1.8 filter)
+      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
       o.bframes = bframes;
@@ -168,6 +169,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   cases.push_back({"near-lossless, shared motion, 3 threads", near});
   EncoderOptions intra;
   intra.deblocking = false;  // (syntax before the format 1.8 filter)
+  intra.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -212,6 +214,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_period = 3;
@@ -249,6 +252,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -326,6 +330,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
       for (const int qp : {6, 24}) {
         EncoderOptions o;
         o.deblocking = false;  // (syntax before the format 1.8 filter)
+        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
         o.bframes = bframes;

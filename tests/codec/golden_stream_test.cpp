@@ -97,10 +97,13 @@ std::vector<GoldenCase> cases() {
     o->cross_plane_contexts = false;
     o->partitions = false;
     o->deblocking = false;
+    o->intra_rdo = false;  // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
   // The streams before 1.8 were written without the deblocking filter (the ones above too).
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow}) o->deblocking = false;
+  // The fast preset's I frames were decided by SATD costs in every stream here.
+  ctx_fast.intra_rdo = deblock_fast.intra_rdo = false;
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;

@@ -288,6 +288,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " max " + std::to_string(max_transform));
       EncoderOptions o;
       o.deblocking = false;  // (syntax before the format 1.8 filter)
+      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.intra_period = 3;
@@ -350,6 +351,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -383,6 +385,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;

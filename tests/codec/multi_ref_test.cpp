@@ -168,6 +168,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
   o.refs = 2;
@@ -235,6 +236,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
@@ -260,6 +262,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
   EncoderOptions automatic;
   automatic.deblocking = false;  // (syntax before the format 1.8 filter)
+  automatic.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
   automatic.lossless = false;
@@ -268,6 +271,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   for (int bad : {0, -2, 6}) {
     EncoderOptions b;
     b.deblocking = false;  // (syntax before the format 1.8 filter)
+    b.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
     ASSERT_FALSE(s.is_ok());
@@ -314,6 +318,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.partitions = false;  // nor the inter partitions of 1.7
     c->options.rdoq = false;        // nor RDO quantization
     c->options.deblocking = false;  // nor the deblocking filter of 1.8
+    c->options.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;

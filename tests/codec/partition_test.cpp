@@ -113,6 +113,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         if (preset == Preset::kFast && mode > 0) continue;  // the fast preset codes 16x16 only
         EncoderOptions o;
         o.deblocking = false;  // (syntax before the format 1.8 filter)
+        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
         o.lossless = mode == 2;
@@ -153,6 +154,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.cross_plane_contexts = false;  // the other 1.7 tool off: "older" = 1.6
@@ -189,6 +191,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -287,6 +290,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
   o.deblocking = false;  // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;
   o.partitions = true;

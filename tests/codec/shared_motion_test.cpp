@@ -115,6 +115,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
@@ -150,6 +151,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;
@@ -199,6 +201,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
   o.preset = Preset::kFast;

@@ -182,6 +182,30 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   }
 }
 
+// The fast preset's RDO in I frames: on by default, in the stats; --no-intra-rdo reaches the
+// encoder (another stream of the same version); both decode.
+TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
+  TempDir dir;
+  write_frames(dir / "in", 2);
+  std::string bytes[2];
+  for (const bool on : {true, false}) {
+    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 6 --preset fast --intra-only" + (on ? "" : " --no-intra-rdo"));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["intra_rdo"], on);
+    auto read = read_file(gvid);
+    ASSERT_TRUE(read.is_ok());
+    bytes[on] = *read;
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  }
+  EXPECT_NE(bytes[1], bytes[0]);
+  EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
+}
+
 TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);

@@ -63,7 +63,10 @@ struct PlaneCodingParams {
   // Encoder only, lossy planes: rate-distortion optimised quantization (rdo_quantization.hpp)
   // instead of the intra rounding and the inter dead zone.
   bool rdoq = false;
-  bool rdo = true;       // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  bool rdo = true;  // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  // Encoder only, with rdo: 4x4 intra blocks and I16x16 macroblocks code only this many modes,
+  // those of the lowest SATD-based costs (0 = every mode).
+  int intra_rdo_shortlist = 0;
   int search_range = 4;  // encoder only: full-search motion range (samples) of P planes
 };
 
