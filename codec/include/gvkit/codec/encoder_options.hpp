@@ -67,8 +67,9 @@ struct EncoderOptions {
   // as in the slow preset, on a shortlist (the two modes of lowest SATD-based cost per 4x4
   // block and per I16x16 macroblock; no I8x8), instead of SATD costs before any residual is
   // coded, which cannot see what the 16x16 transform saves (encoder only; the stream syntax
-  // does not change). On by default: on the ICT face -24 % BD-rate in the fast preset at
-  // 0.87x its encode speed at QP -18 (docs/benchmarks.md, "Fast preset: RDO in I frames").
+  // does not change). On by default: on the ICT face -18.74 % BD-rate in the fast preset at
+  // 0.90x its encode speed at QP -18, on the main-job video -2.72 % (docs/benchmarks.md, "Fast
+  // preset: RDO in I frames").
   // The slow preset decides every frame by RDO and ignores it.
   bool intra_rdo = true;
   // P frames: try the predicted vector before the motion search and, in the fast preset, take a
