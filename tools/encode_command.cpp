@@ -194,6 +194,7 @@ void run_encode(const EncodeArgs& args) {
         {"cross_plane_contexts", options.cross_plane_contexts},
         {"partitions", options.partitions},
         {"deblocking", options.deblocking},
+        {"temporal_contexts", options.temporal_contexts},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -312,6 +313,10 @@ void add_encode_command(CLI::App& app) {
                 "Lossy frames: filter the 8x8 block edges of every reconstructed plane in the "
                 "loop (deblocking filter, format 1.8; on by default); --no-deblock writes the "
                 "1.7 stream");
+  cmd->add_flag("--temporal-contexts,!--no-temporal-contexts", args->options.temporal_contexts,
+                "P and B frames: start every plane's CABAC contexts from the states the same "
+                "plane of the reference frame ended with (temporal contexts, format 1.9; on by "
+                "default); --no-temporal-contexts writes the 1.8 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

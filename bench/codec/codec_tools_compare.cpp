@@ -18,6 +18,7 @@
 //                            [--rdoq-only [--rdoq-preset fast|slow]] [--write-streams DIR]
 //                            [--deblock-only [--deblock-preset fast|slow] [--deblock-beta N]
 //                             [--deblock-tc N]] [--intra-rdo-only]
+//                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -37,8 +38,9 @@
 // --deblock-only: the format 1.8 deblocking filter off / on likewise, with the strength of
 // --deblock-beta (quarter quantizer steps) and --deblock-tc (sixteenths; defaults: the
 // encoder's); --intra-rdo-only: the fast preset's RDO in I frames off / on (the slow preset
-// ignores the option); --write-streams DIR: also write every stream of ours to
-// DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark)
+// ignores the option); --temporal-contexts-only: format 1.9 temporal contexts off / on in both
+// presets (or the one of --temporal-contexts-preset); --write-streams DIR: also write every stream
+// of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark)
 #include <time.h>
 
 #include <algorithm>
@@ -846,7 +848,7 @@ int main(int argc, char** argv) {
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
-       deblock_only = false, intra_rdo_only = false;
+       deblock_only = false, intra_rdo_only = false, temporal_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -883,6 +885,8 @@ int main(int argc, char** argv) {
       deblock_only = true;
     else if (a == "--intra-rdo-only")
       intra_rdo_only = true;
+    else if (a == "--temporal-contexts-only")
+      temporal_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
@@ -912,7 +916,7 @@ int main(int argc, char** argv) {
     else if (a == "--refs-only")
       refs_only = true;
     else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
-              a == "--deblock-preset") &&
+              a == "--deblock-preset" || a == "--temporal-contexts-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -932,7 +936,7 @@ int main(int argc, char** argv) {
           "[--transform-only] [--refs-only [--refs-preset P]] [--cross-plane-only] [--ctx-only] "
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
-          "[--intra-rdo-only] "
+          "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
           "[--write-streams DIR]\n");
       return 2;
     }
@@ -1022,6 +1026,13 @@ int main(int argc, char** argv) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--deblock",
                   "--no-deblock", [](EncoderOptions& o, bool on) { o.deblocking = on; });
+    return 0;
+  }
+  if (temporal_only) {
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets,
+                  "--temporal-contexts", "--no-temporal-contexts",
+                  [](EncoderOptions& o, bool on) { o.temporal_contexts = on; });
     return 0;
   }
   if (intra_rdo_only) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -36,19 +37,32 @@ struct FrameSyntax {
   DeblockingParams deblock;
 };
 
-// What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X: with
-// cross-plane prediction (flags2 bit 3) X records its residual and Y and Z read it, with
-// cross-plane contexts (bit 4) likewise X's final context states. The same for the encoder and
-// the decoder.
+// What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X and with the
+// reference: with cross-plane prediction (flags2 bit 3) X records its residual and Y and Z read
+// it; every plane records its final context states in states[plane], which Y and Z start from
+// with cross-plane contexts (bit 4, X's states), and every plane of a frame with temporal
+// contexts (bit 7) starts from the same plane's final states in `temporal` (reference 0). The
+// same for the encoder and the decoder.
 CrossPlaneLinks plane_links(size_t plane, bool cross_plane, bool cross_contexts,
-                            CrossPlaneResidual* x_residual, CrossPlaneContextStates* x_states) {
+                            const std::vector<SamplePlane>* temporal,
+                            CrossPlaneResidual* x_residual, CrossPlaneContextStates* states) {
   CrossPlaneLinks links;
   const bool x = plane == 0, y_or_z = plane == 1 || plane == 2;
   if (cross_plane && x) links.residual_out = x_residual;
   if (cross_plane && y_or_z) links.source = x_residual;
-  if (cross_contexts && x) links.contexts_out = x_states;
-  if (cross_contexts && y_or_z) links.contexts = x_states;
+  links.contexts_out = &states[plane];
+  if (temporal)
+    links.contexts = (*temporal)[plane].final_contexts.get();
+  else if (cross_contexts && y_or_z)
+    links.contexts = &states[0];
   return links;
+}
+
+// Whether every plane of `reference` carries the final context states temporal contexts start
+// from (format 1.9).
+bool has_final_contexts(const std::vector<SamplePlane>& reference) {
+  return std::all_of(reference.begin(), reference.end(),
+                     [](const SamplePlane& p) { return p.final_contexts != nullptr; });
 }
 
 PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flags, int qp,
@@ -170,7 +184,12 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   }
   if (options.cross_plane) header.flags2 |= format::kFrame2CrossPlane;  // format 1.6
   // Format 1.7: cross-plane contexts.
-  if (options.cross_plane_contexts) header.flags2 |= format::kFrame2CrossPlaneContexts;
+  // Format 1.9: temporal contexts in P and B frames (instead of cross-plane contexts there).
+  const bool temporal = options.temporal_contexts && reference && has_final_contexts(*reference);
+  if (temporal)
+    header.flags2 |= format::kFrame2TemporalContexts;
+  else if (options.cross_plane_contexts)
+    header.flags2 |= format::kFrame2CrossPlaneContexts;
   if (p_frame && options.use_partitions()) {  // format 1.7
     header.flags2 |= format::kFrame2Partitions;
     syntax.partitions = true;
@@ -216,7 +235,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     std::vector<PlaneEncodeResult> coded(planes.size());
     // Cross-plane prediction: X keeps its residual, which Y and Z predict from.
     CrossPlaneResidual x_residual;
-    CrossPlaneContextStates x_states;  // format 1.7: X's final states, Y's and Z's initial ones
+    // Every plane's final context states (format 1.7: X's are Y's and Z's initial ones).
+    CrossPlaneContextStates states[4];
     const auto code = [&](int i) {
       PlaneCodingParams p = plane_params(info, i, flags, header.qp, syntax);
       p.rdo = options.preset == Preset::kSlow;
@@ -245,13 +265,15 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       if (!joint.sources.empty())
         for (int k = 0; k + 1 < syntax.ref_count; ++k)
           joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
-      const CrossPlaneLinks links =
-          plane_links(i, cross_plane, cross_contexts, &x_residual, &x_states);
+      const CrossPlaneLinks links = plane_links(
+          i, cross_plane, cross_contexts, temporal ? reference : nullptr, &x_residual, states);
       if (bidirectional)
         coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links, cache);
       else
         coded[i] = encode_plane(planes[i], p, ref ? &(*ref)[i] : nullptr, shared, &joint,
                                 more.empty() ? nullptr : &more, &links, cache);
+      coded[i].reconstruction.final_contexts =
+          std::make_shared<const CrossPlaneContextStates>(states[i]);
     };
     if (!shared_motion && !cross_plane && !cross_contexts) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
@@ -381,8 +403,15 @@ Result<GeometryImage> decode_frame_packet(
        (format::kFrameValuePrediction | format::kFrameTdPrediction | format::kFrameQuarterPel)) &&
       !predicted)
     return corrupt_data("frame flags: inter tools in an intra frame");
-  if (header.flags2 & ~format::kFrame2Known)
-    return corrupt_data("frame flags2: unknown bits " + std::to_string(header.flags2));
+  const bool temporal = (header.flags2 & format::kFrame2TemporalContexts) != 0;  // format 1.9
+  if (temporal && !predicted)
+    return corrupt_data("frame flags2: temporal contexts in an intra frame");
+  if (temporal && (header.flags2 & format::kFrame2CrossPlaneContexts))
+    return corrupt_data("frame flags2: temporal contexts with cross-plane contexts");
+  if (temporal && !has_final_contexts(*reference))
+    return failed_precondition(
+        "temporal contexts: the reference frame's planes carry no final context states (decode "
+        "it with decode_frame_packet)");
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   if (shared_motion && !predicted)
     return corrupt_data("frame flags2: shared motion in an intra frame");
@@ -477,7 +506,7 @@ Result<GeometryImage> decode_frame_packet(
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   CrossPlaneResidual x_residual;  // cross-plane prediction (1.6): X's, source of Y and Z
   const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;
-  CrossPlaneContextStates x_states;  // cross-plane contexts (1.7): X's final context states
+  CrossPlaneContextStates states[4];  // every plane's final context states
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
     const uint32_t size = r.u32();
@@ -485,8 +514,8 @@ Result<GeometryImage> decode_frame_packet(
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
     const PlaneCodingParams params =
         plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
-    const CrossPlaneLinks links =
-        plane_links(i, cross_plane, cross_contexts, &x_residual, &x_states);
+    const CrossPlaneLinks links = plane_links(i, cross_plane, cross_contexts,
+                                              temporal ? reference : nullptr, &x_residual, states);
     auto plane =
         bidirectional
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)
@@ -496,6 +525,7 @@ Result<GeometryImage> decode_frame_packet(
                            multi_ref ? &more[i] : nullptr, &links);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
+    planes.back().final_contexts = std::make_shared<const CrossPlaneContextStates>(states[i]);
   }
   if (r.remaining() != 0) return corrupt_data("trailing bytes after the planes");
   GeometryImage image = dequantize_geometry(planes, info, frame_number);

@@ -97,8 +97,9 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   double p_worst[2] = {0, 0};
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    o.deblocking = false;  // (syntax before the format 1.8 filter)
-    o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+    o.deblocking = false;         // (syntax before the format 1.8 filter)
+    o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
     auto reader = open_bytes(encode_gvid(frames, info, o).value());
@@ -113,8 +114,9 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         SCOPED_TRACE("bframes " + std::to_string(bframes) + (lossless ? " lossless " : " qp 4 ") +
                      preset_name(preset));
         EncoderOptions o;
-        o.deblocking = false;  // (syntax before the format 1.8 filter)
-        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+        o.deblocking = false;         // (syntax before the format 1.8 filter)
+        o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
         o.qp = 4;
@@ -384,10 +386,12 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   const auto frames = moving_video(48, 4);
   const SequenceInfo info = info_for(frames);
   EncoderOptions fast, slow;
-  fast.deblocking = false;  // (syntax before the format 1.8 filter)
-  fast.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
-  slow.deblocking = false;  // (syntax before the format 1.8 filter)
-  slow.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  fast.deblocking = false;         // (syntax before the format 1.8 filter)
+  fast.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
+  slow.deblocking = false;         // (syntax before the format 1.8 filter)
+  slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;
   fast.intra_period = 3;

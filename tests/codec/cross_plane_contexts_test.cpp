@@ -52,8 +52,9 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
-      o.deblocking = false;  // (syntax before the format 1.8 filter)
-      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+      o.deblocking = false;         // (syntax before the format 1.8 filter)
+      o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.bframes = bframes;
@@ -63,8 +64,9 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
           {std::string(preset_name(preset)) + (bframes ? ", B frames" : ", P frames"), o});
     }
   EncoderOptions shared;
-  shared.deblocking = false;  // (syntax before the format 1.8 filter)
-  shared.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  shared.deblocking = false;         // (syntax before the format 1.8 filter)
+  shared.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
   shared.bframes = 0;
@@ -76,6 +78,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.lossless = true;
   lossless.preset = Preset::kFast;
   lossless.cross_plane_contexts = true;
+  lossless.temporal_contexts = false;  // format 1.9 off
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -83,8 +86,9 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.preset = Preset::kSlow;
   cases.push_back({"near-lossless, slow", near});
   EncoderOptions intra;
-  intra.deblocking = false;  // (syntax before the format 1.8 filter)
-  intra.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  intra.deblocking = false;         // (syntax before the format 1.8 filter)
+  intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -172,8 +176,9 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.bframes = 1;
@@ -203,8 +208,9 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -218,13 +224,13 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const std::string packet =
       testing::first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The unknown flags2 bit stays rejected (32 is inter partitions, partition_test; 64 the
-  // deblocking filter of 1.8, deblocking_test).
+  // Flags2 bit 7 (format 1.9, temporal contexts) in this intra frame is rejected (32 is inter
+  // partitions, partition_test; 64 the deblocking filter of 1.8, deblocking_test).
   for (const uint8_t bits : {128}) {
     auto d = decode_frame_packet(
         testing::with_flags2(packet, format::kFrame2CrossPlaneContexts | bits), info, 0);
     ASSERT_FALSE(d.is_ok());
-    EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)
+    EXPECT_NE(d.status().message().find("temporal contexts in an intra frame"), std::string::npos)
         << d.status().message();
   }
   // Random damage in the payload (CRC fixed up, so that it reaches the macroblock layer): a

@@ -145,8 +145,9 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
-      o.deblocking = false;  // (syntax before the format 1.8 filter)
-      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+      o.deblocking = false;         // (syntax before the format 1.8 filter)
+      o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
       o.bframes = bframes;
@@ -160,6 +161,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.preset = Preset::kFast;
   lossless.cross_plane = true;
   lossless.cross_plane_contexts = false;  // format 1.7 off
+  lossless.temporal_contexts = false;     // format 1.9 off
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -168,8 +170,9 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.threads = 3;
   cases.push_back({"near-lossless, shared motion, 3 threads", near});
   EncoderOptions intra;
-  intra.deblocking = false;  // (syntax before the format 1.8 filter)
-  intra.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  intra.deblocking = false;         // (syntax before the format 1.8 filter)
+  intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -213,8 +216,9 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_period = 3;
@@ -251,8 +255,9 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -266,13 +271,14 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const std::string packet =
       testing::first_packet(*stream, static_cast<size_t>((*reader)->header_bytes()));
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
-  // The unknown flags2 bit stays rejected (bits 4 and 5: format 1.7, cross_plane_contexts_test
-  // and partition_test; bit 6: format 1.8, deblocking_test).
+  // Flags2 bit 7 (format 1.9, temporal contexts) in this intra frame is rejected (bits 4 and
+  // 5: format 1.7, cross_plane_contexts_test and partition_test; bit 6: format 1.8,
+  // deblocking_test).
   for (const uint8_t bits : {128}) {
     auto d = decode_frame_packet(testing::with_flags2(packet, format::kFrame2CrossPlane | bits),
                                  info, 0);
     ASSERT_FALSE(d.is_ok());
-    EXPECT_NE(d.status().message().find("frame flags2: unknown bits"), std::string::npos)
+    EXPECT_NE(d.status().message().find("temporal contexts in an intra frame"), std::string::npos)
         << d.status().message();
   }
   // Random damage in the payload (CRC fixed up, so that it reaches the macroblock layer): a
@@ -329,8 +335,9 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
     for (const int bframes : {0, 2})
       for (const int qp : {6, 24}) {
         EncoderOptions o;
-        o.deblocking = false;  // (syntax before the format 1.8 filter)
-        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+        o.deblocking = false;         // (syntax before the format 1.8 filter)
+        o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
         o.bframes = bframes;
@@ -350,6 +357,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.refs = 3;
   lossless.cross_plane = true;
   lossless.cross_plane_contexts = false;  // format 1.7 off
+  lossless.temporal_contexts = false;     // format 1.9 off
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

@@ -34,7 +34,10 @@ std::vector<GoldenCase> cases() {
       plane_qp, qpel_td, hpel_lossless, shared_fast, shared_lossless, bframes_fast,
       bframes_lossless, refs_fast, refs_lossless, tx16_fast, tx8_slow, cross_fast, cross_near,
       ctx_fast, ctx_lossless;
-  EncoderOptions part_slow, deblock_fast;
+  EncoderOptions part_slow, deblock_fast, temporal_slow;
+  temporal_slow.qp = 6;  // version 1.9: temporal contexts on every 1.8 default, slow, I P B
+  temporal_slow.preset = Preset::kSlow;
+  temporal_slow.bframes = 1;
   deblock_fast.qp = 12;  // version 1.8: the deblocking filter on every 1.7 default, fast, I P B
   deblock_fast.preset = Preset::kFast;
   deblock_fast.bframes = 1;
@@ -97,13 +100,17 @@ std::vector<GoldenCase> cases() {
     o->cross_plane_contexts = false;
     o->partitions = false;
     o->deblocking = false;
-    o->intra_rdo = false;  // (nor the fast preset's RDO in I frames)
+    o->temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
   // The streams before 1.8 were written without the deblocking filter (the ones above too).
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow}) o->deblocking = false;
   // The fast preset's I frames were decided by SATD costs in every stream here.
   ctx_fast.intra_rdo = deblock_fast.intra_rdo = false;
+  // ... and those before 1.9 without temporal contexts.
+  for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast})
+    o->temporal_contexts = false;
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;
@@ -173,7 +180,8 @@ std::vector<GoldenCase> cases() {
           {"analytic_xctx_qp0_ibpbp_v1_7_48.gvid", 48, 5, ctx_fast, 0.75},
           {"analytic_xctx_lossless_ipp_v1_7_48.gvid", 48, 3, ctx_lossless, 0.5},
           {"analytic_part_slow_qp0_ipppp_v1_7_48.gvid", 48, 5, part_slow, 0.75},
-          {"analytic_deblock_qp12_ibpbp_v1_8_48.gvid", 48, 5, deblock_fast, 0.75}};
+          {"analytic_deblock_qp12_ibpbp_v1_8_48.gvid", 48, 5, deblock_fast, 0.75},
+          {"analytic_temporal_slow_qp6_ibpbp_v1_9_48.gvid", 48, 5, temporal_slow, 0.75}};
 }
 
 uint32_t frame_crc(const GeometryImage& image) {

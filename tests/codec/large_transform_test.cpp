@@ -287,8 +287,9 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
     for (const int max_transform : {4, 8, 16}) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " max " + std::to_string(max_transform));
       EncoderOptions o;
-      o.deblocking = false;  // (syntax before the format 1.8 filter)
-      o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+      o.deblocking = false;         // (syntax before the format 1.8 filter)
+      o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.intra_period = 3;
@@ -350,8 +351,9 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -384,8 +386,9 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;
@@ -429,10 +432,12 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto unflagged = decode_frame_packet(
       with_payload(payload, h->flags, h->flags2 & ~format::kFrame2LargeTransforms), *info, 0);
   EXPECT_FALSE(unflagged.is_ok());
-  // Unknown flags2 bits stay rejected.
-  auto unknown = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 128), *info, 0);
-  ASSERT_FALSE(unknown.is_ok());
-  EXPECT_NE(unknown.status().message().find("unknown bits"), std::string::npos);
+  // Flags2 bit 7 (format 1.9, temporal contexts) in this intra frame is rejected.
+  auto temporal = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 128), *info, 0);
+  ASSERT_FALSE(temporal.is_ok());
+  EXPECT_NE(temporal.status().message().find("temporal contexts in an intra frame"),
+            std::string::npos)
+      << temporal.status().message();
   // Damage inside the plane segments (CRC fixed): frames or a Status naming the plane.
   std::mt19937 rng(9);
   int failures = 0;

@@ -167,8 +167,9 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
   o.refs = 2;
@@ -235,8 +236,9 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   const auto frames = video(48, 4);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
@@ -261,8 +263,9 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.intra_only = true;
   EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
   EncoderOptions automatic;
-  automatic.deblocking = false;  // (syntax before the format 1.8 filter)
-  automatic.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  automatic.deblocking = false;         // (syntax before the format 1.8 filter)
+  automatic.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
   automatic.lossless = false;
@@ -270,8 +273,9 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EXPECT_EQ(automatic.reference_frames(), 1);
   for (int bad : {0, -2, 6}) {
     EncoderOptions b;
-    b.deblocking = false;  // (syntax before the format 1.8 filter)
-    b.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+    b.deblocking = false;         // (syntax before the format 1.8 filter)
+    b.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
     ASSERT_FALSE(s.is_ok());
@@ -315,10 +319,11 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
   for (Case* c : {&fast, &lossless, &refs3, &refs2}) {
     c->options.cross_plane = false;
     c->options.cross_plane_contexts = false;
-    c->options.partitions = false;  // nor the inter partitions of 1.7
-    c->options.rdoq = false;        // nor RDO quantization
-    c->options.deblocking = false;  // nor the deblocking filter of 1.8
-    c->options.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+    c->options.partitions = false;         // nor the inter partitions of 1.7
+    c->options.rdoq = false;               // nor RDO quantization
+    c->options.deblocking = false;         // nor the deblocking filter of 1.8
+    c->options.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;

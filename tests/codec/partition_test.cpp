@@ -112,8 +112,9 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (int bframes : {0, 1}) {
         if (preset == Preset::kFast && mode > 0) continue;  // the fast preset codes 16x16 only
         EncoderOptions o;
-        o.deblocking = false;  // (syntax before the format 1.8 filter)
-        o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+        o.deblocking = false;         // (syntax before the format 1.8 filter)
+        o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
         o.lossless = mode == 2;
@@ -153,8 +154,9 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.cross_plane_contexts = false;  // the other 1.7 tool off: "older" = 1.6
@@ -190,8 +192,9 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -289,8 +292,9 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;  // (syntax before the format 1.8 filter)
-  o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+  o.deblocking = false;         // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;
   o.partitions = true;
@@ -308,11 +312,15 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   ASSERT_FALSE(r.is_ok());
   EXPECT_NE(r.status().message().find("inter partitions outside a P frame"), std::string::npos)
       << r.status().message();
-  // An unknown flags2 bit next to it is still rejected.
-  r = decode_frame_packet(with_header(p1->packet, static_cast<uint8_t>(p1->packet[7] | 128)), info,
-                          1, &i0->planes);
+  // Flags2 bit 7 (format 1.9, temporal contexts) next to cross-plane contexts is rejected.
+  r = decode_frame_packet(
+      with_header(p1->packet, static_cast<uint8_t>(p1->packet[7] | format::kFrame2TemporalContexts |
+                                                   format::kFrame2CrossPlaneContexts)),
+      info, 1, &i0->planes);
   ASSERT_FALSE(r.is_ok());
-  EXPECT_NE(r.status().message().find("unknown bits"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("temporal contexts with cross-plane contexts"),
+            std::string::npos)
+      << r.status().message();
 
   // Plane level: one macroblock coded 16x8 whose first partition's vector difference (70
   // samples) leaves the vector range.

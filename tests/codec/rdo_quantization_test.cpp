@@ -185,8 +185,9 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    o.deblocking = false;  // (syntax before the format 1.8 filter)
-    o.intra_rdo = false;   // (nor the fast preset's RDO in I frames)
+    o.deblocking = false;         // (syntax before the format 1.8 filter)
+    o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 12;
     o.preset = preset;
     o.intra_period = 4;

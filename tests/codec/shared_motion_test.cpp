@@ -115,6 +115,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -151,6 +152,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -168,9 +170,12 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
     ASSERT_FALSE(r.is_ok()) << message;
     EXPECT_NE(r.status().message().find(message), std::string::npos) << r.status().message();
   };
-  format::PacketHeader unknown = *header;
-  unknown.flags2 = 128;
-  expect_error(with_header(c.packets[1], unknown), &c.recon[0], "frame flags2: unknown bits");
+  // Flags2 bit 7 (format 1.9, temporal contexts) in the intra frame.
+  auto temporal = format::read_packet_header(c.packets[0]);
+  ASSERT_TRUE(temporal.is_ok());
+  temporal->flags2 = format::kFrame2TemporalContexts;
+  expect_error(with_header(c.packets[0], *temporal), nullptr,
+               "temporal contexts in an intra frame");
   auto intra = format::read_packet_header(c.packets[0]);
   ASSERT_TRUE(intra.is_ok());
   intra->flags2 = format::kFrame2SharedMotion;
@@ -201,6 +206,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
+  o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

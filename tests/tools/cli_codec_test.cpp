@@ -107,8 +107,9 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock");
+  auto enc = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -125,7 +126,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
   auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                          " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-                         " --no-cross-plane-contexts --no-deblock");
+                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -165,8 +166,8 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   write_frames(dir / "in", 3);
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
-                         (on ? "" : " --no-deblock"));
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 12 --no-temporal-contexts" + (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -206,12 +207,37 @@ TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
   EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
 }
 
+// Temporal contexts (format 1.9): on by default, in the stats and in `gvkit info` on P and B
+// frames; --no-temporal-contexts writes a version 1.8 stream; both decode.
+TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  for (const bool on : {true, false}) {
+    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
+                         (on ? "" : " --no-temporal-contexts"));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["temporal_contexts"], on);
+    auto bytes = read_file(gvid);
+    ASSERT_TRUE(bytes.is_ok());
+    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 9 : 8);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_EQ(contains(info.output, "  temporal-contexts"), on) << info.output;
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  }
+}
+
 TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-deblock");  // on by default
+  auto enc =
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                " --qp 0 --preset fast --no-deblock --no-temporal-contexts");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -226,8 +252,9 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
-  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock");
+  auto off = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -241,8 +268,9 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock");
+  auto enc = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset slow --bframes 0 --partitions --no-deblock --no-temporal-contexts");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -257,8 +285,9 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // On by default in the slow preset: the same stream.
-  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                            " --qp 0 --preset slow --bframes 0 --no-deblock");
+  auto defaults =
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -266,8 +295,9 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
   // preset codes 16x16 only.
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
-    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock" + args);
+    auto plain = run_gvkit(
+        "encode " + (dir / "in").string() + " -o " + gvid +
+        " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock --no-temporal-contexts" + args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);
     ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;

@@ -39,7 +39,8 @@ struct CrossPlaneLinks {
   CrossPlaneResidual* residual_out = nullptr;
   // Format 1.7, cross-plane contexts (cross_plane_contexts.hpp): `contexts` (Y and Z planes) are
   // the X plane's final context states, the plane's initial ones, null when the tool is off;
-  // `contexts_out` (the X plane) receives the plane's final states. Either may be null.
+  // format 1.9, temporal contexts: the same plane's final states in the reference frame.
+  // `contexts_out` receives the plane's final states. Either may be null.
   const CrossPlaneContextStates* contexts = nullptr;
   CrossPlaneContextStates* contexts_out = nullptr;
 };

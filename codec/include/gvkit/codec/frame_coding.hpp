@@ -28,6 +28,9 @@ struct EncodedFrame {
 // frame, nearest first) predicts from up to that many of them (format 1.6, flags2 bit 1). Fails
 // (naming the frame) when its size differs from the header's. `cache` (optional): the encoder's
 // store of interpolated references (interpolation_cache.hpp; the packet does not depend on it).
+// The reconstructed planes carry their segments' final context states; with
+// options.temporal_contexts a P or B frame whose `reference` planes carry them starts from them
+// (format 1.9).
 Result<EncodedFrame> encode_frame(
     const GeometryImage& image, const SequenceInfo& info, const EncoderOptions& options,
     uint32_t frame_number, const std::vector<SamplePlane>* reference = nullptr,
@@ -58,7 +61,10 @@ struct DecoderLimits {
 // the reference of the next. A P packet with several references (format 1.6) also needs
 // `older`: the anchors before `reference` since the last intra frame, nearest first (at least
 // ref_count - 1 of them; "ref_count 3 names more reference frames than the 2 anchor frames
-// since the last intra frame" otherwise).
+// since the last intra frame" otherwise). The decoded planes carry their segments' final context
+// states (SamplePlane::final_contexts), which a packet with temporal contexts (format 1.9,
+// flags2 bit 7) needs on `reference`'s planes: planes from elsewhere fail it with
+// failed_precondition.
 Result<GeometryImage> decode_frame_packet(
     std::string_view packet, const SequenceInfo& info, int64_t frame_number,
     const std::vector<SamplePlane>* reference = nullptr,

@@ -35,6 +35,8 @@ inline constexpr uint8_t kMinorVersionCrossPlaneContexts = 7;
 inline constexpr uint8_t kMinorVersionPartitions = 7;
 // Format 1.8: a stream with the deblocking filter (flags2 bit 6, docs/bitstream.md 4.12).
 inline constexpr uint8_t kMinorVersionDeblocking = 8;
+// Format 1.9: a stream with temporal contexts (flags2 bit 7, docs/bitstream.md 4.13).
+inline constexpr uint8_t kMinorVersionTemporalContexts = 9;
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;
@@ -70,7 +72,10 @@ enum FrameFlag2 : uint8_t {
   // since 1.8: lossy frames, every plane deblocked after its last macroblock (payload: u8 beta,
   // u8 tc; docs/bitstream.md 4.12)
   kFrame2Deblocking = 64,
-  kFrame2Known = 1 | 2 | 4 | 8 | 16 | 32 | 64,  // every bit a reader understands
+  // since 1.9: P and B frames, every plane's contexts start from the same plane's final states
+  // in reference 0 (docs/bitstream.md 4.13); not with bit 4. The last bit of flags2: a later
+  // tool must announce itself in the payload.
+  kFrame2TemporalContexts = 128,
 };
 
 struct PacketHeader {

@@ -6,12 +6,14 @@
 // significance map and unary/Exp-Golomb levels. Syntax and contexts: docs/bitstream.md.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "gvkit/codec/coding_stats.hpp"
 #include "gvkit/codec/cross_plane.hpp"
+#include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/deblocking_params.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -74,6 +76,10 @@ struct PlaneCodingParams {
 struct SamplePlane {
   int width = 0, height = 0;
   std::vector<uint16_t> samples;
+  // Format 1.9 (temporal contexts, docs/bitstream.md 4.13): the context states the plane's
+  // segment ended with, on planes encode_frame or decode_frame_packet reconstructed (null on
+  // other planes); the same plane of a later P or B frame may start from them.
+  std::shared_ptr<const CrossPlaneContextStates> final_contexts;
   uint16_t& at(int x, int y) { return samples[static_cast<size_t>(y) * width + x]; }
   uint16_t at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
 };
