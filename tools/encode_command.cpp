@@ -195,6 +195,7 @@ void run_encode(const EncodeArgs& args) {
         {"partitions", options.partitions},
         {"deblocking", options.deblocking},
         {"temporal_contexts", options.temporal_contexts},
+        {"compact_segments", options.compact_segments},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -317,6 +318,10 @@ void add_encode_command(CLI::App& app) {
                 "P and B frames: start every plane's CABAC contexts from the states the same "
                 "plane of the reference frame ended with (temporal contexts, format 1.9; on by "
                 "default); --no-temporal-contexts writes the 1.8 stream");
+  cmd->add_flag("--compact-segments,!--no-compact-segments", args->options.compact_segments,
+                "Write each plane segment's size as a varint and none for the last segment "
+                "(format 1.9; on by default); --no-compact-segments writes u32 sizes (the 1.8 "
+                "payload)");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -316,7 +316,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     }
   }
   ByteWriter payload;
-  payload.u8(static_cast<uint8_t>(planes.size()));
+  payload.u8(static_cast<uint8_t>(
+      planes.size() | (options.compact_segments ? format::kPayloadCompactSegments : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
@@ -332,7 +333,10 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
-    payload.u32(static_cast<uint32_t>(c.bytes.size()));
+    if (!options.compact_segments)
+      payload.u32(static_cast<uint32_t>(c.bytes.size()));
+    else if (&c != &coded.back())  // format 1.9: the last segment takes the rest
+      payload.varint(c.bytes.size());
     payload.bytes(c.bytes);
     recon.push_back(std::move(c.reconstruction));
     out.plane_stats.push_back(c.stats);
@@ -353,7 +357,7 @@ Result<int> packet_reference_count(std::string_view packet) {
   if (packet.size() - format::kPacketHeaderSize < header.payload_size)
     return corrupt_data("payload truncated");
   ByteReader r(packet.substr(format::kPacketHeaderSize, header.payload_size));
-  r.u8();  // plane count
+  r.u8();  // plane count and payload flags
   if (header.flags & format::kFrameNearLossless) r.u16();
   if (header.flags & format::kFrameValuePrediction) {
     auto transform = read_value_transform(r);
@@ -427,7 +431,11 @@ Result<GeometryImage> decode_frame_packet(
   if (!lossless && (header.qp < -6 * (info.bit_depth - 8) || header.qp > 51))
     return corrupt_data("qp " + std::to_string(header.qp) + " out of range");
   ByteReader r(payload);
-  const size_t plane_count = r.u8();
+  const uint8_t planes_byte = r.u8();
+  if (planes_byte & ~format::kPayloadKnown)
+    return corrupt_data("payload flags: unknown bits " + std::to_string(planes_byte >> 4));
+  const size_t plane_count = planes_byte & format::kPayloadPlaneCount;
+  const bool compact = (planes_byte & format::kPayloadCompactSegments) != 0;  // format 1.9
   const size_t expected = info.has_texture ? 4 : 3;
   if (plane_count != expected)
     return corrupt_data("plane count " + std::to_string(plane_count) + " (header says " +
@@ -509,7 +517,9 @@ Result<GeometryImage> decode_frame_packet(
   CrossPlaneContextStates states[4];  // every plane's final context states
   for (size_t i = 0; i < plane_count; ++i) {
     const std::string name = std::string("plane ") + kPlaneNames[i];
-    const uint32_t size = r.u32();
+    // Format 1.9, compact sizes: a varint before every segment but the last, which takes the
+    // rest of the payload.
+    const uint64_t size = !compact ? r.u32() : (i + 1 < plane_count ? r.varint() : r.remaining());
     const std::string_view bytes = r.bytes(size);
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
     const PlaneCodingParams params =

@@ -177,6 +177,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 uint8_t stream_minor_version(const EncoderOptions& options) {
   if (options.temporal_contexts && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionTemporalContexts;  // 1.9: P and B frames inherit contexts
+  if (options.compact_segments) return format::kMinorVersionCompactSegments;            // 1.9
   if (options.deblocking && !options.bypass()) return format::kMinorVersionDeblocking;  // 1.8
   if (options.cross_plane_contexts) return format::kMinorVersionCrossPlaneContexts;     // 1.7
   if (options.use_partitions() && !options.intra_only && options.intra_period >= 2)

@@ -99,6 +99,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     EncoderOptions o;
     o.deblocking = false;         // (syntax before the format 1.8 filter)
     o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    o.compact_segments = false;   // (nor the 1.9 segment sizes)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
@@ -116,6 +117,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         EncoderOptions o;
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
@@ -388,9 +390,11 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   EncoderOptions fast, slow;
   fast.deblocking = false;         // (syntax before the format 1.8 filter)
   fast.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  fast.compact_segments = false;   // (nor the 1.9 segment sizes)
   fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;         // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  slow.compact_segments = false;   // (nor the 1.9 segment sizes)
   slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

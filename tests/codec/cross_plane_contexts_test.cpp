@@ -54,6 +54,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       EncoderOptions o;
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -66,6 +67,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   EncoderOptions shared;
   shared.deblocking = false;         // (syntax before the format 1.8 filter)
   shared.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  shared.compact_segments = false;   // (nor the 1.9 segment sizes)
   shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
@@ -79,6 +81,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.preset = Preset::kFast;
   lossless.cross_plane_contexts = true;
   lossless.temporal_contexts = false;  // format 1.9 off
+  lossless.compact_segments = false;   // (nor the 1.9 segment sizes)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -88,6 +91,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   EncoderOptions intra;
   intra.deblocking = false;         // (syntax before the format 1.8 filter)
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -178,6 +182,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -210,6 +215,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;

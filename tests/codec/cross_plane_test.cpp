@@ -147,6 +147,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       EncoderOptions o;
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
@@ -162,6 +163,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.cross_plane = true;
   lossless.cross_plane_contexts = false;  // format 1.7 off
   lossless.temporal_contexts = false;     // format 1.9 off
+  lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -172,6 +174,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   EncoderOptions intra;
   intra.deblocking = false;         // (syntax before the format 1.8 filter)
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -218,6 +221,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -257,6 +261,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -337,6 +342,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         EncoderOptions o;
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
@@ -358,6 +364,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.cross_plane = true;
   lossless.cross_plane_contexts = false;  // format 1.7 off
   lossless.temporal_contexts = false;     // format 1.9 off
+  lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

@@ -128,6 +128,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " qp " + std::to_string(qp));
       EncoderOptions o;
       o.temporal_contexts = false;  // the 1.8 streams (format 1.9: temporal_contexts_test)
+      o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -137,6 +138,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
   const auto frames8 = testing::make_moving_analytic_video(32, 3);
   EncoderOptions eight;
   eight.temporal_contexts = false;
+  eight.compact_segments = false;  // (nor the 1.9 segment sizes)
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -158,6 +160,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
     SCOPED_TRACE(preset_name(preset));
     EncoderOptions on;
     on.temporal_contexts = false;
+    on.compact_segments = false;  // (nor the 1.9 segment sizes)
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;

@@ -101,6 +101,7 @@ std::vector<GoldenCase> cases() {
     o->partitions = false;
     o->deblocking = false;
     o->temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    o->compact_segments = false;   // (nor the 1.9 segment sizes)
     o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
@@ -109,8 +110,10 @@ std::vector<GoldenCase> cases() {
   // The fast preset's I frames were decided by SATD costs in every stream here.
   ctx_fast.intra_rdo = deblock_fast.intra_rdo = false;
   // ... and those before 1.9 without temporal contexts.
-  for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast})
+  for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast}) {
     o->temporal_contexts = false;
+    o->compact_segments = false;  // (nor the 1.9 segment sizes)
+  }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;
   ctx_fast.bframes = 1;

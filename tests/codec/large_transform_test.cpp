@@ -289,6 +289,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       EncoderOptions o;
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+      o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -353,6 +354,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
@@ -388,6 +390,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;

@@ -169,6 +169,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -238,6 +239,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -265,6 +267,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EncoderOptions automatic;
   automatic.deblocking = false;         // (syntax before the format 1.8 filter)
   automatic.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  automatic.compact_segments = false;   // (nor the 1.9 segment sizes)
   automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
@@ -275,6 +278,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     EncoderOptions b;
     b.deblocking = false;         // (syntax before the format 1.8 filter)
     b.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    b.compact_segments = false;   // (nor the 1.9 segment sizes)
     b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
@@ -323,6 +327,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.rdoq = false;               // nor RDO quantization
     c->options.deblocking = false;         // nor the deblocking filter of 1.8
     c->options.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+    c->options.compact_segments = false;   // (nor the 1.9 segment sizes)
     c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

@@ -114,6 +114,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         EncoderOptions o;
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+        o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
@@ -156,6 +157,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -194,6 +196,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -294,6 +297,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   EncoderOptions o;
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;

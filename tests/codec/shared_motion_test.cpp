@@ -116,6 +116,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -153,6 +154,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -207,6 +209,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   EncoderOptions o;
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
+  o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

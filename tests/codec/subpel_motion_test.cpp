@@ -183,6 +183,7 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   o.cross_plane = false;           // the 1.4 header (1.6 with cross-plane prediction)
   o.cross_plane_contexts = false;  // format 1.7 off
   o.temporal_contexts = false;     // format 1.9 off
+  o.compact_segments = false;      // (nor the 1.9 segment sizes)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)

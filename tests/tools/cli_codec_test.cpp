@@ -107,9 +107,9 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -124,9 +124,10 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
-  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
+  auto plain = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
+      " --no-cross-plane-contexts --no-deblock --no-temporal-contexts --no-compact-segments");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -167,7 +168,8 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-temporal-contexts" + (on ? "" : " --no-deblock"));
+                         " --qp 12 --no-temporal-contexts --no-compact-segments" +
+                         (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -215,7 +217,7 @@ TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
-                         (on ? "" : " --no-temporal-contexts"));
+                         (on ? "" : " --no-temporal-contexts --no-compact-segments"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -235,9 +237,9 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc =
-      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                " --qp 0 --preset fast --no-deblock --no-temporal-contexts");  // on by default
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
+                       "--no-compact-segments");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -252,9 +254,9 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
-  auto off = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock --no-temporal-contexts");
+  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -268,9 +270,9 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset slow --bframes 0 --partitions --no-deblock --no-temporal-contexts");
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -285,9 +287,9 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // On by default in the slow preset: the same stream.
-  auto defaults =
-      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts");
+  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                            " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
+                            "--no-compact-segments");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -295,9 +297,10 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
   // preset codes 16x16 only.
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
-    auto plain = run_gvkit(
-        "encode " + (dir / "in").string() + " -o " + gvid +
-        " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock --no-temporal-contexts" + args);
+    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
+                           "--no-temporal-contexts --no-compact-segments" +
+                           args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);
     ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;

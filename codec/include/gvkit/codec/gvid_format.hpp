@@ -35,8 +35,19 @@ inline constexpr uint8_t kMinorVersionCrossPlaneContexts = 7;
 inline constexpr uint8_t kMinorVersionPartitions = 7;
 // Format 1.8: a stream with the deblocking filter (flags2 bit 6, docs/bitstream.md 4.12).
 inline constexpr uint8_t kMinorVersionDeblocking = 8;
-// Format 1.9: a stream with temporal contexts (flags2 bit 7, docs/bitstream.md 4.13).
+// Format 1.9: a stream with temporal contexts (flags2 bit 7, docs/bitstream.md 4.13) or compact
+// segment sizes (the payload's first byte, bit 4; docs/bitstream.md 2.1).
 inline constexpr uint8_t kMinorVersionTemporalContexts = 9;
+inline constexpr uint8_t kMinorVersionCompactSegments = 9;
+
+// The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
+enum PayloadFlag : uint8_t {
+  kPayloadPlaneCount = 15,
+  // since 1.9: every plane segment but the last is preceded by its size as a varint, the last
+  // one takes the rest of the payload (before: a u32 size before each).
+  kPayloadCompactSegments = 16,
+  kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments,  // every bit a reader understands
+};
 
 inline constexpr size_t kPacketHeaderSize = 24;
 inline constexpr size_t kIndexEntrySize = 20;

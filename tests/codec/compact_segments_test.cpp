@@ -1,0 +1,94 @@
+// Compact segment sizes (format 1.9, the payload's first byte bit 4, docs/bitstream.md 2.1):
+// streams round-trip with and without texture, every packet saves the u32 sizes (at least 8
+// bytes), off writes the u32 sizes of the 1.8 payload, and payloads with unknown flag bits or
+// sizes that do not fit are rejected with a message.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "codec_round_trip.hpp"
+#include "geometry_video_material.hpp"
+#include "gvkit/codec/frame_coding.hpp"
+#include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/gvid_writer.hpp"
+#include "packet_surgery.hpp"
+
+namespace gvkit::codec {
+namespace {
+
+// The first payload byte of every packet, in stream order.
+std::vector<uint8_t> planes_bytes(const std::string& stream) {
+  size_t offset =
+      static_cast<size_t>(GvidReader::open_memory(stream, "x.gvid").value()->header_bytes());
+  std::vector<uint8_t> out;
+  while (offset + format::kPacketHeaderSize <= stream.size()) {
+    auto header = format::read_packet_header(std::string_view(stream).substr(offset));
+    if (!header.is_ok()) break;  // the index
+    out.push_back(static_cast<uint8_t>(stream[offset + format::kPacketHeaderSize]));
+    offset += format::kPacketHeaderSize + header->payload_size;
+  }
+  EXPECT_FALSE(out.empty());
+  return out;
+}
+
+TEST(CompactSegments, StreamsRoundTripAndEveryPacketIsSmaller) {
+  auto frames = testing::make_moving_analytic_video(48, 5);
+  for (const bool texture : {false, true}) {
+    if (texture)
+      for (GeometryImage& f : frames) f.texture = cv::Mat(48, 48, CV_32F, cv::Scalar(0.35));
+    const SequenceInfo info = testing::info_for(frames);
+    for (const bool lossless : {false, true}) {
+      SCOPED_TRACE(std::string(texture ? "texture" : "xyz") + (lossless ? ", lossless" : ""));
+      EncoderOptions on;
+      on.lossless = lossless;
+      on.qp = 12;
+      ASSERT_TRUE(on.compact_segments);  // on by default
+      EncoderOptions off = on;
+      off.compact_segments = false;
+      const std::string a = testing::writer_round_trip(frames, info, on);
+      const std::string b = testing::writer_round_trip(frames, info, off);
+      const size_t planes = texture ? 4 : 3;
+      for (const uint8_t v : planes_bytes(a))
+        EXPECT_EQ(v, planes | format::kPayloadCompactSegments);
+      for (const uint8_t v : planes_bytes(b)) EXPECT_EQ(v, planes);
+      auto ra = GvidReader::open_memory(a, "a.gvid").value();
+      auto rb = GvidReader::open_memory(b, "b.gvid").value();
+      for (int64_t f = 0; f < ra->frame_count(); ++f)
+        EXPECT_LE(ra->frame_bits(f) + 8 * 8, rb->frame_bits(f)) << "frame " << f;
+    }
+  }
+}
+
+TEST(CompactSegments, BadPayloadsAreRejected) {
+  const auto frames = testing::make_moving_analytic_video(32, 1);
+  const SequenceInfo info = testing::info_for(frames);
+  EncoderOptions o;
+  o.intra_only = true;
+  o.qp = 6;
+  const std::string stream = encode_gvid(frames, info, o).value();
+  const std::string packet = testing::first_packet(
+      stream, GvidReader::open_memory(stream, "x.gvid").value()->header_bytes());
+  ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
+  const std::string payload = packet.substr(format::kPacketHeaderSize);
+  ASSERT_EQ(static_cast<uint8_t>(payload[0]), 3 | format::kPayloadCompactSegments);
+  const auto expect_rejected = [&](std::string p, const std::string& what) {
+    auto r = decode_frame_packet(testing::with_payload(packet, std::move(p)), info, 0);
+    ASSERT_FALSE(r.is_ok()) << what;
+    EXPECT_NE(r.status().message().find(what), std::string::npos) << r.status().message();
+  };
+  std::string unknown = payload;
+  unknown[0] = static_cast<char>(unknown[0] | 0x20);
+  expect_rejected(unknown, "payload flags: unknown bits 3");
+  // Plane count, max transform, the deblocking bytes, then X's size as a varint: cut inside the
+  // frame-level fields, then inside X's segment.
+  expect_rejected(payload.substr(0, 5), "plane X: segment size exceeds the payload");
+  expect_rejected(payload.substr(0, payload.size() / 3), "segment size exceeds the payload");
+  // A varint longer than 10 bytes.
+  expect_rejected(payload.substr(0, 4) + std::string(11, '\xff') + payload.substr(4),
+                  "plane X: segment size exceeds the payload");
+}
+
+}  // namespace
+}  // namespace gvkit::codec
