@@ -317,7 +317,8 @@ void add_encode_command(CLI::App& app) {
   cmd->add_flag("--temporal-contexts,!--no-temporal-contexts", args->options.temporal_contexts,
                 "P and B frames: start every plane's CABAC contexts from the states the same "
                 "plane of the reference frame ended with (temporal contexts, format 1.9; on by "
-                "default); --no-temporal-contexts writes the 1.8 stream");
+                "default); with --no-compact-segments too, --no-temporal-contexts writes the 1.8 "
+                "stream");
   cmd->add_flag("--compact-segments,!--no-compact-segments", args->options.compact_segments,
                 "Write each plane segment's size as a varint and none for the last segment "
                 "(format 1.9; on by default); --no-compact-segments writes u32 sizes (the 1.8 "

@@ -69,8 +69,7 @@ struct EncoderOptions {
   // coded, which cannot see what the 16x16 transform saves (encoder only; the stream syntax
   // does not change). On by default: on the ICT face -18.74 % BD-rate in the fast preset at
   // 0.90x its encode speed at QP -18, on the main-job video -2.72 % (docs/benchmarks.md, "Fast
-  // preset: RDO in I frames").
-  // The slow preset decides every frame by RDO and ignores it.
+  // preset: RDO in I frames"). The slow preset decides every frame by RDO and ignores it.
   bool intra_rdo = true;
   // P frames: try the predicted vector before the motion search and, in the fast preset, take a
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
@@ -145,14 +144,16 @@ struct EncoderOptions {
   // their CABAC contexts from the states the same plane of reference 0 ended with (as AV1's
   // frame contexts), instead of from p = 0.5 or from the X plane's (cross-plane contexts, which
   // those frames then do not use): a 320x320 plane has only 400 macroblocks to learn its skip,
-  // type and level statistics from. No syntax element. On by default: on the ICT face -2.52 %
-  // BD-rate in the fast preset, -1.95 % in the slow one (docs/benchmarks.md, format 1.9).
-  // false writes no flags2 bit 7 (the 1.8 stream, byte for byte).
+  // type and level statistics from. No syntax element. On by default: on the ICT face -2.49 %
+  // BD-rate in the fast preset, -1.94 % in the slow one (docs/benchmarks.md, format 1.9).
+  // false writes no flags2 bit 7 (with compact_segments false too, the 1.8 stream byte for
+  // byte).
   bool temporal_contexts = true;
   // Compact segment sizes (format 1.9, docs/bitstream.md 2.1): each plane segment but the last
   // carries its size as a varint (1-3 bytes) instead of a u32, the last none (it takes the rest
   // of the payload): 8-10 bytes less per frame, a fifth of a low-rate B frame's packet. On by
-  // default (docs/benchmarks.md, format 1.9); false writes u32 sizes (the 1.8 payload).
+  // default: on the ICT face -1.17 % BD-rate fast, -1.18 % slow at the same PSNR
+  // (docs/benchmarks.md, format 1.9); false writes u32 sizes (the 1.8 payload).
   bool compact_segments = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
