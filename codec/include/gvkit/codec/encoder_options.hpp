@@ -123,7 +123,8 @@ struct EncoderOptions {
   // ICT face, on top of the other 1.6 defaults, -1.90 % BD-rate in the fast preset and -2.60 % in
   // the slow one, -0.10 % lossless, at the same speed (docs/benchmarks.md, format 1.7 section).
   // (Selecting Y's and Z's contexts by X's co-located decisions as well was measured and gains
-  // less: -1.71 % / -2.26 % with it, +0.22 % / +0.68 % alone.)
+  // less: -1.71 % / -2.26 % with it, +0.22 % / +0.68 % alone.) Frames with temporal contexts
+  // (below; with the defaults every P and B frame) do not use it.
   bool cross_plane_contexts = true;
   // Inter partitions (format 1.7, docs/bitstream.md 4.11): in the slow preset, plain inter
   // macroblocks of P frames may split into 16x8, 8x16 or 8x8 partitions, each with its own
