@@ -1021,38 +1021,29 @@ int main(int argc, char** argv) {
     report_partitions(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);
     return 0;
   }
-  if (rdoq_only) {
+  // One switchable tool off and on, in the presets given (BD-rates against off and x265).
+  const auto on_off = [&](const std::vector<Preset>& presets, const char* on_flag,
+                          const char* off_flag, auto set) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--rdoq",
-                  "--no-rdoq", [](EncoderOptions& o, bool on) { o.rdoq = on; });
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", presets, on_flag, off_flag,
+                  set);
     return 0;
-  }
-  if (deblock_only) {
-    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets, "--deblock",
-                  "--no-deblock", [](EncoderOptions& o, bool on) { o.deblocking = on; });
-    return 0;
-  }
-  if (compact_only) {
-    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets,
-                  "--compact-segments", "--no-compact-segments",
+  };
+  if (rdoq_only)
+    return on_off(refs_presets, "--rdoq", "--no-rdoq",
+                  [](EncoderOptions& o, bool on) { o.rdoq = on; });
+  if (deblock_only)
+    return on_off(refs_presets, "--deblock", "--no-deblock",
+                  [](EncoderOptions& o, bool on) { o.deblocking = on; });
+  if (compact_only)
+    return on_off(refs_presets, "--compact-segments", "--no-compact-segments",
                   [](EncoderOptions& o, bool on) { o.compact_segments = on; });
-    return 0;
-  }
-  if (temporal_only) {
-    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets,
-                  "--temporal-contexts", "--no-temporal-contexts",
+  if (temporal_only)
+    return on_off(refs_presets, "--temporal-contexts", "--no-temporal-contexts",
                   [](EncoderOptions& o, bool on) { o.temporal_contexts = on; });
-    return 0;
-  }
-  if (intra_rdo_only) {
-    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", {Preset::kFast}, "--intra-rdo",
-                  "--no-intra-rdo", [](EncoderOptions& o, bool on) { o.intra_rdo = on; });
-    return 0;
-  }
+  if (intra_rdo_only)  // the slow preset ignores the option
+    return on_off({Preset::kFast}, "--intra-rdo", "--no-intra-rdo",
+                  [](EncoderOptions& o, bool on) { o.intra_rdo = on; });
   if (refs_only) {
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
     report_refs(m, base, qps, x265, peers ? "this run" : "logged", refs_presets);

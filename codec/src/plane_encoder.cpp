@@ -834,14 +834,15 @@ class MacroblockEncoder {
           best_mode = mode;
         }
       }
-      std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
-      if (shortlist > 0) {
+      if (shortlist > 0) {  // the listed modes are coded below
         int order[kIntra4x4ModeCount];
         for (int mode = 0; mode < mode_count; ++mode) order[mode] = mode;
         std::partial_sort(order, order + std::min(shortlist, mode_count), order + mode_count,
                           [&](int a, int b) { return costs[a] < costs[b]; });
         for (int k = 0; k < std::min(shortlist, mode_count); ++k) listed[order[k]] = true;
         best_cost = std::numeric_limits<double>::infinity();
+      } else {
+        std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
       }
     }
     for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {

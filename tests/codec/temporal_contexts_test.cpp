@@ -110,7 +110,7 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
-      double type_bits[2] = {0, 0}, inter_macroblocks[2] = {0, 0};
+      double type_bits[2] = {0, 0}, inter_planes[2] = {0, 0};
       for (const bool temporal : {false, true}) {
         std::vector<FrameCodingStats> stats;
         const std::string stream = encode_gvid(frames, info, temporal ? on : off, &stats).value();
@@ -119,10 +119,10 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
           if (!f.intra)
             for (const PlaneCodingStats& p : f.planes) {
               type_bits[temporal] += p.bits[kSyntaxMbType];
-              inter_macroblocks[temporal] += 1;
+              inter_planes[temporal] += 1;
             }
       }
-      EXPECT_EQ(inter_macroblocks[0], inter_macroblocks[1]);
+      EXPECT_EQ(inter_planes[0], inter_planes[1]);
       EXPECT_LT(type_bits[1], 0.97 * type_bits[0]);  // 4-21 % less on this video
     }
 }
