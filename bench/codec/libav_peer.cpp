@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "annexb_sei.hpp"
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavutil/error.h>
@@ -33,6 +35,13 @@ struct Clock {
     return ts.tv_sec + ts.tv_nsec * 1e-9;
   }
 };
+
+// SEI bytes of a packet (0 for codecs other than H.264 and HEVC): not counted as rate.
+int64_t sei_bytes(AVCodecID codec, const uint8_t* data, int size) {
+  if (codec != AV_CODEC_ID_H264 && codec != AV_CODEC_ID_HEVC) return 0;
+  return annexb_sei_bytes(codec == AV_CODEC_ID_H264 ? AnnexBCodec::kH264 : AnnexBCodec::kHevc, data,
+                          static_cast<size_t>(size));
+}
 
 }  // namespace
 
@@ -68,7 +77,9 @@ Result<PeerRun> run_peer(const std::vector<std::vector<codec::SamplePlane>>& fra
   AVPacket* pkt = av_packet_alloc();
   const auto drain = [&]() {
     while (avcodec_receive_packet(ec, pkt) == 0) {
-      run.frame_bytes.push_back(pkt->size);
+      const int64_t sei = sei_bytes(enc->id, pkt->data, pkt->size);
+      run.frame_bytes.push_back(pkt->size - sei);
+      run.sei_bytes += sei;
       packets.push_back(av_packet_clone(pkt));
       av_packet_unref(pkt);
     }

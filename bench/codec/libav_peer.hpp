@@ -23,7 +23,10 @@ struct PeerConfig {
 };
 
 struct PeerRun {
+  // Per packet, without SEI NAL units (H.264 / HEVC: the encoders' option banners and other
+  // messages a decoder does not need); sei_bytes is what was left out, all packets together.
   std::vector<int64_t> frame_bytes;
+  int64_t sei_bytes = 0;
   std::vector<std::vector<codec::SamplePlane>> decoded;  // per frame, 3 planes (width x height)
   double encode_seconds = 0, decode_seconds = 0;
 };
