@@ -95,9 +95,6 @@ std::optional<RdPoint> run_libav(const Material& m, const PeerConfig& config, do
     std::fprintf(stderr, "%s\n", run.status().message().c_str());
     return std::nullopt;
   }
-  if (run->sei_bytes > 0)
-    std::fprintf(stderr, "%s: %lld bytes of SEI messages not counted in the rate\n",
-                 config.encoder.c_str(), static_cast<long long>(run->sei_bytes));
   GeometryError total;
   int64_t bytes = 0;
   for (size_t f = 0; f < m.frames.size(); ++f) {

@@ -103,6 +103,9 @@ Result<PeerRun> run_peer(const std::vector<std::vector<codec::SamplePlane>>& fra
   avcodec_send_frame(ec, nullptr);
   drain();
   run.encode_seconds = (Clock::now() - t0);
+  if (run.sei_bytes > 0)
+    std::fprintf(stderr, "%s: %lld bytes of SEI messages not counted in the rate\n",
+                 config.encoder.c_str(), static_cast<long long>(run.sei_bytes));
   av_frame_free(&frame);
 
   const AVCodec* dec = avcodec_find_decoder(enc->id);

@@ -32,6 +32,7 @@ struct PeerRun {
 };
 
 // frames[f][p]: plane p of frame f, at least width x height samples. Fails with libav's message.
+// Says on stderr how many SEI bytes it left out of frame_bytes, when there were any.
 Result<PeerRun> run_peer(const std::vector<std::vector<codec::SamplePlane>>& frames, int width,
                          int height, const PeerConfig& config);
 
