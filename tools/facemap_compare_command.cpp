@@ -49,7 +49,10 @@ void run(const std::string& a, const std::string& b) {
   row("temporal MSE Y mm^2", "temporal_mse_mm2", 1);
   row("temporal MSE Z mm^2", "temporal_mse_mm2", 2);
   row("temporal MSE mean mm^2", "temporal_mse_mean_mm2");
+  row("temporal MSE per area mm^2", "temporal_mse_area_weighted_mm2");
   row("true surface drift mm (RMS)", "true_drift_rms_mm");
+  row("temporal MSE without drift mm^2", "temporal_mse_drift_free_mean_mm2");
+  row("  the same per area mm^2", "temporal_mse_drift_free_area_weighted_mm2");
   row("map time s/frame", "map_time_s_mean");
   if (sa.contains("temporal_mse_mean_mm2") && sb.contains("temporal_mse_mean_mm2") &&
       sb["temporal_mse_mean_mm2"].get<double>() > 0)

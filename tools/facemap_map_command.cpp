@@ -130,8 +130,9 @@ bool keep_previous(const MapCommandOptions& o, const nlohmann::json& previous, F
   for (const auto& p : previous["landmarks_px"])
     r.landmarks_px.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
   r.entry = previous;
-  for (const char* key : {"key_feature_drift_px", "feature_drift_px", "temporal_mse_mm2",
-                          "temporal_mse_mean_mm2", "true_drift_mm"})
+  for (const char* key :
+       {"key_feature_drift_px", "feature_drift_px", "temporal_mse_mm2", "temporal_mse_mean_mm2",
+        "temporal_mse_area_weighted_mm2", "true_drift_mm"})
     r.entry.erase(key);
   r.ok = true;
   return true;
@@ -245,11 +246,14 @@ void run(const MapCommandOptions& o) {
   nlohmann::json frames = nlohmann::json::array();
   const FrameResult* first = nullptr;
   const FrameResult* previous = nullptr;
+  // --same-vertices: the previous frame as frame 0's pixels carried through the correspondence.
+  std::optional<GeometryImage> previous_carried;
   int ok = 0, total_flipped = 0;
   double sum_angle = 0, sum_area = 0, sum_time = 0, sum_key = 0, max_key = 0, sum_all = 0;
   std::array<double, 3> sum_mse{};
-  double sum_mse_mean = 0, sum_true = 0;
-  int n_mse = 0, n_true = 0;
+  double sum_mse_mean = 0, sum_mse_area = 0, sum_true = 0, sum_carried_mse = 0,
+         sum_carried_area = 0;
+  int n_mse = 0, n_true = 0, n_carried_mse = 0;
   std::vector<int> all(68);
   for (int i = 0; i < 68; ++i) all[i] = i;
   for (const FrameResult& r : results) {
@@ -270,6 +274,8 @@ void run(const MapCommandOptions& o) {
       if (bm.is_ok()) {
         f["temporal_mse_mm2"] = {bm->mse_mm2[0], bm->mse_mm2[1], bm->mse_mm2[2]};
         f["temporal_mse_mean_mm2"] = bm->mean_mse_mm2;
+        f["temporal_mse_area_weighted_mm2"] = bm->area_weighted_mean_mse_mm2;
+        sum_mse_area += bm->area_weighted_mean_mse_mm2;
         for (int c = 0; c < 3; ++c) sum_mse[c] += bm->mse_mm2[c];
         sum_mse_mean += bm->mean_mse_mm2;
         ++n_mse;
@@ -302,6 +308,21 @@ void run(const MapCommandOptions& o) {
       }
       sum_true += td.rms * td.rms;
       ++n_true;
+    }
+    if (o.same_vertices && first->positions.size() == r.positions.size()) {
+      // The same temporal MSE for a map without drift: frame 0's layout carried to this frame.
+      GeometryImage carried = facemap::carried_geometry_image(*first->mapped, r.positions);
+      if (previous_carried) {
+        const auto bm = facemap::block_matching_error(*previous_carried, carried);
+        if (bm.is_ok()) {
+          f["temporal_mse_drift_free_mean_mm2"] = bm->mean_mse_mm2;
+          f["temporal_mse_drift_free_area_weighted_mm2"] = bm->area_weighted_mean_mse_mm2;
+          sum_carried_mse += bm->mean_mse_mm2;
+          sum_carried_area += bm->area_weighted_mean_mse_mm2;
+          ++n_carried_mse;
+        }
+      }
+      previous_carried = std::move(carried);
     } else if (o.same_vertices && first != &r) {
       // Different vertex counts: the frames do not share a layout (e.g. each cleaned on its own;
       // `facemap clean --same-vertices` keeps one layout), so there is no true drift to measure.
@@ -334,8 +355,13 @@ void run(const MapCommandOptions& o) {
   if (n_mse > 0) {
     summary["temporal_mse_mm2"] = {sum_mse[0] / n_mse, sum_mse[1] / n_mse, sum_mse[2] / n_mse};
     summary["temporal_mse_mean_mm2"] = sum_mse_mean / n_mse;
+    summary["temporal_mse_area_weighted_mm2"] = sum_mse_area / n_mse;
   }
   if (n_true > 0) summary["true_drift_rms_mm"] = std::sqrt(sum_true / n_true);
+  if (n_carried_mse > 0) {
+    summary["temporal_mse_drift_free_mean_mm2"] = sum_carried_mse / n_carried_mse;
+    summary["temporal_mse_drift_free_area_weighted_mm2"] = sum_carried_area / n_carried_mse;
+  }
   summary["kept_from_earlier_run"] = kept.load();
   throw_if_error(stats_file.finish(summary, frames));
   std::printf("%s: %d of %zu frames mapped (%s, %dx%d), %d flipped triangles\n", o.output.c_str(),

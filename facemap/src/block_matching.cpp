@@ -4,6 +4,27 @@
 #include <limits>
 
 namespace gvkit::facemap {
+namespace {
+
+// Surface area (mm^2) one pixel of image samples: |dxyz/dx x dxyz/dy| with forward differences,
+// backward ones where the next pixel is outside the mask; 0 where neither neighbour is inside.
+double pixel_area_mm2(const cv::Mat& xyz, const cv::Mat& mask, int x, int y) {
+  auto difference = [&](int dx, int dy, cv::Vec3f* d) {
+    for (int sign : {1, -1}) {
+      const int nx = x + sign * dx, ny = y + sign * dy;
+      if (nx < 0 || ny < 0 || nx >= xyz.cols || ny >= xyz.rows || !mask.at<uint8_t>(ny, nx))
+        continue;
+      *d = (xyz.at<cv::Vec3f>(ny, nx) - xyz.at<cv::Vec3f>(y, x)) * static_cast<float>(sign);
+      return true;
+    }
+    return false;
+  };
+  cv::Vec3f du, dv;
+  if (!difference(1, 0, &du) || !difference(0, 1, &dv)) return 0;
+  return cv::norm(du.cross(dv));
+}
+
+}  // namespace
 
 Status BlockMatchingOptions::check() const {
   if (block_size < 1 || block_size > 256)
@@ -28,7 +49,7 @@ Result<BlockMatchingError> block_matching_error(const GeometryImage& reference,
   const cv::Mat& ref_mask = reference.domain_mask;
   const cv::Mat& cur_mask = current.domain_mask;
   std::array<double, 3> sse{};
-  double zero_sse = 0;
+  double zero_sse = 0, weighted_sse = 0, total_area = 0;
   long long count = 0;
   for (int by = 0; by < h; by += bs)
     for (int bx = 0; bx < w; bx += bs) {
@@ -66,6 +87,9 @@ Result<BlockMatchingError> block_matching_error(const GeometryImage& reference,
           if (!ref_mask.at<uint8_t>(ry, rx)) continue;
           const cv::Vec3f d = cur.at<cv::Vec3f>(y, x) - ref.at<cv::Vec3f>(ry, rx);
           for (int c = 0; c < 3; ++c) sse[c] += double(d[c]) * d[c];
+          const double area = pixel_area_mm2(cur, cur_mask, x, y);
+          weighted_sse += area * (double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
+          total_area += area;
           if (ref_mask.at<uint8_t>(y, x)) {
             const cv::Vec3f z = cur.at<cv::Vec3f>(y, x) - ref.at<cv::Vec3f>(y, x);
             zero_sse += (double(z[0]) * z[0] + double(z[1]) * z[1] + double(z[2]) * z[2]) / 3.0;
@@ -78,6 +102,7 @@ Result<BlockMatchingError> block_matching_error(const GeometryImage& reference,
   for (int c = 0; c < 3; ++c) out.mse_mm2[c] = sse[c] / count;
   out.mean_mse_mm2 = (sse[0] + sse[1] + sse[2]) / (3.0 * count);
   out.zero_motion_mean_mse_mm2 = zero_sse / count;
+  if (total_area > 0) out.area_weighted_mean_mse_mm2 = weighted_sse / (3.0 * total_area);
   return out;
 }
 

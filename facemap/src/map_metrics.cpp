@@ -86,24 +86,53 @@ DriftStats feature_drift(const std::vector<Eigen::Vector2d>& a,
   return summarize(d);
 }
 
+namespace {
+
+// The point with weights w of the frame whose vertex positions are positions_mm.
+cv::Vec3d weighted_point(const SourceWeights& w, const std::vector<cv::Vec3d>& positions_mm) {
+  cv::Vec3d p(0, 0, 0);
+  for (const auto& s : w) {
+    GVKIT_CHECK(s.vertex >= 0 && s.vertex < static_cast<int>(positions_mm.size()),
+                "correspondence needs the same vertex indices in both frames");
+    p += s.weight * positions_mm[s.vertex];
+  }
+  return p;
+}
+
+}  // namespace
+
 DriftStats true_surface_drift(const MappedFace& a, const MappedFace& b,
                               const std::vector<cv::Vec3d>& positions_b_mm) {
   GVKIT_CHECK(a.pixel_source.size() == b.pixel_source.size(), "same domain size");
-  auto point = [&](const SourceWeights& w) {
-    cv::Vec3d p(0, 0, 0);
-    for (const auto& s : w) {
-      GVKIT_CHECK(s.vertex >= 0 && s.vertex < static_cast<int>(positions_b_mm.size()),
-                  "correspondence needs the same vertex indices in both frames");
-      p += s.weight * positions_b_mm[s.vertex];
-    }
-    return p;
-  };
+  auto point = [&](const SourceWeights& w) { return weighted_point(w, positions_b_mm); };
   std::vector<double> d;
   for (size_t i = 0; i < a.pixel_source.size(); ++i) {
     if (a.pixel_source[i].empty() || b.pixel_source[i].empty()) continue;
     d.push_back(cv::norm(point(a.pixel_source[i]) - point(b.pixel_source[i])));
   }
   return summarize(d);
+}
+
+GeometryImage carried_geometry_image(const MappedFace& a,
+                                     const std::vector<cv::Vec3d>& positions_b_mm) {
+  const cv::Size size = a.image.size();
+  GVKIT_CHECK(a.pixel_source.size() == static_cast<size_t>(size.area()),
+              "one pixel source per pixel");
+  GeometryImage out;
+  out.xyz_mm = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
+  out.domain_mask = a.image.domain_mask.clone();
+  out.index = a.image.index;
+  out.timestamp = a.image.timestamp;
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const SourceWeights& w = a.pixel_source[static_cast<size_t>(y) * size.width + x];
+      if (w.empty()) {  // a pixel filled from its neighbours has no sample to carry
+        out.domain_mask.at<uint8_t>(y, x) = 0;
+        continue;
+      }
+      out.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(weighted_point(w, positions_b_mm));
+    }
+  return out;
 }
 
 }  // namespace gvkit::facemap

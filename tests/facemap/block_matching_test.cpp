@@ -30,6 +30,43 @@ TEST(BlockMatching, FindsAPureShift) {
   EXPECT_EQ(same->mean_mse_mm2, 0.0);
 }
 
+// A plane z = 0 sampled with a pixel pitch of `pitch_x` mm across (and 1 mm down), moved by
+// `dz` mm along z in the rows below `moving_from`: a layout that stretches the same surface over
+// more pixels.
+GeometryImage stepped_plane(float pitch_x, int moving_from, float dz) {
+  GeometryImage g;
+  g.xyz_mm = cv::Mat(32, 64, CV_32FC3);
+  g.domain_mask = cv::Mat(32, 64, CV_8U, cv::Scalar(255));
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x)
+      g.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(pitch_x * x, y, y >= moving_from ? dz : 0.0f);
+  return g;
+}
+
+TEST(BlockMatching, AreaWeightingCountsSurfaceNotPixels) {
+  // The lower half moves 1 mm out of the plane: no displacement within the image can match it,
+  // so it keeps an error of 1 mm^2 in Z, a third of the mean over X, Y, Z.
+  const auto even = block_matching_error(stepped_plane(1, 16, 0), stepped_plane(1, 16, 1));
+  ASSERT_TRUE(even.is_ok());
+  EXPECT_NEAR(even->mean_mse_mm2, 0.5 / 3, 1e-6);
+  // (The step's own row samples a slanted strip, a little more area: hence the tolerance.)
+  EXPECT_NEAR(even->area_weighted_mean_mse_mm2, 0.5 / 3, 0.01);
+  // The same surface and motion with the moving half sampled by three times as many rows (rows
+  // 0-7 cover the still half at 2 mm per row, rows 8-31 the moving half at 2/3 mm per row):
+  // the plain MSE triples its moving share, the error per area stays.
+  GeometryImage still, moved;
+  for (auto* g : {&still, &moved}) {
+    *g = stepped_plane(1, 8, g == &moved ? 1.0f : 0.0f);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 64; ++x)
+        g->xyz_mm.at<cv::Vec3f>(y, x)[1] = y < 8 ? 2.0f * y : 16 + (y - 8) * 2.0f / 3;
+  }
+  const auto dense = block_matching_error(still, moved);
+  ASSERT_TRUE(dense.is_ok());
+  EXPECT_NEAR(dense->mean_mse_mm2, 0.75 / 3, 1e-6);
+  EXPECT_NEAR(dense->area_weighted_mean_mse_mm2, 0.5 / 3, 0.01);
+}
+
 TEST(BlockMatching, RejectsMismatchedImagesAndBadOptions) {
   GeometryImage small = smooth_image(0);
   small.xyz_mm = small.xyz_mm(cv::Rect(0, 0, 32, 32)).clone();
@@ -38,6 +75,24 @@ TEST(BlockMatching, RejectsMismatchedImagesAndBadOptions) {
   BlockMatchingOptions bad;
   bad.block_size = 0;
   EXPECT_FALSE(block_matching_error(smooth_image(0), smooth_image(0), bad).is_ok());
+}
+
+TEST(MapMetrics, CarriedImageSamplesTheSameSurfacePoints) {
+  // Frame a: a 2 x 2 image whose pixels sample vertices 0-2 (pixel 3 was filled from its
+  // neighbours, without a sample of its own).
+  MappedFace a;
+  a.image.xyz_mm = cv::Mat(2, 2, CV_32FC3, cv::Scalar::all(0));
+  a.image.domain_mask = cv::Mat(2, 2, CV_8U, cv::Scalar(255));
+  a.image.index = 4;
+  a.pixel_source = {{{0, 1.0}}, {{1, 0.5}, {2, 0.5}}, {{2, 1.0}}, {}};
+  const std::vector<cv::Vec3d> b = {{1, 2, 3}, {10, 0, 0}, {0, 10, 4}};
+  const GeometryImage carried = carried_geometry_image(a, b);
+  EXPECT_EQ(carried.index, 4);
+  EXPECT_EQ(carried.xyz_mm.at<cv::Vec3f>(0, 0), cv::Vec3f(1, 2, 3));
+  EXPECT_EQ(carried.xyz_mm.at<cv::Vec3f>(0, 1), cv::Vec3f(5, 5, 2));
+  EXPECT_EQ(carried.xyz_mm.at<cv::Vec3f>(1, 0), cv::Vec3f(0, 10, 4));
+  EXPECT_EQ(carried.domain_mask.at<uint8_t>(0, 1), 255);
+  EXPECT_EQ(carried.domain_mask.at<uint8_t>(1, 1), 0);  // nothing to carry
 }
 
 TEST(MapQuality, IsometryIsOneAndFlipsAreCounted) {

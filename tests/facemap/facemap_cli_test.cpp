@@ -26,11 +26,19 @@ TEST(FacemapCli, MapsAnIctSequenceWithBothMethodsAndCompares) {
     EXPECT_EQ((*stats)["summary"]["mapped"], 2);
     EXPECT_TRUE((*stats)["summary"].contains("temporal_mse_mean_mm2"));
     EXPECT_TRUE((*stats)["summary"].contains("true_drift_rms_mm"));
+    // The same temporal error per unit of surface, and both for frame 0's samples carried to
+    // frame 1 (a map without drift): the two frames differ in expression, so none is zero.
+    for (const char* key : {"temporal_mse_area_weighted_mm2", "temporal_mse_drift_free_mean_mm2",
+                            "temporal_mse_drift_free_area_weighted_mm2"}) {
+      ASSERT_TRUE((*stats)["summary"].contains(key)) << key;
+      EXPECT_GT((*stats)["summary"][key].get<double>(), 0.0) << key;
+    }
     EXPECT_EQ((*stats)["options"]["method"], method);
   }
   r = testing::run_gvkit("facemap compare " + (dir / "eip").string() + " " + (dir / "hm").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("temporal MSE mean"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("temporal MSE without drift"), std::string::npos) << r.output;
 }
 
 TEST(FacemapCli, BadOptionsAndMissingInputFailWithAMessage) {

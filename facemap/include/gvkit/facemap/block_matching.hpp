@@ -20,6 +20,12 @@ struct BlockMatchingError {
   std::array<double, 3> mse_mm2{};      // X, Y, Z
   double mean_mse_mm2 = 0;              // mean of the three
   double zero_motion_mean_mse_mm2 = 0;  // the same without motion search, for reference
+  // mean_mse_mm2 with every pixel weighted by the surface area it samples in the current frame
+  // (mm^2, from the cross product of its xyz differences to the next pixel across and down):
+  // the error per unit of surface, which does not depend on how a layout spreads its pixels
+  // over the face (a layout that gives more pixels to a moving region scores a higher plain MSE
+  // for the same motion).
+  double area_weighted_mean_mse_mm2 = 0;
 };
 
 // Fails when the images differ in size or type.

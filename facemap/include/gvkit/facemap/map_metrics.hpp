@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "gvkit/core/geometry_image.hpp"
 #include "gvkit/core/status.hpp"
 #include "gvkit/facemap/mapped_face.hpp"
 
@@ -35,5 +36,14 @@ DriftStats feature_drift(const std::vector<Eigen::Vector2d>& a,
 // point frame b's pixel sampled (mm).
 DriftStats true_surface_drift(const MappedFace& a, const MappedFace& b,
                               const std::vector<cv::Vec3d>& positions_b_mm);
+
+// Frame b's geometry image as a map without drift would sample it: every pixel of frame a's
+// domain takes the surface point a's pixel sampled, carried to frame b through the known
+// correspondence (same vertex indices, positions_b_mm). Same size as a's image, no texture; the
+// mask is a's less the pixels without a sample of their own (filled from neighbours). The
+// temporal block-matching error (block_matching.hpp) of such images is what the surface's own
+// motion leaves in that metric for a map with a's layout and no drift at all.
+GeometryImage carried_geometry_image(const MappedFace& a,
+                                     const std::vector<cv::Vec3d>& positions_b_mm);
 
 }  // namespace gvkit::facemap
