@@ -90,6 +90,7 @@ nlohmann::json frame_json(const Frame& f) {
                             {"max_mm", s.landmark_max_snap_mm}};
   j["holes_filled"] = s.holes_filled;
   j["stray_holes_filled"] = s.stray_holes_filled;
+  j["pinch_faces_removed"] = s.pinch_faces_removed;
   j["feature_holes_open"] = s.feature_holes_open;
   j["vertices_added"] = s.vertices_added;
   j["output_vertices"] = s.output_vertices;

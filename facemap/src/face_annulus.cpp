@@ -288,38 +288,6 @@ std::vector<char> edges_of(const Mesh& mesh,
   return flags;
 }
 
-// Opens boundary pinches: a vertex on two boundary fans (a hole touching the rim or another hole
-// at one vertex, or a loop touching itself; OpenMesh counts such loops as separate, but cutting
-// separates the fans and leaves an extra boundary). The faces around such vertices are removed
-// until none is left. Returns the number of faces removed; *original maps the vertices of the
-// result to those of mesh (identity when nothing was removed).
-int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
-  OpenMesh::VPropHandleT<int> index;
-  mesh->add_property(index);
-  for (auto v : mesh->vertices()) mesh->property(index, v) = v.idx();
-  int removed = 0;
-  for (int round = 0; round < 50; ++round) {
-    std::vector<int> boundary_out(mesh->n_vertices(), 0);
-    for (auto h : mesh->halfedges())
-      if (mesh->is_boundary(h)) ++boundary_out[mesh->from_vertex_handle(h).idx()];
-    std::vector<Mesh::FaceHandle> doomed;
-    for (auto f : mesh->faces())
-      for (auto v : mesh->fv_range(f))
-        if (boundary_out[v.idx()] > 1) {
-          doomed.push_back(f);
-          break;
-        }
-    if (doomed.empty()) break;
-    for (auto f : doomed) mesh->delete_face(f, true);
-    removed += static_cast<int>(doomed.size());
-    mesh->garbage_collection();
-  }
-  original->resize(mesh->n_vertices());
-  for (auto v : mesh->vertices()) (*original)[v.idx()] = mesh->property(index, v);
-  mesh->remove_property(index);
-  return removed;
-}
-
 // The edges of a mesh as plain arrays (neighbours of vertex v at [offset[v], offset[v + 1]),
 // with their lengths), for the Dijkstra searches that choose the crop below.
 struct EdgeGraph {

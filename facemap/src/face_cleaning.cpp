@@ -160,6 +160,7 @@ Status fill_and_mask(Mesh* mesh, CleanedFace* face, const CleanOptions& options,
   face->stats.mask_ms = ms_since(t);
   face->stats.radius_mm = mask.radius_mm;
   face->stats.stray_holes_filled = mask.stray_holes_filled;
+  face->stats.pinch_faces_removed = mask.pinch_faces_removed;
   face->stats.cropped_vertices = mask.cropped_vertices;
   face->stats.mask_timing = mask.timing;
   face->stats.output_vertices = static_cast<int>(face->mesh.n_vertices());

@@ -10,6 +10,7 @@
 
 #include "gvkit/facemap/hole_filling.hpp"
 #include "gvkit/facemap/level_set_clip.hpp"
+#include "gvkit/facemap/mesh_repair.hpp"
 #include "gvkit/facemap/nearest_vertices.hpp"
 #include "gvkit/facemap/shortest_edge_path.hpp"
 
@@ -299,6 +300,7 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   FaceMask& result = *info;
   result.timing = {};
   result.stray_holes_filled = 0;
+  result.pinch_faces_removed = 0;
   result.open_holes_not_enclosed.clear();
   auto step_start = std::chrono::steady_clock::now();
   auto lap = [&step_start](double* ms) {
@@ -451,6 +453,9 @@ Status geodesic_face_mask(const Mesh& mesh, const FaceLandmarks& landmarks,
   clip_mesh_below(cropped, f, clip, masked);
   lap(&result.timing.clip_ms);
 
+  // A rim that touches itself or a gap at one vertex passes the counts below (the vertex is
+  // traced as two loops and counted once), but is no surface facemap map can cut.
+  result.pinch_faces_removed = open_boundary_pinches(masked);
   result.topology = mesh_topology(*masked);
   if (options.fill_stray_holes && result.topology.components == 1 &&
       result.topology.boundary_loops > 4) {

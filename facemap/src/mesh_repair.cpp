@@ -5,6 +5,7 @@
 #include <mutex>
 #include <numeric>
 #include <set>
+#include <unordered_map>
 
 #include "gvkit/core/status.hpp"
 
@@ -377,27 +378,123 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   if (original_index) *original_index = std::move(original);
 }
 
-MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options) {
-  std::vector<Mesh::Point> points;
-  std::vector<Mesh::Color> colors;
-  points.reserve(mesh->n_vertices());
-  for (auto v : mesh->vertices()) points.push_back(mesh->point(v));
-  if (mesh->has_vertex_colors())
-    for (auto v : mesh->vertices()) colors.push_back(mesh->color(v));
-  std::vector<std::array<int, 3>> triangles;
-  triangles.reserve(mesh->n_faces());
-  for (auto f : mesh->faces()) {
+namespace {
+
+// The points, colours (empty without vertex colours) and triangles of mesh.
+void mesh_soup(const Mesh& mesh, std::vector<Mesh::Point>* points, std::vector<Mesh::Color>* colors,
+               std::vector<std::array<int, 3>>* triangles) {
+  points->reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) points->push_back(mesh.point(v));
+  if (mesh.has_vertex_colors())
+    for (auto v : mesh.vertices()) colors->push_back(mesh.color(v));
+  triangles->reserve(mesh.n_faces());
+  for (auto f : mesh.faces()) {
     std::array<int, 3> t;
     int k = 0;
-    for (auto v : mesh->fv_range(f)) {
+    for (auto v : mesh.fv_range(f)) {
       if (k < 3) t[k] = v.idx();
       ++k;
     }
-    if (k == 3) triangles.push_back(t);
+    if (k == 3) triangles->push_back(t);
   }
+}
+
+}  // namespace
+
+MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options) {
+  std::vector<Mesh::Point> points;
+  std::vector<Mesh::Color> colors;
+  std::vector<std::array<int, 3>> triangles;
+  mesh_soup(*mesh, &points, &colors, &triangles);
   MeshRepairReport report;
   *mesh = mesh_from_triangles(points, colors, triangles, options, &report);
   return report;
+}
+
+int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
+  std::vector<int> to_input(mesh->n_vertices());
+  std::iota(to_input.begin(), to_input.end(), 0);
+  int removed = 0;
+  for (int round = 0; round < 50; ++round) {
+    std::vector<Mesh::Point> points;
+    std::vector<Mesh::Color> colors;
+    std::vector<std::array<int, 3>> triangles;
+    mesh_soup(*mesh, &points, &colors, &triangles);
+    const int n = static_cast<int>(points.size());
+    auto key = [](int a, int b) { return (static_cast<uint64_t>(a) << 32) | uint32_t(b); };
+    std::unordered_map<uint64_t, int> directed;  // directed edge a -> b: its triangle
+    directed.reserve(3 * triangles.size());
+    for (size_t k = 0; k < triangles.size(); ++k)
+      for (int j = 0; j < 3; ++j)
+        directed[key(triangles[k][j], triangles[k][(j + 1) % 3])] = static_cast<int>(k);
+    // One boundary halfedge leaves a vertex per open fan: triangle edge a -> b without b -> a
+    // is the boundary halfedge b -> a.
+    std::vector<int> open_fans(n, 0);
+    for (const auto& t : triangles)
+      for (int j = 0; j < 3; ++j)
+        if (!directed.count(key(t[(j + 1) % 3], t[j]))) ++open_fans[t[(j + 1) % 3]];
+    std::vector<std::vector<int>> star(n);
+    for (size_t k = 0; k < triangles.size(); ++k)
+      for (int v : triangles[k])
+        if (open_fans[v] > 1) star[v].push_back(static_cast<int>(k));
+    std::vector<char> doomed(triangles.size(), 0);
+    int pinches = 0;
+    for (int v = 0; v < n; ++v) {
+      if (open_fans[v] < 2) continue;
+      ++pinches;
+      // Fans: the triangles of the star joined across their edges at v.
+      const std::vector<int>& faces = star[v];
+      std::vector<int> parent(faces.size());
+      std::iota(parent.begin(), parent.end(), 0);
+      std::unordered_map<int, size_t> position;
+      for (size_t i = 0; i < faces.size(); ++i) position[faces[i]] = i;
+      for (size_t i = 0; i < faces.size(); ++i) {
+        const auto& t = triangles[faces[i]];
+        for (int j = 0; j < 3; ++j) {
+          if (t[j] != v) continue;
+          const int w = t[(j + 1) % 3];  // edge v -> w; its twin w -> v, if any, is in the star
+          auto twin = directed.find(key(w, v));
+          if (twin == directed.end()) continue;
+          auto other = position.find(twin->second);
+          if (other == position.end()) continue;
+          parent[find_root(parent, static_cast<int>(i))] =
+              find_root(parent, static_cast<int>(other->second));
+        }
+      }
+      std::unordered_map<int, double> fan_area;
+      auto area = [&](int k) {
+        const auto& t = triangles[k];
+        return ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).norm();
+      };
+      for (size_t i = 0; i < faces.size(); ++i)
+        fan_area[find_root(parent, static_cast<int>(i))] += area(faces[i]);
+      int keep = -1;
+      double best = -1;
+      for (const auto& [root, a] : fan_area)
+        if (a > best || (a == best && root < keep)) best = a, keep = root;
+      for (size_t i = 0; i < faces.size(); ++i)
+        if (find_root(parent, static_cast<int>(i)) != keep) doomed[faces[i]] = 1;
+    }
+    if (pinches == 0) break;
+    std::vector<std::array<int, 3>> kept;
+    for (size_t k = 0; k < triangles.size(); ++k)
+      if (doomed[k])
+        ++removed;
+      else
+        kept.push_back(triangles[k]);
+    MeshRepairOptions options;
+    options.keep_largest_component = true;
+    options.check_duplicates = false;
+    MeshRepairReport report;
+    std::vector<int> index;
+    mesh_from_triangles(points, colors, kept, options, mesh, &report, &index);
+    removed += report.removed_component_faces + report.non_manifold_faces;
+    std::vector<int> composed(index.size());
+    for (size_t i = 0; i < index.size(); ++i) composed[i] = to_input[index[i]];
+    to_input = std::move(composed);
+  }
+  if (original) *original = std::move(to_input);
+  return removed;
 }
 
 }  // namespace gvkit::facemap

@@ -1,6 +1,7 @@
 // Mesh repair: duplicate and degenerate faces, non-manifold edges, several components.
 #include "gvkit/facemap/mesh_repair.hpp"
 
+#include <algorithm>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -145,6 +146,71 @@ TEST(MeshRepair, DirectBuildRefusesWhatItCannotRepresent) {
   const Mesh repaired = mesh_from_triangles(p, {}, {{0, 1, 2}, {0, 2, 3}, {0, 2, 4}}, {}, &report);
   EXPECT_EQ(report.non_manifold_faces, 1);
   EXPECT_EQ(repaired.n_faces(), 2u);
+}
+
+// Outgoing boundary halfedges per vertex: one per open fan.
+std::vector<int> open_fans(const Mesh& mesh) {
+  std::vector<int> fans(mesh.n_vertices(), 0);
+  for (auto h : mesh.halfedges())
+    if (mesh.is_boundary(h)) ++fans[mesh.from_vertex_handle(h).idx()];
+  return fans;
+}
+
+// A hole touching the rim at one vertex (a bow tie of two quads missing at a corner of a grid):
+// the vertex keeps one fan, the hole joins the rim, and the counts are those of a disk.
+TEST(MeshRepair, OpensABoundaryPinch) {
+  std::vector<Mesh::Point> points;
+  std::vector<std::array<int, 3>> triangles;
+  const int n = 6;
+  for (int i = 0; i < n * n; ++i) points.emplace_back(i % n, i / n, 0);
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      if ((x == 0 && y == 0) || (x == 1 && y == 1)) continue;  // the two quads at vertex 7
+      const int a = y * n + x, b = a + 1, c = a + n + 1, d = a + n;
+      triangles.push_back({a, c, b});
+      triangles.push_back({a, d, c});
+    }
+  MeshRepairReport report;
+  std::vector<int> built;  // mesh vertex -> grid point
+  Mesh mesh = mesh_from_triangles(points, {}, triangles, {}, &report, &built);
+  const int pinch = static_cast<int>(std::find(built.begin(), built.end(), 7) - built.begin());
+  ASSERT_EQ(open_fans(mesh)[pinch], 2);
+  std::vector<int> original;
+  const int removed = open_boundary_pinches(&mesh, &original);
+  EXPECT_GT(removed, 0);
+  EXPECT_LE(removed, 4);  // the smaller fan at the pinch, no cascade
+  expect_consistent(mesh);
+  for (int f : open_fans(mesh)) EXPECT_LE(f, 1);
+  const MeshTopology t = mesh_topology(mesh);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_loops, 1);
+  EXPECT_EQ(t.euler_characteristic, 1);  // a disk: the Euler count no longer misses the pinch
+  ASSERT_EQ(original.size(), mesh.n_vertices());
+  for (auto v : mesh.vertices()) EXPECT_EQ(mesh.point(v), points[built[original[v.idx()]]]);
+}
+
+// Scan-like grids full of pinches: none is left, one component, every triangle from the input.
+TEST(MeshRepair, OpensEveryPinchOfAScanLikeGrid) {
+  for (unsigned seed : {3u, 11u}) {
+    std::vector<Mesh::Point> points;
+    std::vector<std::array<int, 3>> triangles;
+    random_grid(30, 0.9, seed, &points, &triangles);
+    MeshRepairReport report;
+    std::vector<int> built;  // mesh vertex -> grid point
+    Mesh mesh = mesh_from_triangles(points, {}, triangles, {}, &report, &built);
+    const auto before = open_fans(mesh);
+    ASSERT_GT(std::count_if(before.begin(), before.end(), [](int f) { return f > 1; }), 0);
+    const size_t faces_before = mesh.n_faces();
+    std::vector<int> original;
+    const int removed = open_boundary_pinches(&mesh, &original);
+    SCOPED_TRACE(seed);
+    expect_consistent(mesh);
+    for (int f : open_fans(mesh)) EXPECT_LE(f, 1);
+    EXPECT_EQ(mesh_topology(mesh).components, 1);
+    EXPECT_EQ(mesh.n_faces() + removed, faces_before);
+    EXPECT_LT(removed, static_cast<int>(faces_before) / 4);
+    for (auto v : mesh.vertices()) EXPECT_EQ(mesh.point(v), points[built[original[v.idx()]]]);
+  }
 }
 
 // mesh_topology finds the boundary loops in its pass over the edges: the same loops as

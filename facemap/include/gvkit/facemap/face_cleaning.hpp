@@ -58,8 +58,9 @@ struct CleanStats {
   int landmarks_snapped_mm = 0;  // landmarks moved onto the surface
   double landmark_max_snap_mm = 0.0;
   int holes_filled = 0, vertices_added = 0;
-  int feature_holes_open = 0;  // scans: eye and mouth openings left unfilled (the mask cuts them)
-  int stray_holes_filled = 0;  // gaps inside the mask filled after masking
+  int feature_holes_open = 0;   // scans: eye and mouth openings left unfilled (the mask cuts them)
+  int stray_holes_filled = 0;   // gaps inside the mask filled after masking
+  int pinch_faces_removed = 0;  // triangles removed to open boundary pinches of the mask
   int output_vertices = 0, output_faces = 0;
   double radius_mm = 0.0;
   int cropped_vertices = 0;  // the part of the mesh the geodesics were solved on

@@ -52,6 +52,9 @@ struct FaceMask {
   // radius plus a few edges (fast marching).
   int cropped_vertices = 0;
   int stray_holes_filled = 0;  // other boundary loops inside the mask, filled
+  // Triangles removed to open boundary pinches the cut left (open_boundary_pinches: a rim that
+  // touches itself or a gap at one vertex, common on noisy scans' steep sides).
+  int pinch_faces_removed = 0;
   // Wall time of the steps (ms): landmark check and Euclidean crop, building and factorising
   // the geodesic operators, the eye and mouth regions, the distance queries, the level-set cut,
   // the topology checks (with stray holes filled).

@@ -61,4 +61,13 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
 // Repairs `mesh` in place (rebuilding it from its faces); colours are kept when present.
 MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options = {});
 
+// Opens boundary pinches in place: a vertex with several open fans (a boundary loop touching
+// itself or another loop at one vertex; OpenMesh traces such loops as separate ones and the
+// Euler count misses the vertex, so a pinched mesh can pass for a genus-0 surface with the
+// expected loops) keeps its fan of largest area and loses the triangles of the others. Rounds
+// repeat until no vertex has two open fans (at most 50), and each round keeps only the largest
+// component. Returns the number of triangles removed; *original (optional) receives, per vertex
+// of the result, its index in the input. Colours are kept when present.
+int open_boundary_pinches(Mesh* mesh, std::vector<int>* original = nullptr);
+
 }  // namespace gvkit::facemap
