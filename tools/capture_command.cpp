@@ -70,6 +70,7 @@ struct CaptureArgs {
   int project = -1;
   int64_t frames = 0;
   double seconds = 0, fps = 0, projector_rate = 0, display_latency_ms = 0, gamma_compensate = 0;
+  double depth_prior = 0;  // 0: the replayed session's, else the synthetic face's, else 650 mm
   int queue = 8, preview_stride = 2;
   bool reconstruct = false, preview = false, preview_optional = false, quiet_status = false;
   // synthetic:
@@ -146,7 +147,8 @@ struct CaptureRun {
   Calibration calibration;
   std::unique_ptr<capture::PatternSet> patterns;
   std::optional<capture::Reconstructor> reconstructor;
-  std::string sync_mode;  // tagged | cue | software
+  double depth_prior_mm = 650;  // recorded in session.json, used by the live reconstruction
+  std::string sync_mode;        // tagged | cue | software
   int frames_per_cycle = 0;
   std::string description;
 
@@ -228,6 +230,7 @@ Status open_session(CaptureRun& run, const FringeSet& first) {
       !run.args.no_ground_truth &&
       (run.synthetic || (run.replayed && !run.replayed->info().ground_truth_dir.empty()));
   if (ground_truth) info.ground_truth_dir = "gt";
+  info.depth_prior_mm = run.depth_prior_mm;
   run.write_ground_truth = ground_truth;
   if (run.synthetic) {
     info.bit_depth = run.synthetic->options().render.bit_depth;
@@ -522,8 +525,20 @@ void run_capture(const CaptureArgs& a) {
         "--calibration FILE is required for a camera source (gvkit calibrate makes one)"));
   if (run->calibration.fringe_pitch_px <= 0)
     run->calibration.fringe_pitch_px = run->patterns->pitch_px(run->calibration.projector_width);
-  if (args.reconstruct)
-    run->reconstructor = value_or_throw(capture::Reconstructor::create(run->calibration));
+  if (!(args.depth_prior >= 0))
+    throw CommandFailed(invalid_argument("--depth-prior must be a depth in mm"));
+  if (args.depth_prior > 0)
+    run->depth_prior_mm = args.depth_prior;
+  else if (run->replayed && run->replayed->info().depth_prior_mm > 0)
+    run->depth_prior_mm = run->replayed->info().depth_prior_mm;
+  else if (run->synthetic)
+    run->depth_prior_mm = run->synthetic->options().face_distance_mm;
+  if (args.reconstruct) {
+    capture::ReconstructOptions reconstruct_options;
+    reconstruct_options.depth_prior_mm = run->depth_prior_mm;
+    run->reconstructor =
+        value_or_throw(capture::Reconstructor::create(run->calibration, reconstruct_options));
+  }
   std::error_code exists_ec;
   if (fs::exists(fs::path(args.output) / "session.json", exists_ec))
     throw CommandFailed(invalid_argument(args.output + ": already holds a session (session.json)"));
@@ -824,6 +839,10 @@ void add_capture_command(CLI::App& app) {
                   "Rig calibration (required for cameras; default: the synthetic rig's, or the "
                   "replayed session's)");
   cmd->add_flag("--reconstruct", a->reconstruct, "Reconstruct every set live (stats.json)");
+  cmd->add_option("--depth-prior", a->depth_prior,
+                  "Expected face depth (mm) for spatially unwrapped pattern sets, recorded in "
+                  "session.json (default: the replayed session's, the synthetic face's, else "
+                  "650)");
   cmd->add_option("--scans", a->scans,
                   "Also write the live range scans (frame_NNNNNN.exr) here (implies "
                   "--reconstruct)");

@@ -37,6 +37,7 @@ namespace fs = std::filesystem;
 struct ReconstructArgs {
   std::string input, output, pattern, calibration;
   bool ply = false, quiet = false, resume = false;
+  bool depth_prior_given = false;  // --depth-prior on the command line (else the session's)
   capture::ReconstructOptions options;
   capture::PatternSetOptions pattern_options;
 };
@@ -64,10 +65,16 @@ void run(const ReconstructArgs& args) {
   std::optional<capture::FringeFolder> folder;
   Calibration calibration;
   std::string pattern_name = args.pattern;
+  capture::ReconstructOptions reconstruct_options = args.options;
+  std::string depth_prior_from = args.depth_prior_given ? "--depth-prior" : "default";
   if (fs::exists(input / "session.json")) {
     session = value_or_throw(capture::SessionReader::open(input));
     calibration = session->calibration();
     if (pattern_name.empty()) pattern_name = session->info().pattern;
+    if (!args.depth_prior_given && session->info().depth_prior_mm > 0) {
+      reconstruct_options.depth_prior_mm = session->info().depth_prior_mm;
+      depth_prior_from = "session";
+    }
     if (!args.calibration.empty())
       calibration = value_or_throw(read_calibration(args.calibration)).calibration;
   } else {
@@ -82,13 +89,14 @@ void run(const ReconstructArgs& args) {
   if (!session)
     folder = value_or_throw(capture::list_fringe_folder(input, patterns->image_count()));
   const capture::Reconstructor reconstructor =
-      value_or_throw(capture::Reconstructor::create(calibration, args.options));
+      value_or_throw(capture::Reconstructor::create(calibration, reconstruct_options));
   throw_if_error(ensure_directory(output));
 
   const size_t count = session ? session->frame_count() : folder->frames.size();
   const nlohmann::json options = {{"pattern", patterns->name()},
                                   {"calibration", args.calibration},
-                                  {"depth_prior_mm", args.options.depth_prior_mm},
+                                  {"depth_prior_mm", reconstruct_options.depth_prior_mm},
+                                  {"depth_prior_from", depth_prior_from},
                                   {"min_modulation", args.pattern_options.min_modulation},
                                   {"saturation_level", args.pattern_options.saturation_level},
                                   {"unwrap_tolerance", args.pattern_options.unwrap_tolerance},
@@ -200,8 +208,9 @@ void add_reconstruct_command(CLI::App& app) {
                   "Calibration file (gvkit YAML/JSON/XML or SLStudio calibration.xml)");
   cmd->add_flag("--ply", args->ply, "Also write frame_NNNNNN.ply meshes with texture");
   cmd->add_option("--depth-prior", args->options.depth_prior_mm,
-                  "Expected depth (mm) resolving spatially unwrapped regions")
-      ->capture_default_str();
+                  "Expected depth (mm) resolving spatially unwrapped regions (default: the "
+                  "session's depth_prior_mm when it records one, else 650)")
+      ->each([args](const std::string&) { args->depth_prior_given = true; });
   cmd->add_option("--min-depth", args->options.min_depth_mm, "Nearest valid depth (mm)")
       ->capture_default_str();
   cmd->add_option("--max-depth", args->options.max_depth_mm, "Farthest valid depth (mm)")

@@ -33,6 +33,7 @@ struct RunArgs {
   int frames = 30;
   std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
   int qp = 12;
+  double depth_prior_mm = 0;  // 0: reconstruct's default (the session's, else 650 mm)
   bool render = false, restart = false;
 };
 
@@ -108,6 +109,8 @@ bool synthetic_session_complete(const fs::path& dir, const RunArgs& a) {
 
 void run(const RunArgs& a) {
   if (a.frames < 1) throw CommandFailed(invalid_argument("--frames must be >= 1"));
+  if (!(a.depth_prior_mm >= 0))
+    throw CommandFailed(invalid_argument("--depth-prior must be a depth in mm"));
   throw_if_error(parse_size(a.size).status().with_context("--size"));
   throw_if_error(parse_size(a.map_size).status().with_context("--map-size"));
   codec::EncoderOptions encoder;
@@ -136,6 +139,11 @@ void run(const RunArgs& a) {
   if (!a.pattern.empty()) reconstruct.insert(reconstruct.end(), {"--pattern", a.pattern});
   if (!a.calibration.empty())
     reconstruct.insert(reconstruct.end(), {"--calibration", a.calibration});
+  if (a.depth_prior_mm > 0) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.10g", a.depth_prior_mm);
+    reconstruct.insert(reconstruct.end(), {"--depth-prior", text});
+  }
   stages.push_back(
       {"reconstruct", reconstruct, [&] { return frames_complete(work / "scans", {".exr"}); }});
   stages.push_back(
@@ -256,6 +264,9 @@ void add_run_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--pattern", a->pattern, "Pattern set of a folder of fringe images");
   cmd->add_option("--calibration", a->calibration, "Calibration of a folder of fringe images");
+  cmd->add_option("--depth-prior", a->depth_prior_mm,
+                  "Expected face depth (mm) for spatially unwrapped pattern sets (reconstruct "
+                  "--depth-prior; default: the session's, else 650)");
   cmd->add_option("--map-size", a->map_size, "Geometry image size WxH (facemap map --size)")
       ->capture_default_str();
   cmd->add_option("--qp", a->qp, "Encoder quantization parameter (encode --qp)")

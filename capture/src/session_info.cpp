@@ -1,5 +1,7 @@
 #include "gvkit/capture/session_info.hpp"
 
+#include <cmath>
+
 namespace gvkit::capture {
 
 nlohmann::json SessionInfo::to_json() const {
@@ -13,6 +15,7 @@ nlohmann::json SessionInfo::to_json() const {
   j["bit_depth"] = bit_depth;
   j["dropped_frames"] = dropped_frames;
   if (!ground_truth_dir.empty()) j["ground_truth"] = ground_truth_dir;
+  if (depth_prior_mm > 0) j["depth_prior_mm"] = depth_prior_mm;
   j["source"] = source;
   nlohmann::json frames_json = nlohmann::json::array();
   for (const SessionFrame& f : frames)
@@ -40,6 +43,7 @@ Result<SessionInfo> SessionInfo::from_json(const nlohmann::json& j, const std::s
     s.bit_depth = j.at("bit_depth").get<int>();
     s.dropped_frames = j.value("dropped_frames", int64_t{0});
     s.ground_truth_dir = j.value("ground_truth", std::string());
+    s.depth_prior_mm = j.value("depth_prior_mm", 0.0);
     if (j.contains("source")) s.source = j["source"];
     for (const auto& f : j.at("frames")) {
       SessionFrame frame;
@@ -57,6 +61,8 @@ Result<SessionInfo> SessionInfo::from_json(const nlohmann::json& j, const std::s
   }
   if (s.width <= 0 || s.height <= 0 || s.images_per_frame <= 0)
     return corrupt_data(where + ": image size and images per frame must be positive");
+  if (!(s.depth_prior_mm >= 0) || !std::isfinite(s.depth_prior_mm))
+    return corrupt_data(where + ": depth_prior_mm must be a depth in mm (or absent)");
   return s;
 }
 

@@ -65,6 +65,7 @@ Status write_synthetic_session(const std::filesystem::path& dir,
   info.height = calibration.camera_height;
   info.bit_depth = options.render.bit_depth;
   info.ground_truth_dir = "gt";
+  info.depth_prior_mm = options.face_distance_mm;
   info.source = options.to_json();
   GVKIT_ASSIGN_OR_RETURN(auto writer, SessionWriter::create(dir, info, calibration));
 

@@ -39,6 +39,38 @@ TEST(CliCapture, SynthThenReconstructWithGroundTruth) {
   EXPECT_TRUE((*stats)["summary"].contains("rms_depth_error_mm"));
 }
 
+// A spatially unwrapped pattern set knows each region's phase only up to whole periods; the
+// session records the face's depth, so a face 800 mm away is not put one period nearer (the
+// 650 mm default prior puts it about 150 mm off).
+TEST(CliCapture, SpatialUnwrappingUsesTheSessionsDepthPrior) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  TempDir dir;
+  const std::string session = (dir / "session").string();
+  auto s = run_gvkit("synth -o " + session +
+                     " --frames 1 --size 128x96 --pattern psp3-f16 --distance 800 --no-progress "
+                     "--ict " +
+                     (data / "ict-facekit").string());
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  auto info = read_json(dir / "session" / "session.json");
+  ASSERT_TRUE(info);
+  EXPECT_EQ((*info)["depth_prior_mm"].get<double>(), 800.0);
+  auto r =
+      run_gvkit("reconstruct " + session + " -o " + (dir / "scans").string() + " --no-progress");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto stats = read_json(dir / "scans" / "stats.json");
+  ASSERT_TRUE(stats);
+  EXPECT_EQ((*stats)["options"]["depth_prior_from"], "session");
+  EXPECT_LT((*stats)["frames"][0]["median_depth_error_mm"].get<double>(), 2.0);
+  // An explicit --depth-prior wins over the session's: 650 mm picks the wrong period here.
+  r = run_gvkit("reconstruct " + session + " -o " + (dir / "near").string() +
+                " --depth-prior 650 --no-progress");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  stats = read_json(dir / "near" / "stats.json");
+  ASSERT_TRUE(stats);
+  EXPECT_EQ((*stats)["options"]["depth_prior_from"], "--depth-prior");
+  EXPECT_GT((*stats)["frames"][0]["median_depth_error_mm"].get<double>(), 50.0);
+}
+
 TEST(CliCapture, BadOptionsFailWithAMessage) {
   TempDir dir;
   auto a = run_gvkit("synth -o " + (dir / "a").string() + " --size 12-by-12");

@@ -57,6 +57,7 @@ TEST(Session, RoundTripOutOfOrder) {
     EXPECT_EQ(reader->info().bit_depth, bits);
     EXPECT_DOUBLE_EQ(reader->info().fps, 25);
     EXPECT_EQ(reader->info().source["kind"], "test");
+    EXPECT_EQ(reader->info().depth_prior_mm, 0.0);  // not recorded
     EXPECT_NEAR(reader->calibration().camera_K(0, 0), calibration.camera_K(0, 0), 1e-9);
     for (size_t i = 0; i < 3; ++i) {
       auto f = reader->read_frame(i);
@@ -68,6 +69,19 @@ TEST(Session, RoundTripOutOfOrder) {
     }
     EXPECT_FALSE(reader->ground_truth_path(0));
   }
+}
+
+TEST(Session, DepthPriorRoundTripsAndMustBeADepth) {
+  SessionInfo info = small_info(8);
+  info.depth_prior_mm = 812.5;
+  auto back = SessionInfo::from_json(info.to_json(), "session.json");
+  ASSERT_TRUE(back) << back.status().message();
+  EXPECT_EQ(back->depth_prior_mm, 812.5);
+  nlohmann::json bad = info.to_json();
+  bad["depth_prior_mm"] = -5.0;
+  auto rejected = SessionInfo::from_json(bad, "session.json");
+  ASSERT_FALSE(rejected);
+  EXPECT_NE(rejected.status().message().find("depth_prior_mm"), std::string::npos);
 }
 
 TEST(Session, WriterRejectsBadFramesAndExistingSessions) {

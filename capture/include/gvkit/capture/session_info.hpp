@@ -35,7 +35,10 @@ struct SessionInfo {
   int width = 0, height = 0;  // camera image size (px)
   int bit_depth = 8;          // significant bits; 10/12-bit data is stored scaled to 16 bits
   int64_t dropped_frames = 0;
-  std::string ground_truth_dir;                      // "gt" for synthetic sessions, else empty
+  std::string ground_truth_dir;  // "gt" for synthetic sessions, else empty
+  // Expected depth of the face (mm), which resolves the whole-period ambiguity of spatially
+  // unwrapped pattern sets (ReconstructOptions::depth_prior_mm); 0 when not recorded.
+  double depth_prior_mm = 0;
   nlohmann::json source = nlohmann::json::object();  // how it was made (synthetic options, device)
   std::vector<SessionFrame> frames;
 
