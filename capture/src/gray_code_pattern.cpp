@@ -1,7 +1,10 @@
 // gray<B>-psp<N>: N phase-shift images with 2^B periods, then B Gray-code images (MSB first)
 // numbering the periods. Bits are read against the phase-shift mean; the period order is taken
 // from the code at the period's centre, which tolerates code edges misplaced by up to half a
-// period (blur, misregistration).
+// period (blur, misregistration). A bit nearer the mean than half the fringe modulation (camera
+// noise on dark skin, hair, a blurred edge) makes the pixel's code uncertain: it takes the period
+// order of its certain neighbours instead (settle_uncertain), since one flipped bit moves the
+// phase by whole periods.
 #include <cmath>
 #include <string>
 
@@ -51,10 +54,13 @@ class GrayCodePattern : public PatternSet {
       fringes.images[steps_ + b].convertTo(bit_images[b], CV_32F, 1.0 / range);
     const float two_pi = static_cast<float>(2 * CV_PI);
     cv::Mat absolute(w.phase.size(), CV_32F);
+    cv::Mat uncertain(w.phase.size(), CV_8U, cv::Scalar(0));
     for (int y = 0; y < absolute.rows; ++y) {
       const float* phase = w.phase.ptr<float>(y);
       const float* mean = w.mean.ptr<float>(y);
+      const float* modulation = w.modulation.ptr<float>(y);
       uint8_t* ok = valid.ptr<uint8_t>(y);
+      uint8_t* unsure = uncertain.ptr<uint8_t>(y);
       float* abs = absolute.ptr<float>(y);
       for (int x = 0; x < absolute.cols; ++x) {
         if (!ok[x]) {
@@ -62,8 +68,11 @@ class GrayCodePattern : public PatternSet {
           continue;
         }
         int gray = 0;
-        for (int b = 0; b < bits_; ++b)
-          gray = (gray << 1) | (bit_images[b].ptr<float>(y)[x] > mean[x] ? 1 : 0);
+        for (int b = 0; b < bits_; ++b) {
+          const float level = bit_images[b].ptr<float>(y)[x];
+          gray = (gray << 1) | (level > mean[x] ? 1 : 0);
+          if (std::abs(level - mean[x]) < 0.7f * modulation[x]) unsure[x] = 1;
+        }
         int stripe = 0;
         for (int g = gray; g; g >>= 1) stripe ^= g;
         // Period order: the one whose centre is nearest; a tie (phase exactly 0 at the start of
@@ -72,6 +81,7 @@ class GrayCodePattern : public PatternSet {
         abs[x] = phase[x] + two_pi * std::ceil((centre - phase[x]) / two_pi - 0.5f);
       }
     }
+    settle_uncertain(absolute, valid, uncertain);
     correct_period_order(absolute, valid);
     clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
     PhaseMap out;
