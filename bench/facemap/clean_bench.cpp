@@ -167,6 +167,37 @@ void BM_MeshFromTriangles(benchmark::State& state) {
 }
 BENCHMARK(BM_MeshFromTriangles)->Args({500, 0})->Args({500, 1})->Unit(benchmark::kMillisecond);
 
+// open_pinched_fans (mesh_from_scan's pinch opening) on an n x n grid: arg 1 = 0 without gaps
+// (the check alone), else that many per mille of the pixels missing at random (each missing
+// pixel's four quads lose their triangles, so gaps meet diagonally: the pinches of a noisy scan).
+// Read against BM_MeshFromTriangles on the same size, which every scan pays anyway.
+void BM_OpenPinchedFans(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::vector<Mesh::Point> points;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) points.emplace_back(x, y, 0.002 * x * y);
+  std::vector<char> missing(points.size(), 0);
+  cv::RNG rng(3);
+  for (auto& m : missing) m = rng.uniform(0, 1000) < state.range(1);
+  std::vector<std::array<int, 3>> triangles;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x, b = a + 1, c = a + n + 1, d = a + n;
+      if (missing[a] || missing[b] || missing[c] || missing[d]) continue;
+      triangles.push_back({a, c, b});
+      triangles.push_back({a, d, c});
+    }
+  int removed = 0;
+  for (auto _ : state) {
+    std::vector<std::array<int, 3>> work = triangles;
+    removed = open_pinched_fans(points, &work);
+    benchmark::DoNotOptimize(work.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles.size());
+  state.counters["removed"] = removed;
+}
+BENCHMARK(BM_OpenPinchedFans)->Args({500, 0})->Args({500, 20})->Unit(benchmark::kMillisecond);
+
 // Rim points mapped to the neutral face through the closest point on the frame's ICT face.
 std::vector<Mesh::Point> rim_in_neutral(const Mesh& cleaned, const Mesh& frame_face,
                                         const Mesh& neutral_face) {

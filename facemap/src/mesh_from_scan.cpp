@@ -106,12 +106,17 @@ Status mesh_from_scan(const RangeScan& scan, const MeshFromScanOptions& options,
                                std::to_string(points.size()) + " valid pixels)");
 
   out->footprint_per_depth = footprint;
+  // Pixels joined only diagonally, and gaps that touch at a pixel, leave vertices with several
+  // open fans; a boundary loop through such a vertex is no simple polygon, and filling it as one
+  // made a handle (a noisy scan's "genus 1" mask). Each keeps its largest fan.
+  const int pinch_faces = open_pinched_fans(points, &triangles);
   MeshRepairOptions repair_options;
   repair_options.keep_largest_component = options.keep_largest_component;
   repair_options.check_duplicates = false;  // each 2x2 block gives its own triangles
   std::vector<int> original;
   mesh_from_triangles(points, colors, triangles, repair_options, &out->mesh, &out->repair,
                       &original);
+  out->repair.pinch_faces = pinch_faces;
   std::vector<cv::Point> pixel_of_point(points.size());
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x)

@@ -5,15 +5,14 @@
 #include <mutex>
 #include <numeric>
 #include <set>
-#include <unordered_map>
 
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::facemap {
 
 bool MeshRepairReport::changed() const {
-  return degenerate_faces + duplicate_faces + non_manifold_faces + removed_component_faces +
-             removed_vertices >
+  return pinch_faces + degenerate_faces + duplicate_faces + non_manifold_faces +
+             removed_component_faces + removed_vertices >
          0;
 }
 
@@ -24,6 +23,7 @@ std::string MeshRepairReport::summary() const {
     if (!s.empty()) s += ", ";
     s += std::to_string(n) + " " + what;
   };
+  add(pinch_faces, "faces removed to open boundary pinches");
   add(degenerate_faces, "degenerate faces removed");
   add(duplicate_faces, "duplicate faces removed");
   add(non_manifold_faces, "non-manifold faces removed");
@@ -411,90 +411,101 @@ MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options) {
   return report;
 }
 
-int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
-  std::vector<int> to_input(mesh->n_vertices());
-  std::iota(to_input.begin(), to_input.end(), 0);
+int open_pinched_fans(const std::vector<Mesh::Point>& points,
+                      std::vector<std::array<int, 3>>* triangles) {
+  const int n = static_cast<int>(points.size());
   int removed = 0;
+  std::vector<int> offset, target, face, open_fans, parent;
   for (int round = 0; round < 50; ++round) {
-    std::vector<Mesh::Point> points;
-    std::vector<Mesh::Color> colors;
-    std::vector<std::array<int, 3>> triangles;
-    mesh_soup(*mesh, &points, &colors, &triangles);
-    const int n = static_cast<int>(points.size());
-    auto key = [](int a, int b) { return (static_cast<uint64_t>(a) << 32) | uint32_t(b); };
-    std::unordered_map<uint64_t, int> directed;  // directed edge a -> b: its triangle
-    directed.reserve(3 * triangles.size());
-    for (size_t k = 0; k < triangles.size(); ++k)
-      for (int j = 0; j < 3; ++j)
-        directed[key(triangles[k][j], triangles[k][(j + 1) % 3])] = static_cast<int>(k);
-    // One boundary halfedge leaves a vertex per open fan: triangle edge a -> b without b -> a
-    // is the boundary halfedge b -> a.
-    std::vector<int> open_fans(n, 0);
-    for (const auto& t : triangles)
-      for (int j = 0; j < 3; ++j)
-        if (!directed.count(key(t[(j + 1) % 3], t[j]))) ++open_fans[t[(j + 1) % 3]];
-    std::vector<std::vector<int>> star(n);
-    for (size_t k = 0; k < triangles.size(); ++k)
-      for (int v : triangles[k])
-        if (open_fans[v] > 1) star[v].push_back(static_cast<int>(k));
-    std::vector<char> doomed(triangles.size(), 0);
+    const auto& tris = *triangles;
+    const int m = static_cast<int>(tris.size());
+    // Directed edges a -> b of every triangle, grouped by a (CSR): target b and the triangle.
+    offset.assign(n + 1, 0);
+    for (const auto& t : tris)
+      for (int v : t) ++offset[v + 1];
+    for (int v = 0; v < n; ++v) offset[v + 1] += offset[v];
+    target.resize(offset[n]);
+    face.resize(offset[n]);
+    {
+      std::vector<int> fill(offset.begin(), offset.end() - 1);
+      for (int k = 0; k < m; ++k)
+        for (int j = 0; j < 3; ++j) {
+          const int a = tris[k][j], slot = fill[a]++;
+          target[slot] = tris[k][(j + 1) % 3];
+          face[slot] = k;
+        }
+    }
+    // The triangle holding directed edge a -> b, or -1.
+    auto edge_face = [&](int a, int b) {
+      for (int i = offset[a]; i < offset[a + 1]; ++i)
+        if (target[i] == b) return face[i];
+      return -1;
+    };
+    // One boundary halfedge leaves a vertex per open fan: triangle edge a -> b without b -> a is
+    // the boundary halfedge b -> a.
+    open_fans.assign(n, 0);
+    for (int a = 0; a < n; ++a)
+      for (int i = offset[a]; i < offset[a + 1]; ++i)
+        if (edge_face(target[i], a) < 0) ++open_fans[target[i]];
+    std::vector<char> doomed(m, 0);
     int pinches = 0;
     for (int v = 0; v < n; ++v) {
       if (open_fans[v] < 2) continue;
       ++pinches;
-      // Fans: the triangles of the star joined across their edges at v.
-      const std::vector<int>& faces = star[v];
-      std::vector<int> parent(faces.size());
+      // Fans: the triangles around v (one outgoing edge each), joined across their edges at v.
+      const int first = offset[v], count = offset[v + 1] - first;
+      parent.resize(count);
       std::iota(parent.begin(), parent.end(), 0);
-      std::unordered_map<int, size_t> position;
-      for (size_t i = 0; i < faces.size(); ++i) position[faces[i]] = i;
-      for (size_t i = 0; i < faces.size(); ++i) {
-        const auto& t = triangles[faces[i]];
-        for (int j = 0; j < 3; ++j) {
-          if (t[j] != v) continue;
-          const int w = t[(j + 1) % 3];  // edge v -> w; its twin w -> v, if any, is in the star
-          auto twin = directed.find(key(w, v));
-          if (twin == directed.end()) continue;
-          auto other = position.find(twin->second);
-          if (other == position.end()) continue;
-          parent[find_root(parent, static_cast<int>(i))] =
-              find_root(parent, static_cast<int>(other->second));
-        }
+      for (int i = 0; i < count; ++i) {
+        const int across = edge_face(target[first + i], v);  // the triangle with w -> v
+        if (across < 0) continue;
+        for (int j = 0; j < count; ++j)
+          if (face[first + j] == across) parent[find_root(parent, i)] = find_root(parent, j);
       }
-      std::unordered_map<int, double> fan_area;
-      auto area = [&](int k) {
-        const auto& t = triangles[k];
-        return ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).norm();
-      };
-      for (size_t i = 0; i < faces.size(); ++i)
-        fan_area[find_root(parent, static_cast<int>(i))] += area(faces[i]);
-      int keep = -1;
-      double best = -1;
-      for (const auto& [root, a] : fan_area)
-        if (a > best || (a == best && root < keep)) best = a, keep = root;
-      for (size_t i = 0; i < faces.size(); ++i)
-        if (find_root(parent, static_cast<int>(i)) != keep) doomed[faces[i]] = 1;
+      std::vector<double> fan_area(count, 0.0);
+      for (int i = 0; i < count; ++i) {
+        const auto& t = tris[face[first + i]];
+        fan_area[find_root(parent, i)] +=
+            ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).norm();
+      }
+      const int keep =
+          static_cast<int>(std::max_element(fan_area.begin(), fan_area.end()) - fan_area.begin());
+      for (int i = 0; i < count; ++i)
+        if (find_root(parent, i) != keep) doomed[face[first + i]] = 1;
     }
     if (pinches == 0) break;
     std::vector<std::array<int, 3>> kept;
-    for (size_t k = 0; k < triangles.size(); ++k)
+    kept.reserve(m);
+    for (int k = 0; k < m; ++k)
       if (doomed[k])
         ++removed;
       else
-        kept.push_back(triangles[k]);
-    MeshRepairOptions options;
-    options.keep_largest_component = true;
-    options.check_duplicates = false;
-    MeshRepairReport report;
-    std::vector<int> index;
-    mesh_from_triangles(points, colors, kept, options, mesh, &report, &index);
-    removed += report.removed_component_faces + report.non_manifold_faces;
-    std::vector<int> composed(index.size());
-    for (size_t i = 0; i < index.size(); ++i) composed[i] = to_input[index[i]];
-    to_input = std::move(composed);
+        kept.push_back(tris[k]);
+    *triangles = std::move(kept);
   }
-  if (original) *original = std::move(to_input);
   return removed;
+}
+
+int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
+  std::vector<Mesh::Point> points;
+  std::vector<Mesh::Color> colors;
+  std::vector<std::array<int, 3>> triangles;
+  mesh_soup(*mesh, &points, &colors, &triangles);
+  const size_t before = triangles.size();
+  const int removed = open_pinched_fans(points, &triangles);
+  if (removed == 0) {
+    if (original) {
+      original->resize(points.size());
+      std::iota(original->begin(), original->end(), 0);
+    }
+    return 0;
+  }
+  MeshRepairOptions options;
+  options.keep_largest_component = true;
+  options.check_duplicates = false;
+  MeshRepairReport report;
+  mesh_from_triangles(points, colors, triangles, options, mesh, &report, original);
+  return static_cast<int>(before - mesh->n_faces());
 }
 
 }  // namespace gvkit::facemap

@@ -13,6 +13,7 @@
 namespace gvkit::facemap {
 
 struct MeshRepairReport {
+  int pinch_faces = 0;         // removed to open boundary pinches (mesh_from_scan)
   int degenerate_faces = 0;    // a repeated vertex or zero area
   int duplicate_faces = 0;     // the same three vertices as an earlier face
   int non_manifold_faces = 0;  // dropped: non-manifold edge or complex vertex
@@ -61,13 +62,21 @@ bool build_half_edges(int n_vertices, const std::vector<std::array<int, 3>>& fac
 // Repairs `mesh` in place (rebuilding it from its faces); colours are kept when present.
 MeshRepairReport repair_mesh(Mesh* mesh, const MeshRepairOptions& options = {});
 
+// Opens boundary pinches of a triangle list (indices into points, consistently oriented and
+// edge-manifold): every vertex with several open fans keeps its fan of largest area, the other
+// fans' triangles are removed, in rounds until no vertex has two open fans (at most 50). Returns
+// the number of triangles removed. Pieces cut off stay in the list (mesh_from_triangles keeps the
+// largest component).
+int open_pinched_fans(const std::vector<Mesh::Point>& points,
+                      std::vector<std::array<int, 3>>* triangles);
+
 // Opens boundary pinches in place: a vertex with several open fans (a boundary loop touching
 // itself or another loop at one vertex; OpenMesh traces such loops as separate ones and the
 // Euler count misses the vertex, so a pinched mesh can pass for a genus-0 surface with the
-// expected loops) keeps its fan of largest area and loses the triangles of the others. Rounds
-// repeat until no vertex has two open fans (at most 50), and each round keeps only the largest
-// component. Returns the number of triangles removed; *original (optional) receives, per vertex
-// of the result, its index in the input. Colours are kept when present.
+// expected loops) keeps its fan of largest area and loses the triangles of the others
+// (open_pinched_fans), then only the largest component is kept. Returns the number of triangles
+// removed; *original (optional) receives, per vertex of the result, its index in the input.
+// Colours are kept when present.
 int open_boundary_pinches(Mesh* mesh, std::vector<int>* original = nullptr);
 
 }  // namespace gvkit::facemap
