@@ -1,7 +1,7 @@
 // gray<B>-psp<N>: N phase-shift images with 2^B periods, then B Gray-code images (MSB first)
 // numbering the periods. Bits are read against the phase-shift mean; the period order is taken
 // from the code at the period's centre, which tolerates code edges misplaced by up to half a
-// period (blur, misregistration). A bit nearer the mean than half the fringe modulation (camera
+// period (blur, misregistration). A bit nearer the mean than 0.7 of the fringe modulation (camera
 // noise on dark skin, hair, a blurred edge) makes the pixel's code uncertain: it takes the period
 // order of its certain neighbours instead (settle_uncertain), since one flipped bit moves the
 // phase by whole periods.
