@@ -147,8 +147,9 @@ struct CaptureRun {
   Calibration calibration;
   std::unique_ptr<capture::PatternSet> patterns;
   std::optional<capture::Reconstructor> reconstructor;
-  double depth_prior_mm = 650;  // recorded in session.json, used by the live reconstruction
-  std::string sync_mode;        // tagged | cue | software
+  // Recorded in session.json, used by the live reconstruction.
+  double depth_prior_mm = capture::ReconstructOptions{}.depth_prior_mm;
+  std::string sync_mode;  // tagged | cue | software
   int frames_per_cycle = 0;
   std::string description;
 

@@ -104,11 +104,11 @@ cv::Vec3d weighted_point(const SourceWeights& w, const std::vector<cv::Vec3d>& p
 DriftStats true_surface_drift(const MappedFace& a, const MappedFace& b,
                               const std::vector<cv::Vec3d>& positions_b_mm) {
   GVKIT_CHECK(a.pixel_source.size() == b.pixel_source.size(), "same domain size");
-  auto point = [&](const SourceWeights& w) { return weighted_point(w, positions_b_mm); };
   std::vector<double> d;
   for (size_t i = 0; i < a.pixel_source.size(); ++i) {
     if (a.pixel_source[i].empty() || b.pixel_source[i].empty()) continue;
-    d.push_back(cv::norm(point(a.pixel_source[i]) - point(b.pixel_source[i])));
+    d.push_back(cv::norm(weighted_point(a.pixel_source[i], positions_b_mm) -
+                         weighted_point(b.pixel_source[i], positions_b_mm)));
   }
   return summarize(d);
 }

@@ -487,19 +487,24 @@ int open_pinched_fans(const std::vector<Mesh::Point>& points,
 }
 
 int open_boundary_pinches(Mesh* mesh, std::vector<int>* original) {
+  // Most meshes have no pinch: the mesh's own boundary halfedges tell, without a copy.
+  std::vector<int> open_fans(mesh->n_vertices(), 0);
+  bool pinched = false;
+  for (auto h : mesh->halfedges())
+    if (mesh->is_boundary(h)) pinched |= ++open_fans[mesh->from_vertex_handle(h).idx()] > 1;
+  if (!pinched) {
+    if (original) {
+      original->resize(mesh->n_vertices());
+      std::iota(original->begin(), original->end(), 0);
+    }
+    return 0;
+  }
   std::vector<Mesh::Point> points;
   std::vector<Mesh::Color> colors;
   std::vector<std::array<int, 3>> triangles;
   mesh_soup(*mesh, &points, &colors, &triangles);
   const size_t before = triangles.size();
-  const int removed = open_pinched_fans(points, &triangles);
-  if (removed == 0) {
-    if (original) {
-      original->resize(points.size());
-      std::iota(original->begin(), original->end(), 0);
-    }
-    return 0;
-  }
+  open_pinched_fans(points, &triangles);
   MeshRepairOptions options;
   options.keep_largest_component = true;
   options.check_duplicates = false;

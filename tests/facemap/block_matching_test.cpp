@@ -30,23 +30,21 @@ TEST(BlockMatching, FindsAPureShift) {
   EXPECT_EQ(same->mean_mse_mm2, 0.0);
 }
 
-// A plane z = 0 sampled with a pixel pitch of `pitch_x` mm across (and 1 mm down), moved by
-// `dz` mm along z in the rows below `moving_from`: a layout that stretches the same surface over
-// more pixels.
-GeometryImage stepped_plane(float pitch_x, int moving_from, float dz) {
+// A plane z = 0 sampled 1 mm apart, moved by `dz` mm along z in the rows from `moving_from` on.
+GeometryImage stepped_plane(int moving_from, float dz) {
   GeometryImage g;
   g.xyz_mm = cv::Mat(32, 64, CV_32FC3);
   g.domain_mask = cv::Mat(32, 64, CV_8U, cv::Scalar(255));
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 64; ++x)
-      g.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(pitch_x * x, y, y >= moving_from ? dz : 0.0f);
+      g.xyz_mm.at<cv::Vec3f>(y, x) = cv::Vec3f(x, y, y >= moving_from ? dz : 0.0f);
   return g;
 }
 
 TEST(BlockMatching, AreaWeightingCountsSurfaceNotPixels) {
   // The lower half moves 1 mm out of the plane: no displacement within the image can match it,
   // so it keeps an error of 1 mm^2 in Z, a third of the mean over X, Y, Z.
-  const auto even = block_matching_error(stepped_plane(1, 16, 0), stepped_plane(1, 16, 1));
+  const auto even = block_matching_error(stepped_plane(16, 0), stepped_plane(16, 1));
   ASSERT_TRUE(even.is_ok());
   EXPECT_NEAR(even->mean_mse_mm2, 0.5 / 3, 1e-6);
   // (The step's own row samples a slanted strip, a little more area: hence the tolerance.)
@@ -56,7 +54,7 @@ TEST(BlockMatching, AreaWeightingCountsSurfaceNotPixels) {
   // the plain MSE triples its moving share, the error per area stays.
   GeometryImage still, moved;
   for (auto* g : {&still, &moved}) {
-    *g = stepped_plane(1, 8, g == &moved ? 1.0f : 0.0f);
+    *g = stepped_plane(8, g == &moved ? 1.0f : 0.0f);
     for (int y = 0; y < 32; ++y)
       for (int x = 0; x < 64; ++x)
         g->xyz_mm.at<cv::Vec3f>(y, x)[1] = y < 8 ? 2.0f * y : 16 + (y - 8) * 2.0f / 3;

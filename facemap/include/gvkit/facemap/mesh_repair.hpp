@@ -74,9 +74,9 @@ int open_pinched_fans(const std::vector<Mesh::Point>& points,
 // itself or another loop at one vertex; OpenMesh traces such loops as separate ones and the
 // Euler count misses the vertex, so a pinched mesh can pass for a genus-0 surface with the
 // expected loops) keeps its fan of largest area and loses the triangles of the others
-// (open_pinched_fans), then only the largest component is kept. Returns the number of triangles
-// removed; *original (optional) receives, per vertex of the result, its index in the input.
-// Colours are kept when present.
+// (open_pinched_fans), then only the largest component is kept; a mesh without pinches is left
+// as it is. Returns the number of triangles removed; *original (optional) receives, per vertex of
+// the result, its index in the input. Colours are kept when present.
 int open_boundary_pinches(Mesh* mesh, std::vector<int>* original = nullptr);
 
 }  // namespace gvkit::facemap
