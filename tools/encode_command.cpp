@@ -196,6 +196,7 @@ void run_encode(const EncodeArgs& args) {
         {"deblocking", options.deblocking},
         {"temporal_contexts", options.temporal_contexts},
         {"compact_segments", options.compact_segments},
+        {"compact_packets", options.compact_packets},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -323,6 +324,10 @@ void add_encode_command(CLI::App& app) {
                 "Write each plane segment's size as a varint and none for the last segment "
                 "(format 1.9; on by default); --no-compact-segments writes u32 sizes (the 1.8 "
                 "payload)");
+  cmd->add_flag("--compact-packets,!--no-compact-packets", args->options.compact_packets,
+                "Write the compact packet header (13-21 bytes instead of 24) and end every plane "
+                "segment with the fewest bytes (format 1.10; on by default); with the other 1.9 "
+                "options --no-compact-packets writes the 1.9 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -47,6 +47,23 @@ std::string CabacEncoder::finish() {
   return out;
 }
 
+std::string CabacEncoder::finish_unterminated() {
+  // The final interval is [low_, low_ + range_) with range_ >= 256 and low_ + range_ <= 1024 (the
+  // renormalization keeps both), so it holds a multiple of 256: take 512 when it lies inside,
+  // else that multiple. Its bits 9 and 8 are written (bit 9 resolving the outstanding bits); the
+  // decoder, whose 9-bit offset reaches 8 bits further, reads those as zeros past the end.
+  const uint32_t v = low_ <= 512 && low_ + range_ > 512 ? 512 : (low_ + 255) / 256 * 256;
+  put_bit((v >> 9) & 1);
+  write_bit((v >> 8) & 1);
+  const auto decoder_bits = static_cast<size_t>(bits_written()) + 8;  // where CabacDecoder stops
+  while (bit_count_ != 0) write_bit(0);
+  while (!bytes_.empty() && bytes_.back() == 0 && (bytes_.size() - 1) * 8 + 16 >= decoder_bits)
+    bytes_.pop_back();
+  std::string out = std::move(bytes_);
+  *this = CabacEncoder();
+  return out;
+}
+
 void CabacEncoder::renormalize() {
   while (range_ < 256) {
     if (low_ < 256) {

@@ -151,6 +151,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
         std::to_string(std::sqrt(3.0) * 0.5 * info.step_mm()) + " mm); raise --bit-depth");
   const std::vector<SamplePlane> planes = quantize_geometry(image, info);
   format::PacketHeader header;
+  header.compact = options.compact_packets;  // format 1.10
   const bool bidirectional = reference1 != nullptr;
   header.type = bidirectional
                     ? format::FrameType::kBidirectional
@@ -249,7 +250,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;
       p.skip_check = options.skip_check;
-      if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
+      p.end_of_plane_bin = !options.compact_packets;  // format 1.10
+      if (p.subpel) p.subpel = options.subpel;        // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;
       // Multiple references: this plane of references 1 .. ref_count - 1 (value prediction
       // maps reference 0 only).
@@ -354,9 +356,9 @@ Result<int> packet_reference_count(std::string_view packet) {
   if (header.type == format::FrameType::kIntra) return 0;
   if (header.type == format::FrameType::kBidirectional) return 2;
   if (!(header.flags2 & format::kFrame2MultiRef)) return 1;
-  if (packet.size() - format::kPacketHeaderSize < header.payload_size)
+  if (packet.size() - header.header_size < header.payload_size)
     return corrupt_data("payload truncated");
-  ByteReader r(packet.substr(format::kPacketHeaderSize, header.payload_size));
+  ByteReader r(packet.substr(header.header_size, header.payload_size));
   r.u8();  // plane count and payload flags
   if (header.flags & format::kFrameNearLossless) r.u16();
   if (header.flags & format::kFrameValuePrediction) {
@@ -376,9 +378,9 @@ Result<GeometryImage> decode_frame_packet(
     const std::vector<SamplePlane>* reference1,
     const std::vector<const std::vector<SamplePlane>*>* older) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
-  if (packet.size() - format::kPacketHeaderSize < header.payload_size)
+  if (packet.size() - header.header_size < header.payload_size)
     return corrupt_data("payload truncated");
-  const std::string_view payload = packet.substr(format::kPacketHeaderSize, header.payload_size);
+  const std::string_view payload = packet.substr(header.header_size, header.payload_size);
   if (crc32(payload.data(), payload.size()) != header.payload_crc)
     return corrupt_data("payload CRC mismatch");
   if (header.type != format::FrameType::kIntra && header.type != format::FrameType::kPredicted &&
@@ -522,8 +524,9 @@ Result<GeometryImage> decode_frame_packet(
     const uint64_t size = !compact ? r.u32() : (i + 1 < plane_count ? r.varint() : r.remaining());
     const std::string_view bytes = r.bytes(size);
     if (!r.ok()) return corrupt_data(name + ": segment size exceeds the payload");
-    const PlaneCodingParams params =
+    PlaneCodingParams params =
         plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
+    params.end_of_plane_bin = !header.compact;  // format 1.10
     const CrossPlaneLinks links = plane_links(i, cross_plane, cross_contexts,
                                               temporal ? reference : nullptr, &x_residual, states);
     auto plane =

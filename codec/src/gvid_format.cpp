@@ -5,6 +5,7 @@
 
 #include "gvkit/codec/byte_io.hpp"
 #include "gvkit/codec/crc32.hpp"
+#include "gvkit/codec/crc8.hpp"
 
 namespace gvkit::codec::format {
 namespace {
@@ -96,6 +97,18 @@ Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_siz
 
 std::string write_packet_header(const PacketHeader& h) {
   ByteWriter w;
+  if (h.compact) {  // format 1.10
+    w.bytes(std::string_view(kCompactPacketMagic, 2));
+    w.u8(static_cast<uint8_t>(h.type));
+    w.u8(h.flags);
+    w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
+    w.u8(h.flags2);
+    w.varint(h.frame_number);
+    w.varint(h.payload_size);
+    w.u32(h.payload_crc);
+    w.u8(crc8(w.str()));
+    return w.take();
+  }
   w.bytes(std::string_view(kPacketMagic, 4));
   w.u8(static_cast<uint8_t>(h.type));
   w.u8(h.flags);
@@ -108,11 +121,38 @@ std::string write_packet_header(const PacketHeader& h) {
   return w.take();
 }
 
+bool starts_with_packet_magic(std::string_view bytes) {
+  return magic_is(bytes, kPacketMagic) ||
+         (bytes.size() >= 2 && std::memcmp(bytes.data(), kCompactPacketMagic, 2) == 0);
+}
+
 Result<PacketHeader> read_packet_header(std::string_view bytes) {
+  PacketHeader h;
+  if (bytes.size() >= 2 && std::memcmp(bytes.data(), kCompactPacketMagic, 2) == 0) {
+    // Format 1.10, the compact header: varints of at most 5 bytes (values below 2^32).
+    const std::string_view fields = bytes.substr(2, kCompactPacketHeaderMaxSize - 2);
+    ByteReader r(fields);
+    h.compact = true;
+    h.type = static_cast<FrameType>(r.u8());
+    h.flags = r.u8();
+    h.qp = static_cast<int8_t>(r.u8());
+    h.flags2 = r.u8();
+    const uint64_t number = r.varint(), size = r.varint();
+    h.payload_crc = r.u32();
+    const size_t crc_at = 2 + (fields.size() - r.remaining());  // bytes the CRC-8 covers
+    const uint8_t header_crc = r.u8();
+    if (!r.ok()) return corrupt_data("packet header truncated");
+    if (number > UINT32_MAX || size > UINT32_MAX)
+      return corrupt_data("packet header: frame number or payload size out of range");
+    if (crc8(bytes.data(), crc_at) != header_crc) return corrupt_data("packet header CRC mismatch");
+    h.frame_number = static_cast<uint32_t>(number);
+    h.payload_size = static_cast<uint32_t>(size);
+    h.header_size = static_cast<uint32_t>(crc_at + 1);
+    return h;
+  }
   if (bytes.size() < kPacketHeaderSize) return corrupt_data("packet header truncated");
   if (!magic_is(bytes, kPacketMagic)) return corrupt_data("packet magic 'GVFR' missing");
   ByteReader r(bytes.substr(4));
-  PacketHeader h;
   h.type = static_cast<FrameType>(r.u8());
   h.flags = r.u8();
   h.qp = static_cast<int8_t>(r.u8());
@@ -135,7 +175,8 @@ std::string write_index(const std::vector<IndexEntry>& entries, uint64_t index_o
     w.u32(e.frame_number);
     w.u32(e.payload_size);
     w.u8(static_cast<uint8_t>(e.type));
-    w.u8(0);
+    // Format 1.10: the packet header's size when it is not the full header's 24 (else 0).
+    w.u8(e.header_size == kPacketHeaderSize ? 0 : e.header_size);
     w.u16(0);
   }
   w.u32(crc32(w.str()));
@@ -169,10 +210,15 @@ Result<std::vector<IndexEntry>> read_index(std::string_view file, size_t header_
     e.frame_number = r.u32();
     e.payload_size = r.u32();
     e.type = static_cast<FrameType>(r.u8());
-    r.u8();
+    const uint8_t header_size = r.u8();
     r.u16();
+    if (header_size != 0 &&
+        (header_size < kCompactPacketHeaderMinSize || header_size > kCompactPacketHeaderMaxSize))
+      return corrupt_data("index: packet header size " + std::to_string(header_size) +
+                          " out of range");
+    e.header_size = header_size == 0 ? kPacketHeaderSize : header_size;
     if (e.offset != expected) return corrupt_data("index: entry offsets not contiguous");
-    expected = e.offset + kPacketHeaderSize + e.payload_size;
+    expected = e.offset + e.packet_size();
     if (expected > offset) return corrupt_data("index: entry beyond the packets");
   }
   *index_offset = offset;

@@ -1,8 +1,8 @@
 #include "gvkit/codec/gvid_reader.hpp"
 
 #include <algorithm>
-#include <cstring>
 
+#include "gvkit/codec/crc32.hpp"
 #include "gvkit/core/atomic_file.hpp"
 
 namespace gvkit::codec {
@@ -38,27 +38,39 @@ Result<std::unique_ptr<GvidReader>> GvidReader::open_memory(std::string bytes, s
 
 // Finds packets from the end of the header on: a valid packet header (magic + CRC) whose payload
 // fits is taken whole; anything else advances the search by one byte, so a damaged packet header
-// loses that packet only.
+// loses that packet only. A compact header (format 1.10) has only a CRC-8 behind its 2-byte
+// magic, so it counts as a packet only when its payload's CRC-32 matches too or when it ends
+// where something a stream holds begins (another valid packet header, the index, the end): a
+// compact packet with a damaged payload is still found, and its frame reports the damage.
 void GvidReader::scan_packets(size_t end) {
+  const auto boundary_at = [&](size_t at) {
+    if (at == end) return true;
+    const std::string_view next = std::string_view(bytes_).substr(at, end - at);
+    return (next.size() >= 4 && next.substr(0, 4) == std::string_view(format::kIndexMagic, 4)) ||
+           format::read_packet_header(next).is_ok();
+  };
   size_t pos = header_size_;
-  while (pos + format::kPacketHeaderSize <= end) {
-    if (std::memcmp(bytes_.data() + pos, format::kPacketMagic, 4) != 0) {
-      const void* next =
-          std::memchr(bytes_.data() + pos + 1, format::kPacketMagic[0], end - pos - 1);
-      if (!next) break;
-      pos = static_cast<size_t>(static_cast<const char*>(next) - bytes_.data());
+  while (pos + format::kCompactPacketHeaderMinSize <= end) {
+    const std::string_view rest = std::string_view(bytes_).substr(pos, end - pos);
+    if (!format::starts_with_packet_magic(rest)) {
+      ++pos;
       continue;
     }
-    auto header =
-        format::read_packet_header(std::string_view(bytes_).substr(pos, format::kPacketHeaderSize));
-    if (header.is_ok() && header->payload_size <= end - pos - format::kPacketHeaderSize) {
+    auto header = format::read_packet_header(rest);
+    bool found = header.is_ok() && header->payload_size <= rest.size() - header->header_size;
+    if (found && header->compact)
+      found =
+          crc32(rest.substr(header->header_size, header->payload_size)) == header->payload_crc ||
+          boundary_at(pos + header->header_size + header->payload_size);
+    if (found) {
       format::IndexEntry e;
       e.offset = pos;
       e.frame_number = header->frame_number;
       e.payload_size = header->payload_size;
+      e.header_size = static_cast<uint8_t>(header->header_size);
       e.type = header->type;
       index_.push_back(e);
-      pos += format::kPacketHeaderSize + header->payload_size;
+      pos += e.packet_size();
     } else {
       ++pos;
     }
@@ -106,8 +118,7 @@ Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* re
   for (const Decoded* d : older) older_planes.push_back(&d->planes);
   const format::IndexEntry& e = entry(index);
   const std::string_view packet = std::string_view(bytes_).substr(
-      e.offset,
-      std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset));
+      e.offset, std::min<uint64_t>(e.packet_size(), bytes_.size() - e.offset));
   return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
                              ref1 ? &ref1->planes : nullptr,
                              older_planes.empty() ? nullptr : &older_planes);
@@ -127,8 +138,8 @@ Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
   const auto references_of = [&](int64_t j) {
     const format::IndexEntry& e = entry(j);
     if (e.type == format::FrameType::kIntra) return 0;
-    auto header = format::read_packet_header(
-        std::string_view(bytes_).substr(e.offset, format::kPacketHeaderSize));
+    auto header =
+        format::read_packet_header(std::string_view(bytes_).substr(e.offset, e.header_size));
     return header.is_ok() && (header->flags2 & format::kFrame2MultiRef)
                ? format::kMaxReferenceFrames
                : 1;
@@ -206,8 +217,7 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
 int GvidReader::frame_references(int64_t index) const {
   const format::IndexEntry& e = entry(index);
   auto refs = packet_reference_count(std::string_view(bytes_).substr(
-      e.offset,
-      std::min<uint64_t>(format::kPacketHeaderSize + e.payload_size, bytes_.size() - e.offset)));
+      e.offset, std::min<uint64_t>(e.packet_size(), bytes_.size() - e.offset)));
   return refs.is_ok() ? *refs : -1;
 }
 
@@ -217,9 +227,7 @@ Result<format::PacketHeader> GvidReader::packet_header(int64_t index) const {
 
 int64_t GvidReader::frame_bits(int64_t index) const {
   if (index < 0 || index >= frame_count()) return 0;
-  return (static_cast<int64_t>(entry(index).payload_size) +
-          static_cast<int64_t>(format::kPacketHeaderSize)) *
-         8;
+  return static_cast<int64_t>(entry(index).packet_size()) * 8;
 }
 
 }  // namespace gvkit::codec

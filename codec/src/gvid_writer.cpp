@@ -8,6 +8,23 @@
 namespace gvkit::codec {
 namespace fs = std::filesystem;
 
+namespace {
+
+// The index entry of a packet the encoder wrote, at `offset` in the file.
+format::IndexEntry index_entry(const SequenceFrame& frame, uint64_t offset) {
+  const auto header = format::read_packet_header(frame.packet);
+  GVKIT_CHECK(header.is_ok(), "the encoder wrote a packet header it cannot read");
+  format::IndexEntry entry;
+  entry.offset = offset;
+  entry.frame_number = frame.number;
+  entry.payload_size = header->payload_size;
+  entry.header_size = static_cast<uint8_t>(header->header_size);
+  entry.type = frame.type;
+  return entry;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
                                                        const SequenceInfo& info,
                                                        const EncoderOptions& options) {
@@ -52,12 +69,7 @@ Result<std::vector<GeometryImage>> GvidWriter::append(std::vector<SequenceFrame>
     out_.write(f.packet.data(), static_cast<std::streamsize>(f.packet.size()));
     if (!out_)
       return io_error(path_.string() + ": write failed at frame " + std::to_string(f.number));
-    format::IndexEntry entry;
-    entry.offset = offset_;
-    entry.frame_number = f.number;
-    entry.payload_size = static_cast<uint32_t>(f.packet.size() - format::kPacketHeaderSize);
-    entry.type = f.type;
-    index_.push_back(entry);
+    index_.push_back(index_entry(f, offset_));
     offset_ += f.packet.size();
     const size_t n = f.number;
     if (frame_bytes_.size() <= n) {
@@ -155,12 +167,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
   const auto append = [&](std::vector<SequenceFrame> coded) {
     for (SequenceFrame& f : coded) {
       if (frame_stats) (*frame_stats)[f.number] = std::move(f.stats);
-      format::IndexEntry entry;
-      entry.type = f.type;
-      entry.offset = out.size();
-      entry.frame_number = f.number;
-      entry.payload_size = static_cast<uint32_t>(f.packet.size() - format::kPacketHeaderSize);
-      index.push_back(entry);
+      index.push_back(index_entry(f, out.size()));
       out += f.packet;
     }
   };
@@ -175,6 +182,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
+  if (options.compact_packets) return format::kMinorVersionCompactPackets;  // 1.10
   if (options.temporal_contexts && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionTemporalContexts;  // 1.9: P and B frames inherit contexts
   if (options.compact_segments) return format::kMinorVersionCompactSegments;            // 1.9

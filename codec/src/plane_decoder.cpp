@@ -557,7 +557,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
       if (residual_out)
         record_macroblock_residual(*residual_out, mb_x, mb_y, mb, params, cross_source);
     }
-  if (!decoder.decode_terminate() || decoder.overrun())
+  if ((params.end_of_plane_bin && !decoder.decode_terminate()) || decoder.overrun())
     return corrupt_data("end of plane marker missing (CABAC data inconsistent)");
   deblock_coded_plane(plane, st, params);  // format 1.8
   if (reference && motion_out) st.export_motion(*motion_out);

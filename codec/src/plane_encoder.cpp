@@ -1322,8 +1322,12 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         ++result.stats.partition_mbs[mb.partition];  // format 1.7
     }
   deblock_coded_plane(result.reconstruction, st, params);  // format 1.8
-  encoder.encode_terminate(1);
-  result.bytes = encoder.finish();
+  if (params.end_of_plane_bin) {
+    encoder.encode_terminate(1);
+    result.bytes = encoder.finish();
+  } else {
+    result.bytes = encoder.finish_unterminated();  // format 1.10
+  }
   if (reference && !reference1) st.export_motion(result.motion);
   if (cross && cross->contexts_out) export_context_states(ctx, *cross->contexts_out);  // 1.7
   return result;

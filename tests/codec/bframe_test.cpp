@@ -72,9 +72,9 @@ std::string_view packet_of(const std::string& bytes, GvidReader& reader, int64_t
     GVKIT_CHECK(h.is_ok());
     if (static_cast<int64_t>(h->frame_number) == display) {
       *offset = pos;
-      return std::string_view(bytes).substr(pos, format::kPacketHeaderSize + h->payload_size);
+      return std::string_view(bytes).substr(pos, h->header_size + h->payload_size);
     }
-    pos += format::kPacketHeaderSize + h->payload_size;
+    pos += h->header_size + h->payload_size;
   }
 }
 
@@ -100,6 +100,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     o.deblocking = false;         // (syntax before the format 1.8 filter)
     o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     o.compact_segments = false;   // (nor the 1.9 segment sizes)
+    o.compact_packets = false;    // (nor the 1.10 packet headers)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
@@ -118,6 +119,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
+        o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
@@ -359,7 +361,7 @@ TEST(BFrames, BadBSyntaxIsRejectedWithAMessage) {
     auto h = format::read_packet_header(packet);
     ASSERT_TRUE(h.is_ok());
     h->flags |= format::kFrameTdPrediction;
-    packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+    packet.replace(0, h->header_size, format::write_packet_header(*h));
     auto p_planes = decode_frame_packet(b_packet, info, 1, &i_planes, nullptr, &i_planes);
     ASSERT_TRUE(p_planes.is_ok()) << p_planes.status().message();
     auto flagged = decode_frame_packet(packet, info, 1, &i_planes, nullptr, &i_planes);
@@ -391,10 +393,12 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   fast.deblocking = false;         // (syntax before the format 1.8 filter)
   fast.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   fast.compact_segments = false;   // (nor the 1.9 segment sizes)
+  fast.compact_packets = false;    // (nor the 1.10 packet headers)
   fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;         // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   slow.compact_segments = false;   // (nor the 1.9 segment sizes)
+  slow.compact_packets = false;    // (nor the 1.10 packet headers)
   slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

@@ -55,6 +55,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
+      o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -68,6 +69,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   shared.deblocking = false;         // (syntax before the format 1.8 filter)
   shared.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   shared.compact_segments = false;   // (nor the 1.9 segment sizes)
+  shared.compact_packets = false;    // (nor the 1.10 packet headers)
   shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
@@ -82,6 +84,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.cross_plane_contexts = true;
   lossless.temporal_contexts = false;  // format 1.9 off
   lossless.compact_segments = false;   // (nor the 1.9 segment sizes)
+  lossless.compact_packets = false;    // (nor the 1.10 packet headers)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -92,6 +95,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.deblocking = false;         // (syntax before the format 1.8 filter)
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
+  intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -183,6 +187,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -216,6 +221,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;

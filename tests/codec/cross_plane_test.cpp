@@ -148,6 +148,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
+      o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
@@ -164,6 +165,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.cross_plane_contexts = false;  // format 1.7 off
   lossless.temporal_contexts = false;     // format 1.9 off
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
+  lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -175,6 +177,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.deblocking = false;         // (syntax before the format 1.8 filter)
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
+  intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -222,6 +225,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -251,7 +255,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
     auto h = format::read_packet_header(std::string_view(*on).substr(pos));
     ASSERT_TRUE(h.is_ok());
     EXPECT_EQ(h->flags2 & format::kFrame2CrossPlane, format::kFrame2CrossPlane);
-    pos += format::kPacketHeaderSize + h->payload_size;
+    pos += h->header_size + h->payload_size;
   }
 }
 
@@ -262,6 +266,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -343,6 +348,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
+        o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
@@ -365,6 +371,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.cross_plane_contexts = false;  // format 1.7 off
   lossless.temporal_contexts = false;     // format 1.9 off
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
+  lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

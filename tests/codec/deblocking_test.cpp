@@ -129,6 +129,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
       EncoderOptions o;
       o.temporal_contexts = false;  // the 1.8 streams (format 1.9: temporal_contexts_test)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
+      o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -139,6 +140,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
   EncoderOptions eight;
   eight.temporal_contexts = false;
   eight.compact_segments = false;  // (nor the 1.9 segment sizes)
+  eight.compact_packets = false;   // (nor the 1.10 packet headers)
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -161,6 +163,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
     EncoderOptions on;
     on.temporal_contexts = false;
     on.compact_segments = false;  // (nor the 1.9 segment sizes)
+    on.compact_packets = false;   // (nor the 1.10 packet headers)
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;
@@ -201,7 +204,7 @@ TEST(Deblocking, RejectsTheFlagInALosslessFrameAndMissingParameters) {
   const size_t header = GvidReader::open_memory(stream, "x.gvid").value()->header_bytes();
   const std::string packet = testing::first_packet(stream, header);
   const auto flags2 =
-      static_cast<uint8_t>(static_cast<uint8_t>(packet[7]) | format::kFrame2Deblocking);
+      static_cast<uint8_t>(format::read_packet_header(packet)->flags2 | format::kFrame2Deblocking);
   auto bad = decode_frame_packet(testing::with_flags2(packet, flags2), info, 0);
   ASSERT_FALSE(bad.is_ok());
   EXPECT_NE(bad.status().message().find("deblocking in a lossless frame"), std::string::npos)
@@ -214,7 +217,7 @@ TEST(Deblocking, RejectsTheFlagInALosslessFrameAndMissingParameters) {
   const std::string lossy_packet = testing::first_packet(
       lossy_stream, GvidReader::open_memory(lossy_stream, "x.gvid").value()->header_bytes());
   // Payload: plane count, max transform, then the deblocking bytes; keep the first two only.
-  const std::string payload = lossy_packet.substr(format::kPacketHeaderSize, 2);
+  const std::string payload = testing::packet_payload(lossy_packet).substr(0, 2);
   auto truncated = decode_frame_packet(testing::with_payload(lossy_packet, payload), info, 0);
   ASSERT_FALSE(truncated.is_ok());
   EXPECT_NE(truncated.status().message().find("deblocking parameters missing"), std::string::npos)

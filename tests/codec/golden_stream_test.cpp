@@ -102,6 +102,7 @@ std::vector<GoldenCase> cases() {
     o->deblocking = false;
     o->temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     o->compact_segments = false;   // (nor the 1.9 segment sizes)
+    o->compact_packets = false;    // (nor the 1.10 packet headers)
     o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
@@ -113,6 +114,7 @@ std::vector<GoldenCase> cases() {
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast}) {
     o->temporal_contexts = false;
     o->compact_segments = false;  // (nor the 1.9 segment sizes)
+    o->compact_packets = false;   // (nor the 1.10 packet headers)
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

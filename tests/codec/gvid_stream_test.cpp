@@ -258,6 +258,11 @@ TEST(GvidStream, PFramesAreLosslessToo) {
   }
 }
 
+// The offset of the payload of the packet at `packet` in `bytes`.
+size_t payload_at(const std::string& bytes, size_t packet) {
+  return packet + format::read_packet_header(std::string_view(bytes).substr(packet))->header_size;
+}
+
 TEST(GvidStream, CorruptPFrameCostsFramesUpToTheNextIntraFrame) {
   const auto frames = small_video(4);
   EncoderOptions options;
@@ -270,7 +275,7 @@ TEST(GvidStream, CorruptPFrameCostsFramesUpToTheNextIntraFrame) {
   ASSERT_TRUE(clean);
   const size_t frame1 = static_cast<size_t>(clean->header_bytes() + clean->frame_bits(0) / 8);
   std::string bad = *bytes;
-  bad[frame1 + format::kPacketHeaderSize + 5] ^= 0x10;
+  bad[payload_at(bad, frame1) + 5] ^= 0x10;
   auto reader = open_bytes(bad);
   ASSERT_TRUE(reader);
   auto f1 = reader->decode_frame(1);
@@ -284,7 +289,7 @@ TEST(GvidStream, CorruptPFrameCostsFramesUpToTheNextIntraFrame) {
   bad = *bytes;
   auto clean2 = open_bytes(*bytes);
   const size_t frame1b = static_cast<size_t>(clean2->header_bytes() + clean2->frame_bits(0) / 8);
-  bad[frame1b + format::kPacketHeaderSize + 5] ^= 0x10;
+  bad[payload_at(bad, frame1b) + 5] ^= 0x10;
   auto reader2 = open_bytes(bad);
   auto f3 = reader2->decode_frame(3);
   ASSERT_FALSE(f3.is_ok());
@@ -312,7 +317,7 @@ TEST(GvidStream, CorruptAnchorFailsTheFramesThatReferenceIt) {
   EXPECT_EQ(clean->frame_references(5), 2);
   const size_t frame1 = static_cast<size_t>(clean->header_bytes() + clean->frame_bits(0) / 8);
   std::string bad = *bytes;
-  bad[frame1 + format::kPacketHeaderSize + 5] ^= 0x10;
+  bad[payload_at(bad, frame1) + 5] ^= 0x10;
   auto reader = open_bytes(bad);
   ASSERT_TRUE(reader);
   auto f2 = reader->decode_frame(2);
@@ -348,7 +353,7 @@ class DamagedStream : public ::testing::Test {
 TEST_F(DamagedStream, CorruptPayloadCostsThatFrameOnly) {
   std::string bad = bytes_;
   const size_t frame1 = header_size_ + frame_bytes_;
-  bad[frame1 + format::kPacketHeaderSize + 10] ^= 0x40;
+  bad[payload_at(bad, frame1) + 10] ^= 0x40;
   auto reader = open_bytes(bad);
   ASSERT_TRUE(reader);
   auto f1 = reader->decode_frame(1);

@@ -290,6 +290,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.deblocking = false;         // (syntax before the format 1.8 filter)
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
+      o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -355,6 +356,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
@@ -391,6 +393,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;
@@ -413,7 +416,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
     g.payload_crc = crc32(payload);
     return format::write_packet_header(g) + payload;
   };
-  std::string payload = packet.substr(format::kPacketHeaderSize);
+  std::string payload = packet.substr(h->header_size);
   ASSERT_EQ(static_cast<uint8_t>(payload[1]), 16);
   for (const uint8_t bad : {0, 4, 9, 32}) {
     std::string p = payload;

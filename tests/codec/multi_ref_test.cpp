@@ -170,6 +170,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -200,7 +201,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
                "ref_count 2 names more reference frames than the 1 anchor frames since the last "
                "intra frame");
   // The payload: plane count, then ref_count (no other optional fields in this frame).
-  const std::string payload = p2->packet.substr(format::kPacketHeaderSize);
+  const std::string payload = testing::packet_payload(p2->packet);
   for (int bad : {0, 1, 6, 255}) {
     std::string p = payload;
     p[1] = static_cast<char>(bad);
@@ -217,7 +218,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   ASSERT_TRUE(header.is_ok());
   header->flags2 = format::kFrame2MultiRef;
   auto r = decode_frame_packet(
-      format::write_packet_header(*header) + i0->packet.substr(format::kPacketHeaderSize), info, 0);
+      format::write_packet_header(*header) + i0->packet.substr(header->header_size), info, 0);
   ASSERT_FALSE(r.is_ok());
   EXPECT_NE(r.status().message().find("multiple reference frames in an intra frame"),
             std::string::npos)
@@ -240,6 +241,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -268,6 +270,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   automatic.deblocking = false;         // (syntax before the format 1.8 filter)
   automatic.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   automatic.compact_segments = false;   // (nor the 1.9 segment sizes)
+  automatic.compact_packets = false;    // (nor the 1.10 packet headers)
   automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
@@ -279,6 +282,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     b.deblocking = false;         // (syntax before the format 1.8 filter)
     b.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     b.compact_segments = false;   // (nor the 1.9 segment sizes)
+    b.compact_packets = false;    // (nor the 1.10 packet headers)
     b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
@@ -328,6 +332,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.deblocking = false;         // nor the deblocking filter of 1.8
     c->options.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     c->options.compact_segments = false;   // (nor the 1.9 segment sizes)
+    c->options.compact_packets = false;    // (nor the 1.10 packet headers)
     c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

@@ -115,6 +115,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         o.deblocking = false;         // (syntax before the format 1.8 filter)
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
+        o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
@@ -158,6 +159,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -197,6 +199,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -288,7 +291,8 @@ std::string with_header(const std::string& packet, uint8_t flags2) {
   auto header = format::read_packet_header(packet);
   GVKIT_CHECK(header.is_ok());
   header->flags2 = flags2;
-  return format::write_packet_header(*header) + packet.substr(format::kPacketHeaderSize);
+  const size_t old_size = header->header_size;
+  return format::write_packet_header(*header) + packet.substr(old_size);
 }
 
 TEST(Partitions, CorruptSyntaxIsRejected) {
@@ -298,6 +302,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   o.deblocking = false;         // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
+  o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;

@@ -59,7 +59,7 @@ void expect_decoder_matches(const Coded& c, const SequenceInfo& info, const std:
   std::vector<SamplePlane> reference;
   for (size_t i = 0; i < c.packets.size(); ++i) {
     std::vector<SamplePlane> planes;
-    const bool intra = static_cast<format::FrameType>(c.packets[i][4]) == format::FrameType::kIntra;
+    const bool intra = format::read_packet_header(c.packets[i])->type == format::FrameType::kIntra;
     auto image = decode_frame_packet(c.packets[i], info, static_cast<int64_t>(i),
                                      intra ? nullptr : &reference, &planes);
     ASSERT_TRUE(image.is_ok()) << what << " frame " << i << ": " << image.status().message();
@@ -73,7 +73,9 @@ void expect_decoder_matches(const Coded& c, const SequenceInfo& info, const std:
 
 // A packet with its header replaced (CRC recomputed), payload unchanged.
 std::string with_header(const std::string& packet, const format::PacketHeader& header) {
-  return format::write_packet_header(header) + packet.substr(format::kPacketHeaderSize);
+  const auto old = format::read_packet_header(packet);
+  GVKIT_CHECK(old.is_ok());
+  return format::write_packet_header(header) + packet.substr(old->header_size);
 }
 
 TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
@@ -117,6 +119,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
+  o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -155,6 +158,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
+  o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -185,7 +189,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   // Truncated payload: the header's size no longer fits.
   expect_error(c.packets[1].substr(0, c.packets[1].size() - 5), &c.recon[0], "truncated");
   // A truncated segment with a consistent header: the CABAC data ends early or is inconsistent.
-  std::string payload = c.packets[1].substr(format::kPacketHeaderSize);
+  std::string payload = c.packets[1].substr(format::read_packet_header(c.packets[1])->header_size);
   const uint32_t x_size = static_cast<uint8_t>(payload[1]) | static_cast<uint8_t>(payload[2]) << 8 |
                           static_cast<uint8_t>(payload[3]) << 16;
   const size_t y_at = 1 + 4 + x_size;  // the Y segment's size field
@@ -210,6 +214,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   o.deblocking = false;            // (syntax before the format 1.8 filter)
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
+  o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

@@ -184,6 +184,7 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   o.cross_plane_contexts = false;  // format 1.7 off
   o.temporal_contexts = false;     // format 1.9 off
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
+  o.compact_packets = false;       // (nor the 1.10 packet headers)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)
@@ -218,9 +219,10 @@ TEST(SubpelMotion, QuarterSampleFlagInAnIntraFrameIsCorrupt) {
   ASSERT_TRUE(format::read_file_header(*bytes, &header_size).is_ok());
   std::string damaged = *bytes;
   // Set flag bit 7 in the I frame's packet header and make its header CRC right again.
-  damaged[header_size + 5] = static_cast<char>(damaged[header_size + 5] | 0x80);
-  const uint32_t crc = crc32(damaged.data() + header_size, 20);
-  for (int i = 0; i < 4; ++i) damaged[header_size + 20 + i] = static_cast<char>(crc >> (8 * i));
+  auto packet = format::read_packet_header(std::string_view(damaged).substr(header_size));
+  ASSERT_TRUE(packet.is_ok());
+  packet->flags |= format::kFrameQuarterPel;
+  damaged.replace(header_size, packet->header_size, format::write_packet_header(*packet));
   auto reader = GvidReader::open_memory(damaged, "flag.gvid");
   ASSERT_TRUE(reader.is_ok()) << reader.status().message();
   auto frame = (*reader)->decode_frame(0);

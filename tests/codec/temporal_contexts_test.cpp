@@ -23,9 +23,10 @@
 namespace gvkit::codec {
 namespace {
 
-// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 9.
+// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 10 (the
+// default options: compact packets too).
 void expect_temporal_in_inter_frames(const std::string& stream) {
-  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionTemporalContexts);
+  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionCompactPackets);
   auto reader = GvidReader::open_memory(stream, "x.gvid").value();
   int inter = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -107,6 +108,7 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EncoderOptions on;
       on.qp = qp;
       on.preset = preset;
+      on.compact_packets = false;  // the 1.9 stream
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
@@ -142,6 +144,7 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.intra_rdo = false;  // (the fast preset's I frames were decided by SATD then)
   o.temporal_contexts = false;
   o.compact_segments = false;
+  o.compact_packets = false;  // (nor the 1.10 packet headers)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");
@@ -158,7 +161,9 @@ TEST(TemporalContexts, RejectsTheFlagWhereItCannotApply) {
   ASSERT_TRUE(i0.is_ok());
   auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);
   ASSERT_TRUE(p1.is_ok());
-  const auto flags2 = [](const std::string& packet) { return static_cast<uint8_t>(packet[7]); };
+  const auto flags2 = [](const std::string& packet) {
+    return format::read_packet_header(packet).value().flags2;
+  };
   ASSERT_NE(flags2(p1->packet) & format::kFrame2TemporalContexts, 0);
   ASSERT_EQ(flags2(i0->packet) & format::kFrame2TemporalContexts, 0);
   EXPECT_TRUE(decode_frame_packet(p1->packet, info, 1, &i0->planes).is_ok());

@@ -10,17 +10,27 @@ namespace gvkit::testing {
 
 namespace format = codec::format;
 
+size_t packet_header_size(std::string_view packet) {
+  auto h = format::read_packet_header(packet);
+  GVKIT_CHECK(h.is_ok());
+  return h->header_size;
+}
+
+std::string packet_payload(const std::string& packet) {
+  return packet.substr(packet_header_size(packet));
+}
+
 std::string first_packet(const std::string& stream, size_t header_bytes) {
   auto h = format::read_packet_header(std::string_view(stream).substr(header_bytes));
   GVKIT_CHECK(h.is_ok());
-  return stream.substr(header_bytes, format::kPacketHeaderSize + h->payload_size);
+  return stream.substr(header_bytes, h->header_size + h->payload_size);
 }
 
 std::string with_flags2(std::string packet, uint8_t flags2) {
   auto h = format::read_packet_header(packet);
   GVKIT_CHECK(h.is_ok());
   h->flags2 = flags2;
-  packet.replace(0, format::kPacketHeaderSize, format::write_packet_header(*h));
+  packet.replace(0, h->header_size, format::write_packet_header(*h));
   return packet;
 }
 
@@ -33,12 +43,12 @@ std::string with_payload(const std::string& packet, std::string payload) {
 }
 
 std::string damage_payload(std::string packet, std::mt19937& rng, int flips, size_t keep) {
-  const size_t payload = packet.size() - format::kPacketHeaderSize;
+  const size_t header = packet_header_size(packet);
+  const size_t payload = packet.size() - header;
   GVKIT_CHECK(keep < payload);
   for (int k = 0; k < flips; ++k)
-    packet[format::kPacketHeaderSize + keep + rng() % (payload - keep)] ^=
-        static_cast<char>(1 << (rng() % 8));
-  return with_payload(packet, packet.substr(format::kPacketHeaderSize));
+    packet[header + keep + rng() % (payload - keep)] ^= static_cast<char>(1 << (rng() % 8));
+  return with_payload(packet, packet.substr(header));
 }
 
 }  // namespace gvkit::testing

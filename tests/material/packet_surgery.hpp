@@ -8,8 +8,14 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <string_view>
 
 namespace gvkit::testing {
+
+// The length of `packet`'s header (24 full, 13-21 compact), and its payload. Contract: a
+// readable packet header.
+size_t packet_header_size(std::string_view packet);
+std::string packet_payload(const std::string& packet);
 
 // The first frame packet (header + payload) of `stream`, whose file header and index take
 // `header_bytes`. Contract: a stream with a readable packet there.

@@ -109,7 +109,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments");
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -124,10 +124,10 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
-  auto plain = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-      " --no-cross-plane-contexts --no-deblock --no-temporal-contexts --no-compact-segments");
+  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
+                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
+                         "--no-compact-segments --no-compact-packets");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -167,9 +167,10 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   write_frames(dir / "in", 3);
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-temporal-contexts --no-compact-segments" +
-                         (on ? "" : " --no-deblock"));
+    auto enc =
+        run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                  " --qp 12 --no-temporal-contexts --no-compact-segments --no-compact-packets" +
+                  (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -216,7 +217,8 @@ TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   write_frames(dir / "in", 3);
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 12 --no-compact-packets" +
                          (on ? "" : " --no-temporal-contexts --no-compact-segments"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -239,7 +241,7 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
-                       "--no-compact-segments");  // on by default
+                       "--no-compact-segments --no-compact-packets");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -256,7 +258,7 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
   auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments");
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -272,7 +274,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments");
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -289,7 +291,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // On by default in the slow preset: the same stream.
   auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                             " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
-                            "--no-compact-segments");
+                            "--no-compact-segments --no-compact-packets");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -299,7 +301,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
     auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                            " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
-                           "--no-temporal-contexts --no-compact-segments" +
+                           "--no-temporal-contexts --no-compact-segments --no-compact-packets" +
                            args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);

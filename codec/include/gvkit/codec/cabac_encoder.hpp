@@ -18,6 +18,12 @@ class CabacEncoder {
   void encode_terminate(int bin);
   // Flushes the coder (after a terminating 1) and returns the bytes; the encoder is then reset.
   std::string finish();
+  // Flushes the coder after its last bin, with no terminating bin (format 1.10), in the fewest
+  // bytes: the value of the final interval with the most trailing zeros, its trailing zero bytes
+  // dropped as long as CabacDecoder, which reads zeros past the end, stays within its 16-bit
+  // allowance (CabacDecoder::overrun). About a byte less than encode_terminate(1) + finish(); a
+  // segment may become empty. The decoder must know where the bins end. The encoder is reset.
+  std::string finish_unterminated();
   // Bits written so far (approximate: excludes outstanding bits and the flush).
   int64_t bits_written() const { return static_cast<int64_t>(bytes_.size()) * 8 + bit_count_; }
 

@@ -156,6 +156,13 @@ struct EncoderOptions {
   // default: on the ICT face -1.17 % BD-rate fast, -1.18 % slow at the same PSNR
   // (docs/benchmarks.md, format 1.9); false writes u32 sizes (the 1.8 payload).
   bool compact_segments = true;
+  // Compact packets (format 1.10, docs/bitstream.md 2): each frame's packet header is the
+  // compact one (13-21 bytes, typically 14-15: varint frame number and payload size, CRC-8 of
+  // the header; the payload keeps its CRC-32) instead of the full 24 bytes, and each plane
+  // segment ends with the fewest bytes its CABAC termination needs (the decoder reads zeros past
+  // a segment's end; docs/bitstream.md 5). On by default; false writes the 1.9 stream of the
+  // other options byte for byte.
+  bool compact_packets = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

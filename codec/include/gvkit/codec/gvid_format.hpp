@@ -15,6 +15,8 @@ namespace gvkit::codec::format {
 
 inline constexpr char kFileMagic[4] = {'G', 'V', 'I', 'D'};
 inline constexpr char kPacketMagic[4] = {'G', 'V', 'F', 'R'};
+// Format 1.10: the compact packet header starts with these two bytes instead of `GVFR`.
+inline constexpr char kCompactPacketMagic[2] = {'g', 'v'};
 inline constexpr char kIndexMagic[4] = {'G', 'V', 'I', 'X'};
 inline constexpr char kTrailerMagic[4] = {'G', 'V', 'I', 'E'};
 inline constexpr uint8_t kMajorVersion = 1;
@@ -39,6 +41,8 @@ inline constexpr uint8_t kMinorVersionDeblocking = 8;
 // segment sizes (the payload's first byte, bit 4; docs/bitstream.md 2.1).
 inline constexpr uint8_t kMinorVersionTemporalContexts = 9;
 inline constexpr uint8_t kMinorVersionCompactSegments = 9;
+// Format 1.10: a stream with compact packet headers (docs/bitstream.md 2).
+inline constexpr uint8_t kMinorVersionCompactPackets = 10;
 
 // The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
 enum PayloadFlag : uint8_t {
@@ -49,7 +53,11 @@ enum PayloadFlag : uint8_t {
   kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments,  // every bit a reader understands
 };
 
+// The full packet header (`GVFR`, every version); the compact one (format 1.10, `gv`) is 13 to
+// 21 bytes: its frame number and payload size are varints.
 inline constexpr size_t kPacketHeaderSize = 24;
+inline constexpr size_t kCompactPacketHeaderMinSize = 13;
+inline constexpr size_t kCompactPacketHeaderMaxSize = 21;
 inline constexpr size_t kIndexEntrySize = 20;
 inline constexpr size_t kTrailerSize = 12;
 inline constexpr int kMaxDimension = 16384;
@@ -97,6 +105,11 @@ struct PacketHeader {
   uint32_t frame_number = 0;
   uint32_t payload_size = 0;
   uint32_t payload_crc = 0;
+  // Written: the compact header (format 1.10) instead of the full one. Read: which one it was.
+  bool compact = false;
+  // Read: the header's length in bytes (kPacketHeaderSize, or 13..21 when compact); the payload
+  // follows it.
+  uint32_t header_size = kPacketHeaderSize;
 };
 
 struct IndexEntry {
@@ -104,6 +117,9 @@ struct IndexEntry {
   uint32_t frame_number = 0;
   uint32_t payload_size = 0;
   FrameType type = FrameType::kIntra;
+  uint8_t header_size = kPacketHeaderSize;  // of the packet header, bytes (format 1.10)
+  // The packet's length: header and payload, bytes.
+  uint64_t packet_size() const { return uint64_t{header_size} + payload_size; }
 };
 
 // File header: magic, version (1.minor_version), sequence fields, domain mask, CRC.
@@ -112,9 +128,13 @@ std::string write_file_header(const SequenceInfo& info, uint8_t minor_version = 
 // Fails naming the field that is missing, out of range or inconsistent.
 Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_size);
 
+// The full header, or with header.compact the compact one (format 1.10).
 std::string write_packet_header(const PacketHeader& header);
-// Parses a packet header (kPacketHeaderSize bytes); checks magic and header CRC only.
+// Parses the packet header at the start of bytes, full (`GVFR`) or compact (`gv`, format 1.10);
+// checks magic and header CRC only. header_size in the result says where the payload starts.
 Result<PacketHeader> read_packet_header(std::string_view bytes);
+// Whether bytes start with either packet magic (full `GVFR`, compact `gv`).
+bool starts_with_packet_magic(std::string_view bytes);
 
 // Index block followed by the trailer (which holds the index's offset).
 std::string write_index(const std::vector<IndexEntry>& entries, uint64_t index_offset);

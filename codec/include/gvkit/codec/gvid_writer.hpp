@@ -93,9 +93,11 @@ Result<EncodedFrame> encode_sequence_frame(
     const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
     ReferenceInterpolationCache* cache = nullptr);
 
-// The minor version a stream with these options is written as: 6 when P frames may use several
-// reference frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a
-// stream without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
+// The minor version a stream with these options is written as: 10 with compact packet headers
+// (the default), else that of the newest tool the options turn on (docs/bitstream.md 1): 9 with
+// temporal contexts or compact segment sizes, ..., 6 when P frames may use several reference
+// frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a stream
+// without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
 uint8_t stream_minor_version(const EncoderOptions& options);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;

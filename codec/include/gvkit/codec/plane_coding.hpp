@@ -70,6 +70,11 @@ struct PlaneCodingParams {
   // those of the lowest SATD-based costs (0 = every mode).
   int intra_rdo_shortlist = 0;
   int search_range = 4;  // encoder only: full-search motion range (samples) of P planes
+  // The segment ends with H.264's end-of-slice bin (a terminating 1) and flush. false (format
+  // 1.10, segments of compact packets): it ends after the last macroblock's bins with the
+  // shortest flush (CabacEncoder::finish_unterminated), about a byte less; the decoder knows the
+  // macroblock count and checks only that it did not read past the data's allowance.
+  bool end_of_plane_bin = true;
 };
 
 // A plane of samples in [0, 2^bit_depth - 1], row-major.
