@@ -197,6 +197,7 @@ void run_encode(const EncodeArgs& args) {
         {"temporal_contexts", options.temporal_contexts},
         {"compact_segments", options.compact_segments},
         {"compact_packets", options.compact_packets},
+        {"merge_skip", options.merge_skip},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -328,6 +329,10 @@ void add_encode_command(CLI::App& app) {
                 "Write the compact packet header (13-21 bytes instead of 24) and end every plane "
                 "segment with the fewest bytes (format 1.10; on by default); with the other 1.9 "
                 "options --no-compact-packets writes the 1.9 stream");
+  cmd->add_flag("--merge-skip,!--no-merge-skip", args->options.merge_skip,
+                "P frames: a skip macroblock may take its left, top or top-right neighbour's "
+                "vector, coding which in one or two bins (format 1.11; on by default); "
+                "--no-merge-skip writes the 1.10 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -30,6 +30,8 @@ namespace gvkit::codec::detail {
 enum MbType : uint8_t { kMbI4x4 = 0, kMbI8x8 = 1, kMbI16x16 = 2, kMbInter = 3 };
 
 constexpr int kMaxMotion = 64;  // |motion vector component| in samples
+// Format 1.11 (merge skip): the most vectors a skip macroblock may take besides the predictor.
+constexpr int kMergeCandidates = 2;
 // Exp-Golomb escape of a motion vector difference: at most this many leading ones (whole-sample
 // differences reach 128, quarter-sample ones 512).
 inline int max_mvd_escape(bool quarter_pel) { return quarter_pel ? 10 : 8; }
@@ -67,6 +69,8 @@ struct ContextSet {
   CabacContext cross_sign[1];
   // Format 1.7, inter partitions: the partition type bins (partition_syntax.hpp).
   CabacContext partition[kPartitionContexts];
+  // Format 1.11, merge skip (P planes): merge_idx as truncated unary, bin k in context k.
+  CabacContext merge_idx[kMergeCandidates];
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -157,6 +161,7 @@ struct PlaneState {
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
   std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
+  bool merge_skip = false;  // format 1.11, P planes: a skip may take a neighbour's vector
   // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
   // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
   bool bidirectional = false;
@@ -270,6 +275,33 @@ struct PlaneState {
     else if (top >= 0)
       take(x, y - 1);
   }
+  // Format 1.11 (merge skip, docs/bitstream.md 4.14): the vectors a skip macroblock of a P plane
+  // may take besides the predictor (px, py) of reference 0: those of the left, top and top-right
+  // (top-left where the top-right one is outside the plane) macroblocks, in that order, that are
+  // inter on reference 0 (a partitioned one: its first partition's) and differ from the
+  // predictor and from the ones taken before; at most kMergeCandidates. Returns their count.
+  int merge_candidates(int mb_x, int mb_y, int px, int py, int cand[][2]) const {
+    int n = 0;
+    const auto take = [&](int x, int y) {
+      if (n == kMergeCandidates || x < 0 || y < 0 || x >= mbs_x) return;
+      const size_t i = static_cast<size_t>(y) * mbs_x + x;
+      if (mb_type[i] != kMbInter || ref_idx[i] != 0) return;
+      const int mx = mv_x[i], my = mv_y[i];
+      if (mx == px && my == py) return;
+      for (int k = 0; k < n; ++k)
+        if (cand[k][0] == mx && cand[k][1] == my) return;
+      cand[n][0] = mx;
+      cand[n][1] = my;
+      ++n;
+    };
+    take(mb_x - 1, mb_y);
+    take(mb_x, mb_y - 1);
+    if (mb_y > 0 && mb_x + 1 < mbs_x)
+      take(mb_x + 1, mb_y - 1);
+    else
+      take(mb_x - 1, mb_y - 1);
+    return n;
+  }
   // B planes: the predictor of the list's vector, the left macroblock's if it uses the list,
   // else the top one's if it does, else zero.
   void mv_predictor_list(int list, int mb_x, int mb_y, int* px, int* py) const {
@@ -318,7 +350,10 @@ struct MacroblockData {
   // 16: cbp is 0 or 15, one block) and the 16x16 block's levels.
   int transform = 4;
   int32_t levels16[256] = {};
-  bool skip = false;       // inter: motion = predictor, no residual
+  bool skip = false;  // inter: motion = predictor, no residual
+  // Format 1.11 (merge skip), P planes: a skip's vector, 0 = the predictor, k = merge candidate
+  // k - 1 (PlaneState::merge_candidates).
+  int merge_idx = 0;
   bool td = false;         // inter: temporal-difference prediction with modes[0..15]
   bool shared = false;     // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;  // inter: motion vector (samples, or quarter samples)
@@ -574,6 +609,15 @@ void write_intra_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int m
   write_cbp_and_4x4_residuals(coder, ctx, st, mb_x, mb_y, mb, params);
 }
 
+// Format 1.11: merge_idx (0..n) as truncated unary, bin k in contexts[k]; nothing when n = 0.
+template <class Coder>
+void write_merge_idx(Coder& coder, CabacContext* contexts, int idx, int n) {
+  for (int k = 0; k < n; ++k) {
+    coder.encode(contexts[k], idx > k);
+    if (idx <= k) return;
+  }
+}
+
 // Writes one macroblock of a B plane (format 1.5): skip (direct, no residual), else is_inter;
 // an inter macroblock then codes direct / bi / L0 / L1, the vector differences of the lists it
 // uses (not for direct) and its residual.
@@ -723,6 +767,16 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
         py = st.colocated->mv_y[mb_index];
       } else {
         st.mv_predictor(mb_x, mb_y, &px, &py, ref);
+      }
+      if (mb.skip && !shared && st.merge_skip) {  // format 1.11: the skip's vector
+        int cand[kMergeCandidates][2];
+        const int n = st.merge_candidates(mb_x, mb_y, px, py, cand);
+        GVKIT_CHECK(mb.merge_idx >= 0 && mb.merge_idx <= n, "merge index without its candidate");
+        write_merge_idx(coder, ctx.merge_idx, mb.merge_idx, n);
+        if (mb.merge_idx > 0) {
+          px = cand[mb.merge_idx - 1][0];
+          py = cand[mb.merge_idx - 1][1];
+        }
       }
       if (!mb.skip && !shared) {
         write_mvd(coder, ctx, 0, mb.mv_x - px);

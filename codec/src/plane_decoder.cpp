@@ -62,6 +62,16 @@ class MacroblockReader {
         } else {
           st_.mv_predictor(mb_x, mb_y, &px, &py, mb.ref_idx);
         }
+        mb.merge_idx = 0;
+        if (mb.skip && !mb.shared && st_.merge_skip) {  // format 1.11: the skip's vector
+          int cand[kMergeCandidates][2];
+          const int n = st_.merge_candidates(mb_x, mb_y, px, py, cand);
+          while (mb.merge_idx < n && dec_.decode(ctx_.merge_idx[mb.merge_idx])) ++mb.merge_idx;
+          if (mb.merge_idx > 0) {
+            px = cand[mb.merge_idx - 1][0];
+            py = cand[mb.merge_idx - 1][1];
+          }
+        }
         mb.mv_x = px;
         mb.mv_y = py;
         if (!mb.skip && !mb.shared) {
@@ -519,6 +529,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
+  st.merge_skip = params.merge_skip && reference && !reference1;              // format 1.11
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");

@@ -39,7 +39,7 @@ constexpr double kRdoqLambdaScale = 0.5;
 // An inter candidate at a given vector instead of the motion search's (kGiven: a vector and
 // reference found before: another reference's search, format 1.6, or the candidate coded again
 // with a cross-plane scale).
-enum class Forced { kNone, kShared, kPredictor, kGiven };
+enum class Forced { kNone, kShared, kPredictor, kGiven, kMerge };
 
 class MacroblockEncoder {
  public:
@@ -124,6 +124,14 @@ class MacroblockEncoder {
     const auto skip_found = [&] { return !p_.rdo && best.mb.skip; };
     if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, Forced::kShared);
     if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
+    // Format 1.11, merge skip: the neighbours' vectors a skip may take, each as a candidate.
+    if (ref_ && st_.merge_skip && !skip_found()) {
+      int px, py;
+      st_.mv_predictor(mb_x, mb_y, &px, &py, 0);
+      const int n = st_.merge_candidates(mb_x, mb_y, px, py, merge_cand_);
+      for (merge_k_ = 1; merge_k_ <= n && !skip_found(); ++merge_k_)
+        consider(kMbInter, false, Forced::kMerge);
+    }
     if (ref_ && !(p_.skip_check && skip_found())) {
       consider(kMbInter);
       own_[0] = {mv_x_, mv_y_, whole_mv_x_, whole_mv_y_, last_cost_};
@@ -345,10 +353,12 @@ class MacroblockEncoder {
     if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0 && mb.partition == kPart16x16) {
       int px, py;
       st_.mv_predictor(mb_x_, mb_y_, &px, &py);
-      // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7).
-      mb.skip = st_.bidirectional
-                    ? mb.b_pred == kBDirect
-                    : mb.shared || (mb.ref_idx == 0 && mb.mv_x == px && mb.mv_y == py);
+      // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7) or, with
+      // merge skip (1.11), at a neighbour's vector.
+      const int idx =
+          st_.bidirectional || mb.shared ? -1 : skip_index(mb.mv_x, mb.mv_y, mb.ref_idx);
+      mb.skip = st_.bidirectional ? mb.b_pred == kBDirect : mb.shared || idx >= 0;
+      mb.merge_idx = std::max(idx, 0);
     }
   }
   // ---- end of larger transforms ----
@@ -555,6 +565,10 @@ class MacroblockEncoder {
       best_x = px;
       best_y = py;
       whole_mv_x_ = whole_mv_y_ = 0;
+    } else if (forced == Forced::kMerge) {  // format 1.11: merge candidate merge_k_ - 1
+      best_x = merge_cand_[merge_k_ - 1][0];
+      best_y = merge_cand_[merge_k_ - 1][1];
+      whole_mv_x_ = whole_mv_y_ = 0;
     } else {
       const MotionSearchResult found = search_reference(0, px, py);
       best_x = found.mv_x;
@@ -578,11 +592,30 @@ class MacroblockEncoder {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
       code_i16_residual(mb, pred, trial, true);
     }
-    mb.skip =
-        mb.cbp == 0 && alpha_ == 0 && (mb.shared || (ref == 0 && best_x == px && best_y == py));
-    if (mb.skip) cost -= (p_.rdo ? lambda_ : lambda_sad_) * (mv_bits + 2);
+    const int idx = mb.cbp == 0 && alpha_ == 0 && !mb.shared ? skip_index(best_x, best_y, ref) : -1;
+    mb.skip = mb.cbp == 0 && alpha_ == 0 && (mb.shared || idx >= 0);
+    mb.merge_idx = std::max(idx, 0);
+    // A skip codes no vector (a merge skip its index instead: about idx + 1 bins).
+    if (mb.skip)
+      cost -= (p_.rdo ? lambda_ : lambda_sad_) *
+              (mv_bits + 2 - (mb.merge_idx > 0 ? mb.merge_idx + 1 : 0));
     last_cost_ = cost;
     return cost;
+  }
+
+  // Format 1.11: how a P macroblock at vector (mx, my) on reference `ref` without residual is
+  // coded as a skip: 0 at the predictor, k at merge candidate k - 1 (merge skip), -1 not at all.
+  int skip_index(int mx, int my, int ref) const {
+    if (ref != 0) return -1;
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, 0);
+    if (mx == px && my == py) return 0;
+    if (!st_.merge_skip) return -1;
+    int cand[kMergeCandidates][2];
+    const int n = st_.merge_candidates(mb_x_, mb_y_, px, py, cand);
+    for (int k = 0; k < n; ++k)
+      if (cand[k][0] == mx && cand[k][1] == my) return k + 1;
+    return -1;
   }
 
   // ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
@@ -1215,7 +1248,11 @@ class MacroblockEncoder {
     double cost = std::numeric_limits<double>::infinity();
   };
   std::array<Searched, 5> own_;
-  Searched given_;     // the vector a Forced::kGiven candidate takes
+  Searched given_;  // the vector a Forced::kGiven candidate takes
+  // Format 1.11, merge skip: the macroblock's merge candidates and the one a Forced::kMerge
+  // candidate takes (1-based).
+  int merge_cand_[kMergeCandidates][2] = {};
+  int merge_k_ = 0;
   int given_ref_ = 0;  // ... and its reference
   int cur_ref_ = 0;    // reference of the inter candidate (reused by try_td)
   double last_cost_ = 0;
@@ -1258,6 +1295,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
+  st.merge_skip = params.merge_skip && reference && !reference1;              // format 1.11
   GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
                               reference1->height == plane.height));
   if (reference && shared) {

@@ -107,9 +107,10 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
+  auto enc = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge-skip");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -127,7 +128,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                          " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
                          " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
-                         "--no-compact-segments --no-compact-packets");
+                         "--no-compact-segments --no-compact-packets --no-merge-skip");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -167,10 +168,10 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   write_frames(dir / "in", 3);
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc =
-        run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                  " --qp 12 --no-temporal-contexts --no-compact-segments --no-compact-packets" +
-                  (on ? "" : " --no-deblock"));
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 12 --no-temporal-contexts --no-compact-segments "
+                         "--no-compact-packets --no-merge-skip" +
+                         (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -220,8 +221,8 @@ TEST(CliCodec, CompactPacketsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   int64_t sizes[2] = {0, 0};
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12" +
-                         (on ? "" : " --no-compact-packets"));
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 12 --no-merge-skip" + (on ? "" : " --no-compact-packets"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -232,9 +233,7 @@ TEST(CliCodec, CompactPacketsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
     sizes[on] = static_cast<int64_t>(bytes->size());
     auto info = run_gvkit("info " + gvid);
     ASSERT_EQ(info.exit_code, 0) << info.output;
-    EXPECT_EQ(contains(info.output, "deblocking  compact-packet"),
-              on)
-        << info.output;
+    EXPECT_EQ(contains(info.output, "deblocking  compact-packet"), on) << info.output;
     const auto out = dir / (on ? "on" : "off");
     auto dec = run_gvkit("decode " + gvid + " -o " + out.string());
     ASSERT_EQ(dec.exit_code, 0) << dec.output;
@@ -254,7 +253,7 @@ TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-compact-packets" +
+                         " --qp 12 --no-compact-packets --no-merge-skip" +
                          (on ? "" : " --no-temporal-contexts --no-compact-segments"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -275,9 +274,10 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
-                       "--no-compact-segments --no-compact-packets");  // on by default
+  auto enc =
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
+                "--no-compact-segments --no-compact-packets --no-merge-skip");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -292,9 +292,10 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
-  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
+  auto off = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge-skip");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -308,9 +309,10 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets");
+  auto enc = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
+      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge-skip");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -327,7 +329,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // On by default in the slow preset: the same stream.
   auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                             " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
-                            "--no-compact-segments --no-compact-packets");
+                            "--no-compact-segments --no-compact-packets --no-merge-skip");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -335,10 +337,11 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
   // preset codes 16x16 only.
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
-    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
-                           "--no-temporal-contexts --no-compact-segments --no-compact-packets" +
-                           args);
+    auto plain = run_gvkit(
+        "encode " + (dir / "in").string() + " -o " + gvid +
+        " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
+        "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge-skip" +
+        args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);
     ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
