@@ -43,6 +43,7 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   j["inter_mbs"] = s.inter_mbs;
   j["td_mbs"] = s.td_mbs;
   j["skip_mbs"] = s.skip_mbs;
+  j["merge_skip_mbs"] = s.merge_skip_mbs;
   int64_t cross = 0;
   for (int64_t n : s.cross_scale_mbs) cross += n;
   if (cross > 0) {  // format 1.6: macroblocks per cross-plane scale -8, -4, .., 8

@@ -184,7 +184,7 @@ void describe_gvid(const fs::path& path) {
       if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
       if (h->flags2 & codec::format::kFrame2Deblocking) tools += "  deblocking";  // format 1.8
       if (h->flags2 & codec::format::kFrame2TemporalContexts)
-        tools += "  temporal-contexts";  // 1.9
+        tools += "  temporal-contexts";             // 1.9
       if (h->compact) tools += "  compact-packet";  // 1.10
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted

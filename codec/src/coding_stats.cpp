@@ -20,6 +20,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   inter_mbs += other.inter_mbs;
   td_mbs += other.td_mbs;
   skip_mbs += other.skip_mbs;
+  merge_skip_mbs += other.merge_skip_mbs;
   transform8_mbs += other.transform8_mbs;
   transform16_mbs += other.transform16_mbs;
   for (int i = 0; i < 9; ++i) cross_scale_mbs[i] += other.cross_scale_mbs[i];

@@ -1350,9 +1350,10 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         ++(mb.transform == 16 ? result.stats.transform16_mbs : result.stats.transform8_mbs);
       if (mb.type != kMbInter)
         ++result.stats.intra_mbs;
-      else if (mb.skip)
+      else if (mb.skip) {
         ++result.stats.skip_mbs;
-      else if (mb.td)
+        if (mb.merge_idx > 0) ++result.stats.merge_skip_mbs;  // format 1.11
+      } else if (mb.td)
         ++result.stats.td_mbs;
       else
         ++result.stats.inter_mbs;

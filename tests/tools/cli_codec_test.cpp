@@ -211,6 +211,27 @@ TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
   EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
 }
 
+// Merge skip (format 1.11): on by default, in the stats (option and the skips it made); with
+// --no-merge-skip a version 1.10 stream; both decode.
+TEST(CliCodec, MergeSkipIsAnOptionInTheStatsAndBothStreamsDecode) {
+  TempDir dir;
+  write_frames(dir / "in", 4);
+  for (const bool on : {true, false}) {
+    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
+    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 12 --bframes 0" + (on ? "" : " --no-merge-skip"));
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["merge_skip"], on);
+    auto bytes = read_file(gvid);
+    ASSERT_TRUE(bytes.is_ok());
+    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 11 : 10);
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  }
+}
+
 // Compact packets (format 1.10): on by default, in the stats and in `gvkit info` on every frame;
 // --no-compact-packets writes a version 1.9 stream of larger packets; both decode to the same
 // frames.

@@ -28,10 +28,11 @@ struct PlaneCodingStats {
   // probability in the context state it was coded with; 1 per bypass bin). They add up to the
   // segment size within the coder's flush (a few bytes per segment).
   double bits[kSyntaxGroupCount] = {};
-  int64_t intra_mbs = 0;  // I4x4, I8x8, I16x16
-  int64_t inter_mbs = 0;  // inter, not skip, not TD
-  int64_t td_mbs = 0;     // inter with temporal-difference prediction
-  int64_t skip_mbs = 0;   // inter skip
+  int64_t intra_mbs = 0;       // I4x4, I8x8, I16x16
+  int64_t inter_mbs = 0;       // inter, not skip, not TD
+  int64_t td_mbs = 0;          // inter with temporal-difference prediction
+  int64_t skip_mbs = 0;        // inter skip
+  int64_t merge_skip_mbs = 0;  // format 1.11: skips at a neighbour's vector (of skip_mbs)
   // Format 1.6 (larger transforms): inter and I16x16 macroblocks coded with 8x8 / 16x16.
   int64_t transform8_mbs = 0, transform16_mbs = 0;
   // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,
