@@ -44,6 +44,7 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   j["td_mbs"] = s.td_mbs;
   j["skip_mbs"] = s.skip_mbs;
   j["merge_skip_mbs"] = s.merge_skip_mbs;
+  j["merged_mbs"] = s.merged_mbs;
   int64_t cross = 0;
   for (int64_t n : s.cross_scale_mbs) cross += n;
   if (cross > 0) {  // format 1.6: macroblocks per cross-plane scale -8, -4, .., 8
@@ -198,7 +199,7 @@ void run_encode(const EncodeArgs& args) {
         {"temporal_contexts", options.temporal_contexts},
         {"compact_segments", options.compact_segments},
         {"compact_packets", options.compact_packets},
-        {"merge_skip", options.merge_skip},
+        {"merge", options.merge},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -330,10 +331,10 @@ void add_encode_command(CLI::App& app) {
                 "Write the compact packet header (13-21 bytes instead of 24) and end every plane "
                 "segment with the fewest bytes (format 1.10; on by default); with the other 1.9 "
                 "options --no-compact-packets writes the 1.9 stream");
-  cmd->add_flag("--merge-skip,!--no-merge-skip", args->options.merge_skip,
-                "P frames: a skip macroblock may take its left, top or top-right neighbour's "
-                "vector, coding which in one or two bins (format 1.11; on by default); "
-                "--no-merge-skip writes the 1.10 stream");
+  cmd->add_flag("--merge,!--no-merge", args->options.merge,
+                "P frames: a skip or 16x16 inter macroblock may take its left, top or top-right "
+                "neighbour's vector, coding which in one or two bins (format 1.11; on by "
+                "default); --no-merge writes the 1.10 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

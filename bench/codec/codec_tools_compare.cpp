@@ -20,7 +20,7 @@
 //                             [--deblock-tc N]] [--intra-rdo-only]
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 //                            [--compact-segments-only] [--compact-packets-only]
-//                            [--merge-skip-only]
+//                            [--merge-only]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -43,7 +43,7 @@
 // ignores the option); --temporal-contexts-only: format 1.9 temporal contexts off / on in both
 // presets (or the one of --temporal-contexts-preset); --compact-segments-only: format 1.9 compact
 // segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
-// off / on in both presets; --merge-skip-only: format 1.11 merge skip off / on in both presets;
+// off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
 // --write-streams DIR: also write every stream
 // of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark)
 #include <time.h>
@@ -898,7 +898,7 @@ int main(int argc, char** argv) {
       compact_only = true;
     else if (a == "--compact-packets-only")
       packets_only = true;
-    else if (a == "--merge-skip-only")
+    else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
@@ -950,7 +950,7 @@ int main(int argc, char** argv) {
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
-          "[--compact-segments-only] [--compact-packets-only] [--merge-skip-only] "
+          "[--compact-segments-only] [--compact-packets-only] [--merge-only] "
           "[--write-streams DIR]\n");
       return 2;
     }
@@ -1045,8 +1045,8 @@ int main(int argc, char** argv) {
     return on_off(refs_presets, "--deblock", "--no-deblock",
                   [](EncoderOptions& o, bool on) { o.deblocking = on; });
   if (merge_only)
-    return on_off(refs_presets, "--merge-skip", "--no-merge-skip",
-                  [](EncoderOptions& o, bool on) { o.merge_skip = on; });
+    return on_off(refs_presets, "--merge", "--no-merge",
+                  [](EncoderOptions& o, bool on) { o.merge = on; });
   if (packets_only)
     return on_off(refs_presets, "--compact-packets", "--no-compact-packets",
                   [](EncoderOptions& o, bool on) { o.compact_packets = on; });

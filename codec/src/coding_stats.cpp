@@ -21,6 +21,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   td_mbs += other.td_mbs;
   skip_mbs += other.skip_mbs;
   merge_skip_mbs += other.merge_skip_mbs;
+  merged_mbs += other.merged_mbs;
   transform8_mbs += other.transform8_mbs;
   transform16_mbs += other.transform16_mbs;
   for (int i = 0; i < 9; ++i) cross_scale_mbs[i] += other.cross_scale_mbs[i];

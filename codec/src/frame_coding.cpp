@@ -35,7 +35,7 @@ struct FrameSyntax {
   bool partitions = false;  // format 1.7: P frames with flags2 bit 5
   bool deblocking = false;  // format 1.8: flags2 bit 6
   DeblockingParams deblock;
-  bool merge_skip = false;  // format 1.11: the payload's first byte, bit 5
+  bool merge = false;  // format 1.11: the payload's first byte, bit 5
 };
 
 // What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X and with the
@@ -80,7 +80,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.partitions = syntax.partitions;
   p.deblocking = syntax.deblocking;  // format 1.8
   p.deblock = syntax.deblock;
-  p.merge_skip = syntax.merge_skip;  // format 1.11
+  p.merge = syntax.merge;  // format 1.11
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -197,8 +197,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     header.flags2 |= format::kFrame2Partitions;
     syntax.partitions = true;
   }
-  syntax.merge_skip = p_frame && options.merge_skip;  // format 1.11
-  if (options.deblocking && !bypass) {                // format 1.8
+  syntax.merge = p_frame && options.merge;  // format 1.11
+  if (options.deblocking && !bypass) {      // format 1.8
     header.flags2 |= format::kFrame2Deblocking;
     syntax.deblocking = true;
     syntax.deblock = options.deblock;
@@ -323,7 +323,7 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   ByteWriter payload;
   payload.u8(static_cast<uint8_t>(planes.size() |
                                   (options.compact_segments ? format::kPayloadCompactSegments : 0) |
-                                  (syntax.merge_skip ? format::kPayloadMergeSkip : 0)));
+                                  (syntax.merge ? format::kPayloadMerge : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
@@ -448,9 +448,9 @@ Result<GeometryImage> decode_frame_packet(
                         std::to_string(expected) + ")");
   FrameSyntax syntax;
   syntax.partitions = (header.flags2 & format::kFrame2Partitions) != 0;  // format 1.7
-  syntax.merge_skip = (planes_byte & format::kPayloadMergeSkip) != 0;    // format 1.11
-  if (syntax.merge_skip && header.type != format::FrameType::kPredicted)
-    return corrupt_data("payload flags: merge skip outside a P frame");
+  syntax.merge = (planes_byte & format::kPayloadMerge) != 0;             // format 1.11
+  if (syntax.merge && header.type != format::FrameType::kPredicted)
+    return corrupt_data("payload flags: merge outside a P frame");
   if (header.flags & format::kFrameNearLossless) {
     syntax.near_lossless = r.u16();
     if (!r.ok() || syntax.near_lossless == 0)

@@ -182,8 +182,8 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
-  if (options.merge_skip && !options.intra_only && options.intra_period >= 2)
-    return format::kMinorVersionMergeSkip;                                  // 1.11: P frames
+  if (options.merge && !options.intra_only && options.intra_period >= 2)
+    return format::kMinorVersionMerge;                                      // 1.11: P frames
   if (options.compact_packets) return format::kMinorVersionCompactPackets;  // 1.10
   if (options.temporal_contexts && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionTemporalContexts;  // 1.9: P and B frames inherit contexts

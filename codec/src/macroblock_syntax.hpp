@@ -30,7 +30,7 @@ namespace gvkit::codec::detail {
 enum MbType : uint8_t { kMbI4x4 = 0, kMbI8x8 = 1, kMbI16x16 = 2, kMbInter = 3 };
 
 constexpr int kMaxMotion = 64;  // |motion vector component| in samples
-// Format 1.11 (merge skip): the most vectors a skip macroblock may take besides the predictor.
+// Format 1.11 (merge): the most candidate vectors a P macroblock may take besides the predictor.
 constexpr int kMergeCandidates = 2;
 // Exp-Golomb escape of a motion vector difference: at most this many leading ones (whole-sample
 // differences reach 128, quarter-sample ones 512).
@@ -69,8 +69,10 @@ struct ContextSet {
   CabacContext cross_sign[1];
   // Format 1.7, inter partitions: the partition type bins (partition_syntax.hpp).
   CabacContext partition[kPartitionContexts];
-  // Format 1.11, merge skip (P planes): merge_idx as truncated unary, bin k in context k.
+  // Format 1.11, merge (P planes): merge_idx of a skip (0: the predictor) and of another 16x16
+  // inter macroblock (0: not merged) as truncated unary, bin k in context k.
   CabacContext merge_idx[kMergeCandidates];
+  CabacContext merge_inter[kMergeCandidates];
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -161,7 +163,7 @@ struct PlaneState {
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
   std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
-  bool merge_skip = false;  // format 1.11, P planes: a skip may take a neighbour's vector
+  bool merge = false;  // format 1.11, P planes: a macroblock may take a neighbour's vector
   // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
   // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
   bool bidirectional = false;
@@ -275,10 +277,10 @@ struct PlaneState {
     else if (top >= 0)
       take(x, y - 1);
   }
-  // Format 1.11 (merge skip, docs/bitstream.md 4.14): the vectors a skip macroblock of a P plane
-  // may take besides the predictor (px, py) of reference 0: those of the left, top and top-right
-  // (top-left where the top-right one is outside the plane) macroblocks, in that order, that are
-  // inter on reference 0 (a partitioned one: its first partition's) and differ from the
+  // Format 1.11 (merge, docs/bitstream.md 4.14): the vectors a skip or 16x16 inter macroblock of
+  // a P plane may take besides the predictor (px, py) of reference 0: those of the left, top and
+  // top-right (top-left where the top-right one is outside the plane) macroblocks, in that order,
+  // that are inter on reference 0 (a partitioned one: its first partition's) and differ from the
   // predictor and from the ones taken before; at most kMergeCandidates. Returns their count.
   int merge_candidates(int mb_x, int mb_y, int px, int py, int cand[][2]) const {
     int n = 0;
@@ -351,8 +353,9 @@ struct MacroblockData {
   int transform = 4;
   int32_t levels16[256] = {};
   bool skip = false;  // inter: motion = predictor, no residual
-  // Format 1.11 (merge skip), P planes: a skip's vector, 0 = the predictor, k = merge candidate
-  // k - 1 (PlaneState::merge_candidates).
+  // Format 1.11 (merge), P planes: a skip's vector, 0 = the predictor, k = merge candidate k - 1
+  // (PlaneState::merge_candidates); of another 16x16 inter macroblock, 0 = coded with ref_idx
+  // and a vector difference, k = merge candidate k - 1 on reference 0.
   int merge_idx = 0;
   bool td = false;         // inter: temporal-difference prediction with modes[0..15]
   bool shared = false;     // inter: the co-located first-plane vector (format 1.4)
@@ -754,9 +757,23 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
         }
       }
       // ---- end of inter partitions ----
+      // Format 1.11, merge: a skip's vector, or whether (and which) a 16x16 inter macroblock
+      // takes a candidate's vector on reference 0 instead of coding ref_idx and a difference.
+      int cand[kMergeCandidates][2];
+      int candidates = 0;
+      if (st.merge && !shared) {
+        int p0x, p0y;
+        st.mv_predictor(mb_x, mb_y, &p0x, &p0y, 0);
+        candidates = st.merge_candidates(mb_x, mb_y, p0x, p0y, cand);
+        GVKIT_CHECK(mb.merge_idx >= 0 && mb.merge_idx <= candidates,
+                    "merge index without its candidate");
+        set_group(coder, kSyntaxMotion);
+        write_merge_idx(coder, mb.skip ? ctx.merge_idx : ctx.merge_inter, mb.merge_idx, candidates);
+      }
+      const bool merged = !mb.skip && !shared && mb.merge_idx > 0;
       // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
-      const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip ? 0 : mb.ref_idx);
-      if (!mb.skip && !shared && params.ref_count > 1) {
+      const int ref = shared ? st.colocated_ref(mb_index) : (mb.skip || merged ? 0 : mb.ref_idx);
+      if (!mb.skip && !shared && !merged && params.ref_count > 1) {
         set_group(coder, kSyntaxMotion);
         write_ref_idx(coder, ctx.ref_idx, st.ref_context(mb_x, mb_y), ref, params.ref_count);
       }
@@ -768,17 +785,12 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       } else {
         st.mv_predictor(mb_x, mb_y, &px, &py, ref);
       }
-      if (mb.skip && !shared && st.merge_skip) {  // format 1.11: the skip's vector
-        int cand[kMergeCandidates][2];
-        const int n = st.merge_candidates(mb_x, mb_y, px, py, cand);
-        GVKIT_CHECK(mb.merge_idx >= 0 && mb.merge_idx <= n, "merge index without its candidate");
-        write_merge_idx(coder, ctx.merge_idx, mb.merge_idx, n);
-        if (mb.merge_idx > 0) {
-          px = cand[mb.merge_idx - 1][0];
-          py = cand[mb.merge_idx - 1][1];
-        }
+      if (!shared && mb.merge_idx > 0) {
+        px = cand[mb.merge_idx - 1][0];
+        py = cand[mb.merge_idx - 1][1];
+        GVKIT_CHECK(mb.skip || (mb.mv_x == px && mb.mv_y == py), "merged vector differs");
       }
-      if (!mb.skip && !shared) {
+      if (!mb.skip && !shared && !merged) {
         write_mvd(coder, ctx, 0, mb.mv_x - px);
         write_mvd(coder, ctx, 1, mb.mv_y - py);
       }

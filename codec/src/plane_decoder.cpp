@@ -46,9 +46,20 @@ class MacroblockReader {
                            ? read_partition_type(dec_, ctx_.partition)
                            : kPart16x16;
         if (mb.partition != kPart16x16) return read_partitioned(mb_x, mb_y, mb);
+        // Format 1.11, merge: the skip's vector, or whether a 16x16 macroblock is merged.
+        int cand[kMergeCandidates][2];
+        mb.merge_idx = 0;
+        if (st_.merge && !mb.shared) {
+          int p0x, p0y;
+          st_.mv_predictor(mb_x, mb_y, &p0x, &p0y, 0);
+          const int n = st_.merge_candidates(mb_x, mb_y, p0x, p0y, cand);
+          CabacContext* contexts = mb.skip ? ctx_.merge_idx : ctx_.merge_inter;
+          while (mb.merge_idx < n && dec_.decode(contexts[mb.merge_idx])) ++mb.merge_idx;
+        }
+        const bool merged = !mb.skip && !mb.shared && mb.merge_idx > 0;
         // Format 1.6: the reference (skip: 0; shared: the co-located macroblock's).
         mb.ref_idx = mb.shared ? st_.colocated_ref(mb_index) : 0;
-        if (!mb.skip && !mb.shared && p_.ref_count > 1)
+        if (!mb.skip && !mb.shared && !merged && p_.ref_count > 1)
           mb.ref_idx = read_ref_idx(dec_, ctx_.ref_idx, st_.ref_context(mb_x, mb_y), p_.ref_count);
         if (mb.ref_idx >= p_.ref_count)
           return corrupt_data("ref_idx " + std::to_string(mb.ref_idx) + " of the co-located " +
@@ -62,19 +73,13 @@ class MacroblockReader {
         } else {
           st_.mv_predictor(mb_x, mb_y, &px, &py, mb.ref_idx);
         }
-        mb.merge_idx = 0;
-        if (mb.skip && !mb.shared && st_.merge_skip) {  // format 1.11: the skip's vector
-          int cand[kMergeCandidates][2];
-          const int n = st_.merge_candidates(mb_x, mb_y, px, py, cand);
-          while (mb.merge_idx < n && dec_.decode(ctx_.merge_idx[mb.merge_idx])) ++mb.merge_idx;
-          if (mb.merge_idx > 0) {
-            px = cand[mb.merge_idx - 1][0];
-            py = cand[mb.merge_idx - 1][1];
-          }
+        if (!mb.shared && mb.merge_idx > 0) {
+          px = cand[mb.merge_idx - 1][0];
+          py = cand[mb.merge_idx - 1][1];
         }
         mb.mv_x = px;
         mb.mv_y = py;
-        if (!mb.skip && !mb.shared) {
+        if (!mb.skip && !mb.shared && !merged) {
           int dx, dy;
           GVKIT_RETURN_IF_ERROR(read_mvd(0, dx));
           GVKIT_RETURN_IF_ERROR(read_mvd(1, dy));
@@ -529,7 +534,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
-  st.merge_skip = params.merge_skip && reference && !reference1;              // format 1.11
+  st.merge = params.merge && reference && !reference1;                        // format 1.11
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");

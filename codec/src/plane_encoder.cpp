@@ -124,8 +124,9 @@ class MacroblockEncoder {
     const auto skip_found = [&] { return !p_.rdo && best.mb.skip; };
     if (ref_ && st_.can_share(mb_index)) consider(kMbInter, false, Forced::kShared);
     if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
-    // Format 1.11, merge skip: the neighbours' vectors a skip may take, each as a candidate.
-    if (ref_ && st_.merge_skip && !skip_found()) {
+    // Format 1.11, merge: the neighbours' vectors, each as a candidate (a skip or a merged
+    // macroblock with a residual).
+    if (ref_ && st_.merge && !skip_found()) {
       int px, py;
       st_.mv_predictor(mb_x, mb_y, &px, &py, 0);
       const int n = st_.merge_candidates(mb_x, mb_y, px, py, merge_cand_);
@@ -354,11 +355,11 @@ class MacroblockEncoder {
       int px, py;
       st_.mv_predictor(mb_x_, mb_y_, &px, &py);
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7) or, with
-      // merge skip (1.11), at a neighbour's vector.
+      // merge (1.11), at a neighbour's vector.
       const int idx =
           st_.bidirectional || mb.shared ? -1 : skip_index(mb.mv_x, mb.mv_y, mb.ref_idx);
       mb.skip = st_.bidirectional ? mb.b_pred == kBDirect : mb.shared || idx >= 0;
-      mb.merge_idx = std::max(idx, 0);
+      if (mb.skip && !st_.bidirectional) mb.merge_idx = std::max(idx, 0);
     }
   }
   // ---- end of larger transforms ----
@@ -583,8 +584,12 @@ class MacroblockEncoder {
     mb.shared = is_shared_vector(best_x, best_y, ref);
     interp(ref).predict(x0, y0, 16, 16, best_x, best_y, qpel, pred);
     add_cross(16, x0, y0, pred);
-    const double mv_bits =
-        motion_bits(best_x, best_y, px, py, ref) + (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
+    // Format 1.11, merge: at a candidate's vector (reference 0) the macroblock codes the
+    // candidate's index (about merged + 1 bins) instead of ref_idx and a vector difference.
+    const int merged = mb.shared ? -1 : merge_index(best_x, best_y, ref);
+    const double mv_bits = merged > 0 ? merged + 1.0
+                                      : motion_bits(best_x, best_y, px, py, ref) +
+                                            (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
     double cost;
     if (p_.rdo) {
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
@@ -594,8 +599,8 @@ class MacroblockEncoder {
     }
     const int idx = mb.cbp == 0 && alpha_ == 0 && !mb.shared ? skip_index(best_x, best_y, ref) : -1;
     mb.skip = mb.cbp == 0 && alpha_ == 0 && (mb.shared || idx >= 0);
-    mb.merge_idx = std::max(idx, 0);
-    // A skip codes no vector (a merge skip its index instead: about idx + 1 bins).
+    mb.merge_idx = mb.skip ? std::max(idx, 0) : std::max(merged, 0);
+    // A skip codes no vector (one at a candidate's its index instead: about idx + 1 bins).
     if (mb.skip)
       cost -= (p_.rdo ? lambda_ : lambda_sad_) *
               (mv_bits + 2 - (mb.merge_idx > 0 ? mb.merge_idx + 1 : 0));
@@ -604,18 +609,26 @@ class MacroblockEncoder {
   }
 
   // Format 1.11: how a P macroblock at vector (mx, my) on reference `ref` without residual is
-  // coded as a skip: 0 at the predictor, k at merge candidate k - 1 (merge skip), -1 not at all.
+  // coded as a skip: 0 at the predictor, k at merge candidate k - 1 (merge), -1 not at all.
   int skip_index(int mx, int my, int ref) const {
     if (ref != 0) return -1;
     int px, py;
     st_.mv_predictor(mb_x_, mb_y_, &px, &py, 0);
     if (mx == px && my == py) return 0;
-    if (!st_.merge_skip) return -1;
+    const int k = merge_index(mx, my, ref);
+    return k > 0 ? k : -1;
+  }
+  // Format 1.11: k when (mx, my) on reference `ref` is merge candidate k - 1 (a 16x16 inter
+  // macroblock there is coded as merged), else 0.
+  int merge_index(int mx, int my, int ref) const {
+    if (ref != 0 || !st_.merge) return 0;
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, 0);
     int cand[kMergeCandidates][2];
     const int n = st_.merge_candidates(mb_x_, mb_y_, px, py, cand);
     for (int k = 0; k < n; ++k)
       if (cand[k][0] == mx && cand[k][1] == my) return k + 1;
-    return -1;
+    return 0;
   }
 
   // ---- Format 1.7, inter partitions (docs/bitstream.md 4.11) ----
@@ -1249,7 +1262,7 @@ class MacroblockEncoder {
   };
   std::array<Searched, 5> own_;
   Searched given_;  // the vector a Forced::kGiven candidate takes
-  // Format 1.11, merge skip: the macroblock's merge candidates and the one a Forced::kMerge
+  // Format 1.11, merge: the macroblock's merge candidates and the one a Forced::kMerge
   // candidate takes (1-based).
   int merge_cand_[kMergeCandidates][2] = {};
   int merge_k_ = 0;
@@ -1295,7 +1308,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   st.predicted = reference != nullptr;
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
-  st.merge_skip = params.merge_skip && reference && !reference1;              // format 1.11
+  st.merge = params.merge && reference && !reference1;                        // format 1.11
   GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
                               reference1->height == plane.height));
   if (reference && shared) {
@@ -1357,6 +1370,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         ++result.stats.td_mbs;
       else
         ++result.stats.inter_mbs;
+      if (mb.type == kMbInter && !mb.skip && mb.merge_idx > 0) ++result.stats.merged_mbs;  // 1.11
       if (st.partitions && mb.type == kMbInter && !mb.skip && !mb.shared && !mb.td)
         ++result.stats.partition_mbs[mb.partition];  // format 1.7
     }

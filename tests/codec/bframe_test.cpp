@@ -101,7 +101,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     o.compact_segments = false;   // (nor the 1.9 segment sizes)
     o.compact_packets = false;    // (nor the 1.10 packet headers)
-    o.merge_skip = false;         // (nor the 1.11 merge skip)
+    o.merge = false;              // (nor the 1.11 merge)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
@@ -121,7 +121,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
-        o.merge_skip = false;         // (nor the 1.11 merge skip)
+        o.merge = false;              // (nor the 1.11 merge)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
@@ -396,13 +396,13 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   fast.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   fast.compact_segments = false;   // (nor the 1.9 segment sizes)
   fast.compact_packets = false;    // (nor the 1.10 packet headers)
-  fast.merge_skip = false;         // (nor the 1.11 merge skip)
+  fast.merge = false;              // (nor the 1.11 merge)
   fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;         // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   slow.compact_segments = false;   // (nor the 1.9 segment sizes)
   slow.compact_packets = false;    // (nor the 1.10 packet headers)
-  slow.merge_skip = false;         // (nor the 1.11 merge skip)
+  slow.merge = false;              // (nor the 1.11 merge)
   slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

@@ -93,7 +93,7 @@ TEST(CompactPackets, StreamsRoundTripWithTheSameFramesAndFewerBytes) {
       on.max_error_mm = mode == 3 ? 0.05 : 0;
       on.intra_period = 5;              // I P B P B I P ...
       ASSERT_TRUE(on.compact_packets);  // on by default
-      on.merge_skip = false;            // the 1.10 stream (merge skip: merge_skip_test.cpp)
+      on.merge = false;                 // the 1.10 stream (merge: merge_test.cpp)
       EncoderOptions off = on;
       off.compact_packets = false;
       const std::string a = testing::writer_round_trip(frames, info, on);

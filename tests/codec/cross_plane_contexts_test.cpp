@@ -56,7 +56,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
-      o.merge_skip = false;         // (nor the 1.11 merge skip)
+      o.merge = false;              // (nor the 1.11 merge)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -71,7 +71,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   shared.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   shared.compact_segments = false;   // (nor the 1.9 segment sizes)
   shared.compact_packets = false;    // (nor the 1.10 packet headers)
-  shared.merge_skip = false;         // (nor the 1.11 merge skip)
+  shared.merge = false;              // (nor the 1.11 merge)
   shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
@@ -87,7 +87,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.temporal_contexts = false;  // format 1.9 off
   lossless.compact_segments = false;   // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;    // (nor the 1.10 packet headers)
-  lossless.merge_skip = false;         // (nor the 1.11 merge skip)
+  lossless.merge = false;              // (nor the 1.11 merge)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -99,7 +99,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
-  intra.merge_skip = false;         // (nor the 1.11 merge skip)
+  intra.merge = false;              // (nor the 1.11 merge)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -192,7 +192,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -227,7 +227,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;

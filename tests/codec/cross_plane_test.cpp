@@ -149,7 +149,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
-      o.merge_skip = false;         // (nor the 1.11 merge skip)
+      o.merge = false;              // (nor the 1.11 merge)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
@@ -167,7 +167,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.temporal_contexts = false;     // format 1.9 off
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
-  lossless.merge_skip = false;            // (nor the 1.11 merge skip)
+  lossless.merge = false;                 // (nor the 1.11 merge)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -180,7 +180,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
-  intra.merge_skip = false;         // (nor the 1.11 merge skip)
+  intra.merge = false;              // (nor the 1.11 merge)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -229,7 +229,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -271,7 +271,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -354,7 +354,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
-        o.merge_skip = false;         // (nor the 1.11 merge skip)
+        o.merge = false;              // (nor the 1.11 merge)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
@@ -378,7 +378,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.temporal_contexts = false;     // format 1.9 off
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
-  lossless.merge_skip = false;            // (nor the 1.11 merge skip)
+  lossless.merge = false;                 // (nor the 1.11 merge)
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

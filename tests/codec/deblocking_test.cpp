@@ -130,7 +130,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
       o.temporal_contexts = false;  // the 1.8 streams (format 1.9: temporal_contexts_test)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
-      o.merge_skip = false;         // (nor the 1.11 merge skip)
+      o.merge = false;              // (nor the 1.11 merge)
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -142,7 +142,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
   eight.temporal_contexts = false;
   eight.compact_segments = false;  // (nor the 1.9 segment sizes)
   eight.compact_packets = false;   // (nor the 1.10 packet headers)
-  eight.merge_skip = false;        // (nor the 1.11 merge skip)
+  eight.merge = false;             // (nor the 1.11 merge)
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -166,7 +166,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
     on.temporal_contexts = false;
     on.compact_segments = false;  // (nor the 1.9 segment sizes)
     on.compact_packets = false;   // (nor the 1.10 packet headers)
-    on.merge_skip = false;        // (nor the 1.11 merge skip)
+    on.merge = false;             // (nor the 1.11 merge)
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;

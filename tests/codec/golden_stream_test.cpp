@@ -103,7 +103,7 @@ std::vector<GoldenCase> cases() {
     o->temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     o->compact_segments = false;   // (nor the 1.9 segment sizes)
     o->compact_packets = false;    // (nor the 1.10 packet headers)
-    o->merge_skip = false;         // (nor the 1.11 merge skip)
+    o->merge = false;              // (nor the 1.11 merge)
     o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
@@ -116,7 +116,7 @@ std::vector<GoldenCase> cases() {
     o->temporal_contexts = false;
     o->compact_segments = false;  // (nor the 1.9 segment sizes)
     o->compact_packets = false;   // (nor the 1.10 packet headers)
-    o->merge_skip = false;        // (nor the 1.11 merge skip)
+    o->merge = false;             // (nor the 1.11 merge)
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

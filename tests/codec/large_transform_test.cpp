@@ -291,7 +291,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
-      o.merge_skip = false;         // (nor the 1.11 merge skip)
+      o.merge = false;              // (nor the 1.11 merge)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -358,7 +358,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
@@ -396,7 +396,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;

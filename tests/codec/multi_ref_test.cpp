@@ -171,7 +171,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -243,7 +243,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -273,7 +273,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   automatic.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   automatic.compact_segments = false;   // (nor the 1.9 segment sizes)
   automatic.compact_packets = false;    // (nor the 1.10 packet headers)
-  automatic.merge_skip = false;         // (nor the 1.11 merge skip)
+  automatic.merge = false;              // (nor the 1.11 merge)
   automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
@@ -286,7 +286,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     b.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     b.compact_segments = false;   // (nor the 1.9 segment sizes)
     b.compact_packets = false;    // (nor the 1.10 packet headers)
-    b.merge_skip = false;         // (nor the 1.11 merge skip)
+    b.merge = false;              // (nor the 1.11 merge)
     b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
@@ -337,7 +337,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     c->options.compact_segments = false;   // (nor the 1.9 segment sizes)
     c->options.compact_packets = false;    // (nor the 1.10 packet headers)
-    c->options.merge_skip = false;         // (nor the 1.11 merge skip)
+    c->options.merge = false;              // (nor the 1.11 merge)
     c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

@@ -116,7 +116,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
-        o.merge_skip = false;         // (nor the 1.11 merge skip)
+        o.merge = false;              // (nor the 1.11 merge)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
@@ -161,7 +161,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -202,7 +202,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -306,7 +306,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
-  o.merge_skip = false;         // (nor the 1.11 merge skip)
+  o.merge = false;              // (nor the 1.11 merge)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;

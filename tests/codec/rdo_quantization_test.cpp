@@ -189,7 +189,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
     o.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
     o.compact_segments = false;   // (nor the 1.9 segment sizes)
     o.compact_packets = false;    // (nor the 1.10 packet headers)
-    o.merge_skip = false;         // (nor the 1.11 merge skip)
+    o.merge = false;              // (nor the 1.11 merge)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 12;
     o.preset = preset;

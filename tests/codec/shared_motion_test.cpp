@@ -120,7 +120,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
-  o.merge_skip = false;            // (nor the 1.11 merge skip)
+  o.merge = false;                 // (nor the 1.11 merge)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -160,7 +160,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
-  o.merge_skip = false;            // (nor the 1.11 merge skip)
+  o.merge = false;                 // (nor the 1.11 merge)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -217,7 +217,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   o.temporal_contexts = false;     // (nor the format 1.9 temporal contexts)
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
-  o.merge_skip = false;            // (nor the 1.11 merge skip)
+  o.merge = false;                 // (nor the 1.11 merge)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

@@ -24,9 +24,9 @@ namespace gvkit::codec {
 namespace {
 
 // Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 11 (the
-// default options: compact packets and merge skip too).
+// default options: compact packets and merge too).
 void expect_temporal_in_inter_frames(const std::string& stream) {
-  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionMergeSkip);
+  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionMerge);
   auto reader = GvidReader::open_memory(stream, "x.gvid").value();
   int inter = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -109,7 +109,7 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       on.qp = qp;
       on.preset = preset;
       on.compact_packets = false;  // the 1.9 stream
-      on.merge_skip = false;       // (nor the 1.11 merge skip)
+      on.merge = false;            // (nor the 1.11 merge)
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
@@ -146,7 +146,7 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.temporal_contexts = false;
   o.compact_segments = false;
   o.compact_packets = false;  // (nor the 1.10 packet headers)
-  o.merge_skip = false;       // (nor the 1.11 merge skip)
+  o.merge = false;            // (nor the 1.11 merge)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");

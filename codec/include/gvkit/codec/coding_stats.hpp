@@ -33,6 +33,7 @@ struct PlaneCodingStats {
   int64_t td_mbs = 0;          // inter with temporal-difference prediction
   int64_t skip_mbs = 0;        // inter skip
   int64_t merge_skip_mbs = 0;  // format 1.11: skips at a neighbour's vector (of skip_mbs)
+  int64_t merged_mbs = 0;      // format 1.11: other inter MBs at a neighbour's vector (merged)
   // Format 1.6 (larger transforms): inter and I16x16 macroblocks coded with 8x8 / 16x16.
   int64_t transform8_mbs = 0, transform16_mbs = 0;
   // Y and Z planes with cross-plane prediction (format 1.6): macroblocks that coded a scale,

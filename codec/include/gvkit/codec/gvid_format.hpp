@@ -43,8 +43,8 @@ inline constexpr uint8_t kMinorVersionTemporalContexts = 9;
 inline constexpr uint8_t kMinorVersionCompactSegments = 9;
 // Format 1.10: a stream with compact packet headers (docs/bitstream.md 2).
 inline constexpr uint8_t kMinorVersionCompactPackets = 10;
-// Format 1.11: a stream with merge skip (the payload's first byte, bit 5).
-inline constexpr uint8_t kMinorVersionMergeSkip = 11;
+// Format 1.11: a stream with merge (the payload's first byte, bit 5).
+inline constexpr uint8_t kMinorVersionMerge = 11;
 
 // The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
 enum PayloadFlag : uint8_t {
@@ -52,11 +52,11 @@ enum PayloadFlag : uint8_t {
   // since 1.9: every plane segment but the last is preceded by its size as a varint, the last
   // one takes the rest of the payload (before: a u32 size before each).
   kPayloadCompactSegments = 16,
-  // since 1.11, P frames: a skip macroblock codes which of its predictor and up to two
-  // neighbours' vectors it takes (merge skip, docs/bitstream.md 4.14).
-  kPayloadMergeSkip = 32,
+  // since 1.11, P frames: skip and 16x16 inter macroblocks code whether they take one of up to
+  // two neighbours' vectors (merge, docs/bitstream.md 4.14).
+  kPayloadMerge = 32,
   kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments |
-                  kPayloadMergeSkip,  // every bit a reader understands
+                  kPayloadMerge,  // every bit a reader understands
 };
 
 // The full packet header (`GVFR`, every version); the compact one (format 1.10, `gv`) is 13 to

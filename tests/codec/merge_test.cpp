@@ -1,8 +1,8 @@
-// Merge skip (format 1.11, the payload's first byte bit 5, docs/bitstream.md 4.14): the decoder
+// Merge (format 1.11, the payload's first byte bit 5, docs/bitstream.md 4.14): the decoder
 // reproduces the encoder in every configuration that has P frames (presets, B frames, several
-// references, partitions, shared motion, lossless, near-lossless, threads), skips take
-// neighbours' vectors and make the stream smaller, off writes the 1.10 stream without the flag,
-// and the flag outside a P frame is rejected.
+// references, partitions, shared motion, lossless, near-lossless, threads), skips and
+// macroblocks with a residual take neighbours' vectors and make the stream smaller, off writes
+// the 1.10 stream without the flag, and the flag outside a P frame is rejected.
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,11 +22,12 @@
 namespace gvkit::codec {
 namespace {
 
-// Skips at a neighbour's vector, over the P frames of a coded sequence.
-int64_t merge_skips(const std::vector<FrameCodingStats>& stats) {
+// Skips (merged = false) or other macroblocks (true) at a neighbour's vector, over the P frames
+// of a coded sequence.
+int64_t merges(const std::vector<FrameCodingStats>& stats, bool merged = false) {
   int64_t n = 0;
   for (const FrameCodingStats& f : stats)
-    for (const PlaneCodingStats& p : f.planes) n += p.merge_skip_mbs;
+    for (const PlaneCodingStats& p : f.planes) n += merged ? p.merged_mbs : p.merge_skip_mbs;
   return n;
 }
 
@@ -45,7 +46,7 @@ std::vector<std::pair<format::FrameType, uint8_t>> payload_flags(const std::stri
   return out;
 }
 
-TEST(MergeSkip, DecoderReproducesTheEncoderInEveryConfiguration) {
+TEST(Merge, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = testing::make_moving_analytic_video(64, 7);
   const SequenceInfo info = testing::info_for(frames);
   std::vector<std::pair<std::string, EncoderOptions>> cases;
@@ -80,20 +81,20 @@ TEST(MergeSkip, DecoderReproducesTheEncoderInEveryConfiguration) {
   int64_t total = 0;
   for (const auto& [what, o] : cases) {
     SCOPED_TRACE(what);
-    ASSERT_TRUE(o.merge_skip);  // on by default
+    ASSERT_TRUE(o.merge);  // on by default
     std::vector<FrameCodingStats> stats;
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
-    EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionMergeSkip);
+    EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionMerge);
     for (const auto& [type, flags] : payload_flags(stream))
-      EXPECT_EQ((flags & format::kPayloadMergeSkip) != 0, type == format::FrameType::kPredicted);
-    total += merge_skips(stats);
+      EXPECT_EQ((flags & format::kPayloadMerge) != 0, type == format::FrameType::kPredicted);
+    total += merges(stats) + merges(stats, true);
   }
   EXPECT_GT(total, 0);  // the candidates are taken
 }
 
 // The ICT face (when the shared data is present): at a low rate, where most macroblocks skip,
-// merge skip makes the slow preset's stream smaller at about the same error.
-TEST(MergeSkip, SkipsAtNeighboursVectorsMakeTheIctFaceSmaller) {
+// merge makes the slow preset's stream smaller at about the same error.
+TEST(Merge, NeighboursVectorsMakeTheIctFaceSmaller) {
   GVKIT_REQUIRE_SHARED_DATA(data);
   testing::GeometryVideoOptions vo;
   vo.size = 128;
@@ -105,19 +106,19 @@ TEST(MergeSkip, SkipsAtNeighboursVectorsMakeTheIctFaceSmaller) {
   on.preset = Preset::kSlow;
   on.qp = 12;
   EncoderOptions off = on;
-  off.merge_skip = false;
+  off.merge = false;
   std::vector<FrameCodingStats> on_stats, off_stats;
   const std::string a = testing::writer_round_trip(*frames, info, on, &on_stats);
   const std::string b = testing::writer_round_trip(*frames, info, off, &off_stats);
-  EXPECT_GT(merge_skips(on_stats), 0);
-  EXPECT_EQ(merge_skips(off_stats), 0);
+  EXPECT_GT(merges(on_stats), 0);
+  EXPECT_GT(merges(on_stats, true), 0);
+  EXPECT_EQ(merges(off_stats) + merges(off_stats, true), 0);
   EXPECT_LT(a.size(), b.size());
   EXPECT_EQ(static_cast<uint8_t>(b[5]), format::kMinorVersionCompactPackets);
-  for (const auto& [type, flags] : payload_flags(b))
-    EXPECT_EQ(flags & format::kPayloadMergeSkip, 0);
+  for (const auto& [type, flags] : payload_flags(b)) EXPECT_EQ(flags & format::kPayloadMerge, 0);
 }
 
-TEST(MergeSkip, FlagOutsideAPFrameIsRejected) {
+TEST(Merge, FlagOutsideAPFrameIsRejected) {
   const auto frames = testing::make_moving_analytic_video(32, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
@@ -130,20 +131,20 @@ TEST(MergeSkip, FlagOutsideAPFrameIsRejected) {
   ASSERT_TRUE(b1.is_ok());
   const auto with_flag = [](const std::string& packet) {
     std::string payload = testing::packet_payload(packet);
-    EXPECT_EQ(payload[0] & format::kPayloadMergeSkip, 0);
-    payload[0] = static_cast<char>(payload[0] | format::kPayloadMergeSkip);
+    EXPECT_EQ(payload[0] & format::kPayloadMerge, 0);
+    payload[0] = static_cast<char>(payload[0] | format::kPayloadMerge);
     return testing::with_payload(packet, payload);
   };
   const auto expect_rejected = [](const Result<GeometryImage>& r) {
     ASSERT_FALSE(r.is_ok());
-    EXPECT_NE(r.status().message().find("merge skip outside a P frame"), std::string::npos)
+    EXPECT_NE(r.status().message().find("merge outside a P frame"), std::string::npos)
         << r.status().message();
   };
   expect_rejected(decode_frame_packet(with_flag(i0->packet), info, 0));
   expect_rejected(
       decode_frame_packet(with_flag(b1->packet), info, 1, &i0->planes, nullptr, &p2->planes));
   // The P frame carries it and decodes.
-  EXPECT_NE(testing::packet_payload(p2->packet)[0] & format::kPayloadMergeSkip, 0);
+  EXPECT_NE(testing::packet_payload(p2->packet)[0] & format::kPayloadMerge, 0);
   EXPECT_TRUE(decode_frame_packet(p2->packet, info, 2, &i0->planes).is_ok());
 }
 
