@@ -332,8 +332,8 @@ void add_encode_command(CLI::App& app) {
                 "segment with the fewest bytes (format 1.10; on by default); with the other 1.9 "
                 "options --no-compact-packets writes the 1.9 stream");
   cmd->add_flag("--merge,!--no-merge", args->options.merge,
-                "P frames: a skip or 16x16 inter macroblock may take its left, top or top-right "
-                "neighbour's vector, coding which in one or two bins (format 1.11; on by "
+                "P frames: a skip or 16x16 inter macroblock may take one of up to four "
+                "neighbours' vectors, coding which in one to four bins (format 1.11; on by "
                 "default); --no-merge writes the 1.10 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");

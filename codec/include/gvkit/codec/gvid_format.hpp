@@ -53,7 +53,7 @@ enum PayloadFlag : uint8_t {
   // one takes the rest of the payload (before: a u32 size before each).
   kPayloadCompactSegments = 16,
   // since 1.11, P frames: skip and 16x16 inter macroblocks code whether they take one of up to
-  // two neighbours' vectors (merge, docs/bitstream.md 4.14).
+  // four neighbours' vectors (merge, docs/bitstream.md 4.14).
   kPayloadMerge = 32,
   kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments |
                   kPayloadMerge,  // every bit a reader understands

@@ -56,8 +56,8 @@ struct PlaneCodingParams {
   bool deblocking = false;
   DeblockingParams deblock;
   // Format 1.11 (merge, docs/bitstream.md 4.14), P planes: a skip codes which of the predictor
-  // and up to two neighbours' vectors it takes, a 16x16 inter macroblock whether it takes one of
-  // those neighbours' vectors (merge_idx).
+  // and up to four neighbours' vectors it takes, a 16x16 inter macroblock whether it takes one
+  // of those neighbours' vectors (merge_idx).
   bool merge = false;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
