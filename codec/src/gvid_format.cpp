@@ -97,23 +97,23 @@ Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_siz
 
 std::string write_packet_header(const PacketHeader& h) {
   ByteWriter w;
-  if (h.compact) {  // format 1.10
-    w.bytes(std::string_view(kCompactPacketMagic, 2));
+  // Magic, then type, flags, qp and flags2 in both forms.
+  const auto start = [&](std::string_view magic) {
+    w.bytes(magic);
     w.u8(static_cast<uint8_t>(h.type));
     w.u8(h.flags);
     w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
     w.u8(h.flags2);
+  };
+  if (h.compact) {  // format 1.10
+    start(std::string_view(kCompactPacketMagic, 2));
     w.varint(h.frame_number);
     w.varint(h.payload_size);
     w.u32(h.payload_crc);
     w.u8(crc8(w.str()));
     return w.take();
   }
-  w.bytes(std::string_view(kPacketMagic, 4));
-  w.u8(static_cast<uint8_t>(h.type));
-  w.u8(h.flags);
-  w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
-  w.u8(h.flags2);
+  start(std::string_view(kPacketMagic, 4));
   w.u32(h.frame_number);
   w.u32(h.payload_size);
   w.u32(h.payload_crc);

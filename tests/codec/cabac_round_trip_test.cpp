@@ -32,28 +32,41 @@ std::vector<Bin> random_bins(uint32_t seed, int count, double p_one) {
   return bins;
 }
 
+// The bins coded with fresh contexts, then the terminating 1 and finish(), or without it
+// finish_unterminated() (format 1.10).
+std::string encode_bins(const std::vector<Bin>& bins, bool terminated) {
+  CabacEncoder enc;
+  CabacContext ctx[8];
+  for (const Bin& b : bins) {
+    if (b.kind == 0) enc.encode(ctx[b.ctx], b.value);
+    if (b.kind == 1) enc.encode_bypass(b.value);
+    if (b.kind == 2) enc.encode_terminate(0);
+  }
+  if (!terminated) return enc.finish_unterminated();
+  enc.encode_terminate(1);
+  return enc.finish();
+}
+
+// Decodes `bins` from bytes (ASSERTs each value), then the terminating 1 when `terminated`;
+// expects the decoder within its allowance past the end.
+void expect_decodes(const std::string& bytes, const std::vector<Bin>& bins, bool terminated,
+                    uint32_t seed) {
+  CabacDecoder dec(bytes);
+  CabacContext ctx[8];
+  for (size_t i = 0; i < bins.size(); ++i) {
+    const Bin& b = bins[i];
+    int v = b.kind == 0 ? dec.decode(ctx[b.ctx])
+                        : (b.kind == 1 ? dec.decode_bypass() : dec.decode_terminate());
+    ASSERT_EQ(v, b.value) << "seed " << seed << " bin " << i;
+  }
+  if (terminated) EXPECT_EQ(dec.decode_terminate(), 1) << "seed " << seed;
+  EXPECT_FALSE(dec.overrun()) << "seed " << seed;
+}
+
 TEST(CabacRoundTrip, RandomBinsDecodeToWhatWasEncoded) {
   for (uint32_t seed = 1; seed <= 20; ++seed) {
     const auto bins = random_bins(seed, 5000, seed % 2 ? 0.1 : 0.7);
-    CabacEncoder enc;
-    CabacContext ectx[8];
-    for (const Bin& b : bins) {
-      if (b.kind == 0) enc.encode(ectx[b.ctx], b.value);
-      if (b.kind == 1) enc.encode_bypass(b.value);
-      if (b.kind == 2) enc.encode_terminate(0);
-    }
-    enc.encode_terminate(1);
-    const std::string bytes = enc.finish();
-    CabacDecoder dec(bytes);
-    CabacContext dctx[8];
-    for (size_t i = 0; i < bins.size(); ++i) {
-      const Bin& b = bins[i];
-      int v = b.kind == 0 ? dec.decode(dctx[b.ctx])
-                          : (b.kind == 1 ? dec.decode_bypass() : dec.decode_terminate());
-      ASSERT_EQ(v, b.value) << "seed " << seed << " bin " << i;
-    }
-    EXPECT_EQ(dec.decode_terminate(), 1);
-    EXPECT_FALSE(dec.overrun());
+    expect_decodes(encode_bins(bins, true), bins, true, seed);
   }
 }
 
@@ -61,39 +74,20 @@ TEST(CabacRoundTrip, RandomBinsDecodeToWhatWasEncoded) {
 // terminating bin and finish() (never more), with the decoder inside its allowance past the end,
 // for sequences of every length down to none.
 TEST(CabacRoundTrip, UnterminatedFlushDecodesFromFewerBytes) {
-  size_t minimal_total = 0, standard_total = 0;
+  size_t unterminated_total = 0, standard_total = 0;
   int empty = 0;
   for (uint32_t seed = 1; seed <= 400; ++seed) {
     const int count = seed <= 40 ? static_cast<int>(seed) - 1 : static_cast<int>(seed * 7 % 900);
     const auto bins = random_bins(seed, count, seed % 3 == 0 ? 0.02 : 0.4);
-    std::string bytes[2];
-    for (int minimal = 0; minimal < 2; ++minimal) {
-      CabacEncoder enc;
-      CabacContext ectx[8];
-      for (const Bin& b : bins) {
-        if (b.kind == 0) enc.encode(ectx[b.ctx], b.value);
-        if (b.kind == 1) enc.encode_bypass(b.value);
-        if (b.kind == 2) enc.encode_terminate(0);
-      }
-      if (!minimal) enc.encode_terminate(1);
-      bytes[minimal] = minimal ? enc.finish_unterminated() : enc.finish();
-    }
-    ASSERT_LE(bytes[1].size(), bytes[0].size()) << "seed " << seed;
-    minimal_total += bytes[1].size();
-    standard_total += bytes[0].size();
-    empty += bytes[1].empty();
-    CabacDecoder dec(bytes[1]);
-    CabacContext dctx[8];
-    for (size_t i = 0; i < bins.size(); ++i) {
-      const Bin& b = bins[i];
-      int v = b.kind == 0 ? dec.decode(dctx[b.ctx])
-                          : (b.kind == 1 ? dec.decode_bypass() : dec.decode_terminate());
-      ASSERT_EQ(v, b.value) << "seed " << seed << " bin " << i;
-    }
-    ASSERT_FALSE(dec.overrun()) << "seed " << seed;
+    const std::string standard = encode_bins(bins, true), unterminated = encode_bins(bins, false);
+    ASSERT_LE(unterminated.size(), standard.size()) << "seed " << seed;
+    unterminated_total += unterminated.size();
+    standard_total += standard.size();
+    empty += unterminated.empty();
+    expect_decodes(unterminated, bins, false, seed);
   }
   // About a byte a segment: at least half a byte on average.
-  EXPECT_LE(2 * minimal_total + 400, 2 * standard_total);
+  EXPECT_LE(2 * unterminated_total + 400, 2 * standard_total);
   EXPECT_GT(empty, 0);  // a run of likely bins can end as no bytes at all
 }
 
