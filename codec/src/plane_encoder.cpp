@@ -38,7 +38,7 @@ constexpr double kRdoqLambdaScale = 0.5;
 
 // An inter candidate at a given vector instead of the motion search's (kGiven: a vector and
 // reference found before: another reference's search, format 1.6, or the candidate coded again
-// with a cross-plane scale).
+// with a cross-plane scale; kMerge: a merge candidate's vector on reference 0, format 1.11).
 enum class Forced { kNone, kShared, kPredictor, kGiven, kMerge };
 
 class MacroblockEncoder {
@@ -1261,13 +1261,13 @@ class MacroblockEncoder {
     double cost = std::numeric_limits<double>::infinity();
   };
   std::array<Searched, 5> own_;
-  Searched given_;  // the vector a Forced::kGiven candidate takes
+  Searched given_;     // the vector a Forced::kGiven candidate takes
+  int given_ref_ = 0;  // ... and its reference
   // Format 1.11, merge: the macroblock's merge candidates and the one a Forced::kMerge
   // candidate takes (1-based).
   int merge_cand_[kMergeCandidates][2] = {};
   int merge_k_ = 0;
-  int given_ref_ = 0;  // ... and its reference
-  int cur_ref_ = 0;    // reference of the inter candidate (reused by try_td)
+  int cur_ref_ = 0;  // reference of the inter candidate (reused by try_td)
   double last_cost_ = 0;
   const int max_value_;
   double lambda_ = 1, lambda_sad_ = 1;
