@@ -42,12 +42,16 @@ struct FrameSyntax {
 // reference: with cross-plane prediction (flags2 bit 3) X records its residual and Y and Z read
 // it; every plane records its final context states in states[plane], which Y and Z start from
 // with cross-plane contexts (bit 4, X's states), and every plane of a frame with temporal
-// contexts (bit 7) starts from the same plane's final states in `temporal` (reference 0). The
-// same for the encoder and the decoder.
+// contexts (bit 7) starts from the same plane's final states in `temporal` (reference 0); a P
+// plane takes the same plane's motion in `p_reference` (reference 0, before any value
+// transform) as merge's co-located candidate (format 1.11). The same for the encoder and the
+// decoder.
 CrossPlaneLinks plane_links(size_t plane, bool cross_plane, bool cross_contexts,
                             const std::vector<SamplePlane>* temporal,
-                            CrossPlaneResidual* x_residual, CrossPlaneContextStates* states) {
+                            CrossPlaneResidual* x_residual, CrossPlaneContextStates* states,
+                            const std::vector<SamplePlane>* p_reference) {
   CrossPlaneLinks links;
+  if (p_reference) links.reference_motion = (*p_reference)[plane].motion.get();  // format 1.11
   const bool x = plane == 0, y_or_z = plane == 1 || plane == 2;
   if (cross_plane && x) links.residual_out = x_residual;
   if (cross_plane && y_or_z) links.source = x_residual;
@@ -197,8 +201,11 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     header.flags2 |= format::kFrame2Partitions;
     syntax.partitions = true;
   }
-  syntax.merge = p_frame && options.merge;  // format 1.11
-  if (options.deblocking && !bypass) {      // format 1.8
+  // Format 1.11: merge, when the reference carries what the decoder's will (planes that
+  // encode_frame or decode_frame_packet reconstructed: final context states, and motion when
+  // that frame was a P frame).
+  syntax.merge = p_frame && options.merge && has_final_contexts(*reference);
+  if (options.deblocking && !bypass) {  // format 1.8
     header.flags2 |= format::kFrame2Deblocking;
     syntax.deblocking = true;
     syntax.deblock = options.deblock;
@@ -270,8 +277,9 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
       if (!joint.sources.empty())
         for (int k = 0; k + 1 < syntax.ref_count; ++k)
           joint.more_references.push_back({&(*(*older)[k])[1], &(*(*older)[k])[2]});
-      const CrossPlaneLinks links = plane_links(
-          i, cross_plane, cross_contexts, temporal ? reference : nullptr, &x_residual, states);
+      const CrossPlaneLinks links =
+          plane_links(i, cross_plane, cross_contexts, temporal ? reference : nullptr, &x_residual,
+                      states, p_frame ? reference : nullptr);
       if (bidirectional)
         coded[i] = encode_b_plane(planes[i], p, (*ref)[i], (*reference1)[i], &links, cache);
       else
@@ -279,6 +287,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
                                 more.empty() ? nullptr : &more, &links, cache);
       coded[i].reconstruction.final_contexts =
           std::make_shared<const CrossPlaneContextStates>(states[i]);
+      if (p_frame)  // format 1.11: the next P frame's co-located merge candidates
+        coded[i].reconstruction.motion = std::make_shared<const MotionField>(coded[i].motion);
     };
     if (!shared_motion && !cross_plane && !cross_contexts) {
       run_parallel(static_cast<int>(planes.size()), options.threads, code);
@@ -451,6 +461,10 @@ Result<GeometryImage> decode_frame_packet(
   syntax.merge = (planes_byte & format::kPayloadMerge) != 0;             // format 1.11
   if (syntax.merge && header.type != format::FrameType::kPredicted)
     return corrupt_data("payload flags: merge outside a P frame");
+  if (syntax.merge && !has_final_contexts(*reference))
+    return failed_precondition(
+        "merge: the reference frame's planes carry no motion record (decode it with "
+        "decode_frame_packet)");
   if (header.flags & format::kFrameNearLossless) {
     syntax.near_lossless = r.u16();
     if (!r.ok() || syntax.near_lossless == 0)
@@ -534,18 +548,23 @@ Result<GeometryImage> decode_frame_packet(
     PlaneCodingParams params =
         plane_params(info, static_cast<int>(i), header.flags, header.qp, syntax);
     params.end_of_plane_bin = !header.compact;  // format 1.10
-    const CrossPlaneLinks links = plane_links(i, cross_plane, cross_contexts,
-                                              temporal ? reference : nullptr, &x_residual, states);
+    const CrossPlaneLinks links =
+        plane_links(i, cross_plane, cross_contexts, temporal ? reference : nullptr, &x_residual,
+                    states, header.type == format::FrameType::kPredicted ? reference : nullptr);
+    const bool p_frame = header.type == format::FrameType::kPredicted;
+    MotionField motion;  // P planes: the plane's motion
     auto plane =
         bidirectional
             ? decode_b_plane(bytes, pw, ph, params, (*reference)[i], (*reference1)[i], &links)
             : decode_plane(bytes, pw, ph, params, prediction_ref ? &(*prediction_ref)[i] : nullptr,
                            shared_motion && (i == 1 || i == 2) ? &x_motion : nullptr,
-                           shared_motion && i == 0 ? &x_motion : nullptr,
-                           multi_ref ? &more[i] : nullptr, &links);
+                           p_frame ? &motion : nullptr, multi_ref ? &more[i] : nullptr, &links);
     if (!plane.is_ok()) return plane.status().with_context(name);
     planes.push_back(std::move(plane).value());
     planes.back().final_contexts = std::make_shared<const CrossPlaneContextStates>(states[i]);
+    if (shared_motion && i == 0) x_motion = motion;
+    if (p_frame)  // format 1.11: the next P frame's co-located merge candidates
+      planes.back().motion = std::make_shared<const MotionField>(std::move(motion));
   }
   if (r.remaining() != 0) return corrupt_data("trailing bytes after the planes");
   GeometryImage image = dequantize_geometry(planes, info, frame_number);

@@ -165,6 +165,8 @@ struct PlaneState {
   std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
   bool merge = false;  // format 1.11, P planes: a macroblock may take a neighbour's vector
+  // Format 1.11: the plane's motion in reference 0 (merge's co-located candidate), or null.
+  const MotionField* reference_motion = nullptr;
   // B planes (format 1.5): inter macroblocks predict from list 0 (the anchor before), list 1
   // (the anchor after) or both; mv_x / mv_y are the list 0 vectors.
   bool bidirectional = false;
@@ -281,9 +283,10 @@ struct PlaneState {
   // Format 1.11 (merge, docs/bitstream.md 4.14): the vectors a skip or 16x16 inter macroblock of
   // a P plane may take besides the predictor (px, py) of reference 0: those of the left, top,
   // top-right (when inside the plane), top-left, second-left and second-above macroblocks, in
-  // that order, that are inter on reference 0 (a partitioned one: its first partition's) and
-  // differ from the predictor and from the ones taken before; at most kMergeCandidates. Returns
-  // their count.
+  // that order, that are inter on reference 0 (a partitioned one: its first partition's), then
+  // the co-located macroblock's in reference 0 (reference_motion) if inter on its reference 0;
+  // each when it differs from the predictor and from the ones taken before; at most
+  // kMergeCandidates. Returns their count.
   int merge_candidates(int mb_x, int mb_y, int px, int py, int cand[][2]) const {
     int n = 0;
     const auto take = [&](int x, int y) {
@@ -304,6 +307,19 @@ struct PlaneState {
     take(mb_x - 1, mb_y - 1);
     take(mb_x - 2, mb_y);
     take(mb_x, mb_y - 2);
+    // The co-located macroblock of reference 0, when inter on its own reference 0.
+    const size_t c = static_cast<size_t>(mb_y) * mbs_x + mb_x;
+    if (reference_motion && n < kMergeCandidates && reference_motion->inter[c] &&
+        reference_motion->ref_idx[c] == 0) {
+      const int mx = reference_motion->mv_x[c], my = reference_motion->mv_y[c];
+      bool seen = mx == px && my == py;
+      for (int k = 0; k < n; ++k) seen = seen || (cand[k][0] == mx && cand[k][1] == my);
+      if (!seen) {
+        cand[n][0] = mx;
+        cand[n][1] = my;
+        ++n;
+      }
+    }
     return n;
   }
   // B planes: the predictor of the list's vector, the left macroblock's if it uses the list,

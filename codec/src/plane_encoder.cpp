@@ -1309,6 +1309,13 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
   st.merge = params.merge && reference && !reference1;                        // format 1.11
+  if (st.merge && cross && cross->reference_motion) {
+    const MotionField& m = *cross->reference_motion;
+    if (m.mbs_x == st.mbs_x && m.mbs_y == st.mbs_y && m.inter.size() == st.skip.size() &&
+        m.ref_idx.size() == st.skip.size() && m.mv_x.size() == st.skip.size() &&
+        m.mv_y.size() == st.skip.size())
+      st.reference_motion = &m;
+  }
   GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
                               reference1->height == plane.height));
   if (reference && shared) {

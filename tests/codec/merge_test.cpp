@@ -148,5 +148,43 @@ TEST(Merge, FlagOutsideAPFrameIsRejected) {
   EXPECT_TRUE(decode_frame_packet(p2->packet, info, 2, &i0->planes).is_ok());
 }
 
+// The co-located candidate comes from the reference's motion record, which only planes that
+// encode_frame or decode_frame_packet reconstructed carry: the decoder refuses a merge frame
+// against bare planes instead of decoding it wrongly, and the encoder codes one without merge.
+TEST(Merge, NeedsTheReferenceAsTheCodecReconstructedIt) {
+  const auto frames = testing::make_moving_analytic_video(48, 3);
+  const SequenceInfo info = testing::info_for(frames);
+  EncoderOptions o;
+  o.bframes = 0;
+  o.refs = 1;
+  o.temporal_contexts = false;  // (which need the reference's context states as well)
+  auto i0 = encode_frame(frames[0], info, o, 0);
+  ASSERT_TRUE(i0.is_ok());
+  auto p1 = encode_frame(frames[1], info, o, 1, &i0->planes);
+  ASSERT_TRUE(p1.is_ok());
+  for (const SamplePlane& p : p1->planes) EXPECT_NE(p.motion, nullptr);  // a P frame's record
+  for (const SamplePlane& p : i0->planes) EXPECT_EQ(p.motion, nullptr);
+  auto p2 = encode_frame(frames[2], info, o, 2, &p1->planes);
+  ASSERT_TRUE(p2.is_ok());
+  ASSERT_NE(testing::packet_payload(p2->packet)[0] & format::kPayloadMerge, 0);
+  std::vector<SamplePlane> decoded;
+  ASSERT_TRUE(decode_frame_packet(p1->packet, info, 1, &i0->planes, &decoded).is_ok());
+  for (const SamplePlane& p : decoded) EXPECT_NE(p.motion, nullptr);
+  EXPECT_TRUE(decode_frame_packet(p2->packet, info, 2, &decoded).is_ok());
+  std::vector<SamplePlane> bare = decoded;
+  for (SamplePlane& p : bare) {
+    p.final_contexts.reset();
+    p.motion.reset();
+  }
+  auto refused = decode_frame_packet(p2->packet, info, 2, &bare);
+  ASSERT_FALSE(refused.is_ok());
+  EXPECT_NE(refused.status().message().find("carry no motion record"), std::string::npos)
+      << refused.status().message();
+  auto plain = encode_frame(frames[2], info, o, 2, &bare);
+  ASSERT_TRUE(plain.is_ok());
+  EXPECT_EQ(testing::packet_payload(plain->packet)[0] & format::kPayloadMerge, 0);
+  EXPECT_TRUE(decode_frame_packet(plain->packet, info, 2, &bare).is_ok());
+}
+
 }  // namespace
 }  // namespace gvkit::codec

@@ -14,6 +14,8 @@
 
 namespace gvkit::codec {
 
+struct MotionField;  // plane_coding.hpp
+
 // The spatial-domain residual a coded plane added to its prediction, per sample (after the
 // inverse transform; in transform-bypass planes the level times the near-lossless step), in
 // sample units, row-major; and per macroblock (raster order) whether any of its samples is
@@ -43,6 +45,9 @@ struct CrossPlaneLinks {
   // `contexts_out` receives the plane's final states. Either may be null.
   const CrossPlaneContextStates* contexts = nullptr;
   CrossPlaneContextStates* contexts_out = nullptr;
+  // Format 1.11, merge (P planes): the same plane's motion in reference 0 (its co-located vector
+  // is a merge candidate), null when that reference is not a P frame.
+  const MotionField* reference_motion = nullptr;
 };
 
 // The allowed scales in increasing order, and the number of them.

@@ -165,12 +165,13 @@ struct EncoderOptions {
   bool compact_packets = true;
   // Merge (format 1.11, docs/bitstream.md 4.14): a skip or 16x16 inter macroblock of a P frame
   // may take the vector of one of its neighbours (left, top, top-right, top-left, second-left,
-  // second-above; on reference 0) instead of the predictor or a coded vector, coding which of up
-  // to four in one to four bins (as HEVC's merge candidates): where the motion field is smooth
-  // but not flat, a macroblock that needs a neighbour's vector no longer codes a vector
-  // difference (and, without residual, a coded block pattern). On by default: on the ICT face
-  // -12.98 % BD-rate in the slow preset, -2.65 % in the fast one (docs/benchmarks.md, format
-  // 1.11); false writes the 1.10 stream of the other options byte for byte.
+  // second-above; on reference 0) or of its co-located macroblock in reference 0 instead of the
+  // predictor or a coded vector, coding which of up to four in one to four bins (as HEVC's merge
+  // candidates): where the motion field is smooth but not flat, a macroblock that needs a
+  // neighbour's vector no longer codes a vector difference (and, without residual, a coded
+  // block pattern). On by default: on the ICT face -14.04 % BD-rate in the slow preset, -2.48 %
+  // in the fast one (docs/benchmarks.md, format 1.11); false writes the 1.10 stream of the
+  // other options byte for byte.
   bool merge = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 

@@ -81,6 +81,8 @@ struct PlaneCodingParams {
   bool end_of_plane_bin = true;
 };
 
+struct MotionField;
+
 // A plane of samples in [0, 2^bit_depth - 1], row-major.
 struct SamplePlane {
   int width = 0, height = 0;
@@ -89,6 +91,10 @@ struct SamplePlane {
   // segment ended with, on planes encode_frame or decode_frame_packet reconstructed (null on
   // other planes); the same plane of a later P or B frame may start from them.
   std::shared_ptr<const CrossPlaneContextStates> final_contexts;
+  // Format 1.11 (merge, docs/bitstream.md 4.14): the motion of a P plane encode_frame or
+  // decode_frame_packet reconstructed (null on other planes); the same plane of a later P frame
+  // takes its co-located vector as a merge candidate.
+  std::shared_ptr<const MotionField> motion;
   uint16_t& at(int x, int y) { return samples[static_cast<size_t>(y) * width + x]; }
   uint16_t at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
 };
