@@ -402,6 +402,7 @@ Result<GeometryImage> decode_frame_packet(
     return corrupt_data("frame type " + std::to_string(static_cast<int>(header.type)));
   const bool bidirectional = header.type == format::FrameType::kBidirectional;
   const bool predicted = header.type == format::FrameType::kPredicted || bidirectional;
+  const bool p_frame = predicted && !bidirectional;
   const size_t expected_planes = info.has_texture ? 4u : 3u;
   if (predicted && (!reference || reference->size() != expected_planes))
     return corrupt_data(bidirectional ? "B frame without the anchor frame before it"
@@ -459,8 +460,7 @@ Result<GeometryImage> decode_frame_packet(
   FrameSyntax syntax;
   syntax.partitions = (header.flags2 & format::kFrame2Partitions) != 0;  // format 1.7
   syntax.merge = (planes_byte & format::kPayloadMerge) != 0;             // format 1.11
-  if (syntax.merge && header.type != format::FrameType::kPredicted)
-    return corrupt_data("payload flags: merge outside a P frame");
+  if (syntax.merge && !p_frame) return corrupt_data("payload flags: merge outside a P frame");
   if (syntax.merge && !has_final_contexts(*reference))
     return failed_precondition(
         "merge: the reference frame's planes carry no motion record (decode it with "
@@ -550,8 +550,7 @@ Result<GeometryImage> decode_frame_packet(
     params.end_of_plane_bin = !header.compact;  // format 1.10
     const CrossPlaneLinks links =
         plane_links(i, cross_plane, cross_contexts, temporal ? reference : nullptr, &x_residual,
-                    states, header.type == format::FrameType::kPredicted ? reference : nullptr);
-    const bool p_frame = header.type == format::FrameType::kPredicted;
+                    states, p_frame ? reference : nullptr);
     MotionField motion;  // P planes: the plane's motion
     auto plane =
         bidirectional

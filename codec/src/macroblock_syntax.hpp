@@ -289,17 +289,19 @@ struct PlaneState {
   // kMergeCandidates. Returns their count.
   int merge_candidates(int mb_x, int mb_y, int px, int py, int cand[][2]) const {
     int n = 0;
-    const auto take = [&](int x, int y) {
-      if (n == kMergeCandidates || x < 0 || y < 0 || x >= mbs_x) return;
-      const size_t i = static_cast<size_t>(y) * mbs_x + x;
-      if (mb_type[i] != kMbInter || ref_idx[i] != 0) return;
-      const int mx = mv_x[i], my = mv_y[i];
-      if (mx == px && my == py) return;
+    // A vector not seen yet, while there is room.
+    const auto add = [&](int mx, int my) {
+      if (n == kMergeCandidates || (mx == px && my == py)) return;
       for (int k = 0; k < n; ++k)
         if (cand[k][0] == mx && cand[k][1] == my) return;
       cand[n][0] = mx;
       cand[n][1] = my;
       ++n;
+    };
+    const auto take = [&](int x, int y) {
+      if (x < 0 || y < 0 || x >= mbs_x) return;
+      const size_t i = static_cast<size_t>(y) * mbs_x + x;
+      if (mb_type[i] == kMbInter && ref_idx[i] == 0) add(mv_x[i], mv_y[i]);
     };
     take(mb_x - 1, mb_y);
     take(mb_x, mb_y - 1);
@@ -309,18 +311,19 @@ struct PlaneState {
     take(mb_x, mb_y - 2);
     // The co-located macroblock of reference 0, when inter on its own reference 0.
     const size_t c = static_cast<size_t>(mb_y) * mbs_x + mb_x;
-    if (reference_motion && n < kMergeCandidates && reference_motion->inter[c] &&
-        reference_motion->ref_idx[c] == 0) {
-      const int mx = reference_motion->mv_x[c], my = reference_motion->mv_y[c];
-      bool seen = mx == px && my == py;
-      for (int k = 0; k < n; ++k) seen = seen || (cand[k][0] == mx && cand[k][1] == my);
-      if (!seen) {
-        cand[n][0] = mx;
-        cand[n][1] = my;
-        ++n;
-      }
-    }
+    if (reference_motion && reference_motion->inter[c] && reference_motion->ref_idx[c] == 0)
+      add(reference_motion->mv_x[c], reference_motion->mv_y[c]);
     return n;
+  }
+  // Format 1.11: takes `m` (the plane's motion in reference 0) as merge's co-located record when
+  // merge is on and it covers this plane's macroblock grid; otherwise there is none. The encoder
+  // and the decoder decide alike.
+  void use_reference_motion(const MotionField* m) {
+    const size_t count = skip.size();
+    const bool fits = m && m->mbs_x == mbs_x && m->mbs_y == mbs_y && m->inter.size() == count &&
+                      m->ref_idx.size() == count && m->mv_x.size() == count &&
+                      m->mv_y.size() == count;
+    reference_motion = merge && fits ? m : nullptr;
   }
   // B planes: the predictor of the list's vector, the left macroblock's if it uses the list,
   // else the top one's if it does, else zero.

@@ -535,13 +535,7 @@ Result<SamplePlane> decode_plane_impl(std::string_view bytes, int width, int hei
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
   st.merge = params.merge && reference && !reference1;                        // format 1.11
-  if (st.merge && cross && cross->reference_motion) {
-    const MotionField& m = *cross->reference_motion;
-    if (m.mbs_x == st.mbs_x && m.mbs_y == st.mbs_y && m.inter.size() == st.skip.size() &&
-        m.ref_idx.size() == st.skip.size() && m.mv_x.size() == st.skip.size() &&
-        m.mv_y.size() == st.skip.size())
-      st.reference_motion = &m;
-  }
+  st.use_reference_motion(cross ? cross->reference_motion : nullptr);
   if (reference && shared) {
     GVKIT_CHECK(shared->mbs_x == st.mbs_x && shared->mbs_y == st.mbs_y,
                 "shared motion of another macroblock grid");

@@ -107,6 +107,11 @@ class MacroblockEncoder {
     mb_y_ = mb_y;
     own_.fill(Searched{});
     cur_ref_ = 0;
+    if (ref_) {  // the skip vector and (format 1.11) the merge candidates, for every candidate
+      st_.mv_predictor(mb_x, mb_y, &skip_mv_x_, &skip_mv_y_, 0);
+      merge_count_ =
+          st_.merge ? st_.merge_candidates(mb_x, mb_y, skip_mv_x_, skip_mv_y_, merge_cand_) : 0;
+    }
     Candidate best;
     const auto consider = [&](MbType type, bool td = false, Forced forced = Forced::kNone) {
       consider_candidate(&best, ctx, [&](MacroblockData& mb, ContextSet& trial) {
@@ -126,13 +131,8 @@ class MacroblockEncoder {
     if (ref_ && p_.skip_check && !skip_found()) consider(kMbInter, false, Forced::kPredictor);
     // Format 1.11, merge: the neighbours' vectors, each as a candidate (a skip or a merged
     // macroblock with a residual).
-    if (ref_ && st_.merge && !skip_found()) {
-      int px, py;
-      st_.mv_predictor(mb_x, mb_y, &px, &py, 0);
-      const int n = st_.merge_candidates(mb_x, mb_y, px, py, merge_cand_);
-      for (merge_k_ = 1; merge_k_ <= n && !skip_found(); ++merge_k_)
-        consider(kMbInter, false, Forced::kMerge);
-    }
+    for (merge_k_ = 1; ref_ && merge_k_ <= merge_count_ && !skip_found(); ++merge_k_)
+      consider(kMbInter, false, Forced::kMerge);
     if (ref_ && !(p_.skip_check && skip_found())) {
       consider(kMbInter);
       own_[0] = {mv_x_, mv_y_, whole_mv_x_, whole_mv_y_, last_cost_};
@@ -352,8 +352,6 @@ class MacroblockEncoder {
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
     if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0 && mb.partition == kPart16x16) {
-      int px, py;
-      st_.mv_predictor(mb_x_, mb_y_, &px, &py);
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7) or, with
       // merge (1.11), at a neighbour's vector.
       const int idx =
@@ -612,22 +610,16 @@ class MacroblockEncoder {
   // coded as a skip: 0 at the predictor, k at merge candidate k - 1 (merge), -1 not at all.
   int skip_index(int mx, int my, int ref) const {
     if (ref != 0) return -1;
-    int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py, 0);
-    if (mx == px && my == py) return 0;
+    if (mx == skip_mv_x_ && my == skip_mv_y_) return 0;
     const int k = merge_index(mx, my, ref);
     return k > 0 ? k : -1;
   }
   // Format 1.11: k when (mx, my) on reference `ref` is merge candidate k - 1 (a 16x16 inter
   // macroblock there is coded as merged), else 0.
   int merge_index(int mx, int my, int ref) const {
-    if (ref != 0 || !st_.merge) return 0;
-    int px, py;
-    st_.mv_predictor(mb_x_, mb_y_, &px, &py, 0);
-    int cand[kMergeCandidates][2];
-    const int n = st_.merge_candidates(mb_x_, mb_y_, px, py, cand);
-    for (int k = 0; k < n; ++k)
-      if (cand[k][0] == mx && cand[k][1] == my) return k + 1;
+    if (ref != 0) return 0;
+    for (int k = 0; k < merge_count_; ++k)
+      if (merge_cand_[k][0] == mx && merge_cand_[k][1] == my) return k + 1;
     return 0;
   }
 
@@ -1263,9 +1255,12 @@ class MacroblockEncoder {
   std::array<Searched, 5> own_;
   Searched given_;     // the vector a Forced::kGiven candidate takes
   int given_ref_ = 0;  // ... and its reference
-  // Format 1.11, merge: the macroblock's merge candidates and the one a Forced::kMerge
-  // candidate takes (1-based).
+  // P macroblocks, set by encode(): the predictor of reference 0 (the skip vector) and, format
+  // 1.11, the merge candidates (none without merge) and the one a Forced::kMerge candidate takes
+  // (1-based).
+  int skip_mv_x_ = 0, skip_mv_y_ = 0;
   int merge_cand_[kMergeCandidates][2] = {};
+  int merge_count_ = 0;
   int merge_k_ = 0;
   int cur_ref_ = 0;  // reference of the inter candidate (reused by try_td)
   double last_cost_ = 0;
@@ -1309,13 +1304,7 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
   st.bidirectional = reference1 != nullptr;
   if (params.partitions && reference && !reference1) st.enable_partitions();  // format 1.7
   st.merge = params.merge && reference && !reference1;                        // format 1.11
-  if (st.merge && cross && cross->reference_motion) {
-    const MotionField& m = *cross->reference_motion;
-    if (m.mbs_x == st.mbs_x && m.mbs_y == st.mbs_y && m.inter.size() == st.skip.size() &&
-        m.ref_idx.size() == st.skip.size() && m.mv_x.size() == st.skip.size() &&
-        m.mv_y.size() == st.skip.size())
-      st.reference_motion = &m;
-  }
+  st.use_reference_motion(cross ? cross->reference_motion : nullptr);
   GVKIT_CHECK(!reference1 || (reference && !shared && reference1->width == plane.width &&
                               reference1->height == plane.height));
   if (reference && shared) {
