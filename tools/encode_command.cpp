@@ -42,6 +42,7 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   j["intra_mbs"] = s.intra_mbs;
   j["inter_mbs"] = s.inter_mbs;
   j["td_mbs"] = s.td_mbs;
+  j["td16_mbs"] = s.td16_mbs;
   j["skip_mbs"] = s.skip_mbs;
   j["merge_skip_mbs"] = s.merge_skip_mbs;
   j["merged_mbs"] = s.merged_mbs;
@@ -200,6 +201,7 @@ void run_encode(const EncodeArgs& args) {
         {"compact_segments", options.compact_segments},
         {"compact_packets", options.compact_packets},
         {"merge", options.merge},
+        {"td16", options.td16},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -335,6 +337,10 @@ void add_encode_command(CLI::App& app) {
                 "P frames: a skip or 16x16 inter macroblock may take one of up to four "
                 "neighbours' vectors, coding which in one to four bins (format 1.11; on by "
                 "default); --no-merge writes the 1.10 stream");
+  cmd->add_flag("--td16,!--no-td16", args->options.td16,
+                "P frames: a temporal-difference macroblock may predict the difference with one "
+                "16x16 mode, its residual then with any transform size (format 1.12; on by "
+                "default); --no-td16 writes the 1.11 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

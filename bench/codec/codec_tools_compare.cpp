@@ -20,7 +20,7 @@
 //                             [--deblock-tc N]] [--intra-rdo-only]
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 //                            [--compact-segments-only] [--compact-packets-only]
-//                            [--merge-only]
+//                            [--merge-only] [--td16-only] [--qps Q1,Q2,...]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -44,8 +44,11 @@
 // presets (or the one of --temporal-contexts-preset); --compact-segments-only: format 1.9 compact
 // segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
 // off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
+// --td16-only: format 1.12 TD16 off / on in both presets;
 // --write-streams DIR: also write every stream
-// of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark)
+// of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark;
+// --qps: the QPs of our curves instead of the report's own, e.g. -18,...,24 for x265's whole
+// range)
 #include <time.h>
 
 #include <algorithm>
@@ -55,6 +58,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -250,6 +254,7 @@ void report_bit_accounting(const Material& m, const EncoderOptions& base,
     }
     std::printf("| %d | total (stream) | | %.4f | PSNR %.2f dB |\n", qp, r.point.rate,
                 r.point.psnr_db);
+
     std::fflush(stdout);
   }
 }
@@ -855,11 +860,12 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, compact_only = false,
-       packets_only = false, merge_only = false;
+       packets_only = false, merge_only = false, td16_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
+  std::vector<int> qp_list;  // --qps: the QPs of the reports (default: each report's own)
   testing::GeometryVideoOptions vo;
   vo.frames = 30;
   // A preset name into *out, or a message on stderr and false.
@@ -900,6 +906,8 @@ int main(int argc, char** argv) {
       packets_only = true;
     else if (a == "--merge-only")
       merge_only = true;
+    else if (a == "--td16-only")
+      td16_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
@@ -908,7 +916,10 @@ int main(int argc, char** argv) {
       g_stream_dir = argv[++i];
     else if (a == "--bits-only")
       bits_only = true;
-    else if (a == "--preset" && i + 1 < argc) {
+    else if (a == "--qps" && i + 1 < argc) {
+      std::stringstream list(argv[++i]);
+      for (std::string qp; std::getline(list, qp, ',');) qp_list.push_back(std::atoi(qp.c_str()));
+    } else if (a == "--preset" && i + 1 < argc) {
       if (!read_preset(argv[++i], &mode_preset)) return 2;
     } else if (a == "--motion-only")
       motion_only = true;
@@ -950,8 +961,8 @@ int main(int argc, char** argv) {
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
-          "[--compact-segments-only] [--compact-packets-only] [--merge-only] "
-          "[--write-streams DIR]\n");
+          "[--compact-segments-only] [--compact-packets-only] [--merge-only] [--td16-only] "
+          "[--write-streams DIR] [--qps Q1,Q2,...]\n");
       return 2;
     }
   }
@@ -991,7 +1002,7 @@ int main(int argc, char** argv) {
   // The B frames of every row but those of --bframes-only (default: the encoder's, -1).
   base.bframes = bframes;
   base.deblock = deblock;
-  const std::vector<int> qps = {-18, -12, -6, 0, 6, 12};
+  const std::vector<int> qps = qp_list.empty() ? std::vector<int>{-18, -12, -6, 0, 6, 12} : qp_list;
 
   if (rate_only) {
     report_rate_and_threads(m, base);
@@ -1000,14 +1011,16 @@ int main(int argc, char** argv) {
   if (bits_only) {
     EncoderOptions bits = base;
     bits.preset = mode_preset;
-    report_bit_accounting(m, bits, {-6, 0, 6, 12});
+    report_bit_accounting(m, bits, qp_list.empty() ? std::vector<int>{-6, 0, 6, 12} : qp_list);
     return 0;
   }
   if (qp_offsets_only) {
     EncoderOptions o = base;
     o.preset = mode_preset;
     const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
-    report_qp_offsets(m, o, {-18, -12, -6, 0, 6, 12, 18, 24}, x265, peers ? "this run" : "logged");
+    report_qp_offsets(m, o,
+                      qp_list.empty() ? std::vector<int>{-18, -12, -6, 0, 6, 12, 18, 24} : qp_list,
+                      x265, peers ? "this run" : "logged");
     return 0;
   }
   if (bframes_only) {
@@ -1047,6 +1060,9 @@ int main(int argc, char** argv) {
   if (merge_only)
     return on_off(refs_presets, "--merge", "--no-merge",
                   [](EncoderOptions& o, bool on) { o.merge = on; });
+  if (td16_only)
+    return on_off(refs_presets, "--td16", "--no-td16",
+                  [](EncoderOptions& o, bool on) { o.td16 = on; });
   if (packets_only)
     return on_off(refs_presets, "--compact-packets", "--no-compact-packets",
                   [](EncoderOptions& o, bool on) { o.compact_packets = on; });

@@ -19,6 +19,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   intra_mbs += other.intra_mbs;
   inter_mbs += other.inter_mbs;
   td_mbs += other.td_mbs;
+  td16_mbs += other.td16_mbs;
   skip_mbs += other.skip_mbs;
   merge_skip_mbs += other.merge_skip_mbs;
   merged_mbs += other.merged_mbs;

@@ -36,6 +36,7 @@ struct FrameSyntax {
   bool deblocking = false;  // format 1.8: flags2 bit 6
   DeblockingParams deblock;
   bool merge = false;  // format 1.11: the payload's first byte, bit 5
+  bool td16 = false;   // format 1.12: the payload's first byte, bit 6
 };
 
 // What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X and with the
@@ -85,6 +86,7 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.deblocking = syntax.deblocking;  // format 1.8
   p.deblock = syntax.deblock;
   p.merge = syntax.merge;  // format 1.11
+  p.td16 = syntax.td16;    // format 1.12
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -205,6 +207,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   // encode_frame or decode_frame_packet reconstructed: final context states, and motion when
   // that frame was a P frame).
   syntax.merge = p_frame && options.merge && has_final_contexts(*reference);
+  // Format 1.12: TD16, in P frames with TD prediction.
+  syntax.td16 = p_frame && options.td16 && options.td_prediction;
   if (options.deblocking && !bypass) {  // format 1.8
     header.flags2 |= format::kFrame2Deblocking;
     syntax.deblocking = true;
@@ -331,9 +335,9 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     }
   }
   ByteWriter payload;
-  payload.u8(static_cast<uint8_t>(planes.size() |
-                                  (options.compact_segments ? format::kPayloadCompactSegments : 0) |
-                                  (syntax.merge ? format::kPayloadMerge : 0)));
+  payload.u8(static_cast<uint8_t>(
+      planes.size() | (options.compact_segments ? format::kPayloadCompactSegments : 0) |
+      (syntax.merge ? format::kPayloadMerge : 0) | (syntax.td16 ? format::kPayloadTd16 : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
@@ -461,6 +465,9 @@ Result<GeometryImage> decode_frame_packet(
   syntax.partitions = (header.flags2 & format::kFrame2Partitions) != 0;  // format 1.7
   syntax.merge = (planes_byte & format::kPayloadMerge) != 0;             // format 1.11
   if (syntax.merge && !p_frame) return corrupt_data("payload flags: merge outside a P frame");
+  syntax.td16 = (planes_byte & format::kPayloadTd16) != 0;  // format 1.12
+  if (syntax.td16 && !(p_frame && (header.flags & format::kFrameTdPrediction)))
+    return corrupt_data("payload flags: TD16 outside a P frame with TD prediction");
   if (syntax.merge && !has_final_contexts(*reference))
     return failed_precondition(
         "merge: the reference frame's planes carry no motion record (decode it with "

@@ -182,6 +182,8 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
+  if (options.td16 && options.td_prediction && !options.intra_only && options.intra_period >= 2)
+    return format::kMinorVersionTd16;  // 1.12: P frames with TD prediction
   if (options.merge && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionMerge;                                      // 1.11: P frames
   if (options.compact_packets) return format::kMinorVersionCompactPackets;  // 1.10

@@ -74,6 +74,10 @@ struct ContextSet {
   // inter macroblock (0: not merged) as truncated unary, bin k in context k.
   CabacContext merge_idx[kMergeCandidates];
   CabacContext merge_inter[kMergeCandidates];
+  // Format 1.12, TD16 (P planes): a TD macroblock's td16 bin (by the left and top macroblocks
+  // being TD16) and the two bins of its 16x16 mode.
+  CabacContext td16[3];
+  CabacContext td16_mode[2];
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -161,6 +165,7 @@ struct PlaneState {
   std::vector<uint8_t> skip;        // per macroblock (inter, no motion difference, no residual)
   std::vector<int16_t> mv_x, mv_y;  // per macroblock, inter only (units of the plane)
   std::vector<uint8_t> td;          // per macroblock: inter with temporal-difference prediction
+  std::vector<uint8_t> td16;        // per macroblock: TD with a 16x16 mode (format 1.12)
   std::vector<uint8_t> shared;      // per macroblock: took the co-located first-plane vector
   std::vector<uint8_t> ref_idx;     // per macroblock: reference of an inter MB (format 1.6), else 0
   const MotionField* colocated = nullptr;  // the first plane's motion (shared motion), or null
@@ -202,6 +207,7 @@ struct PlaneState {
         mv_x(mb_type.size()),
         mv_y(mb_type.size()),
         td(mb_type.size()),
+        td16(mb_type.size()),
         shared(mb_type.size()),
         ref_idx(mb_type.size()),
         lists(mb_type.size()),
@@ -378,7 +384,9 @@ struct MacroblockData {
   // (PlaneState::merge_candidates); of another 16x16 inter macroblock, 0 = coded with ref_idx
   // and a vector difference, k = merge candidate k - 1 on reference 0.
   int merge_idx = 0;
-  bool td = false;         // inter: temporal-difference prediction with modes[0..15]
+  bool td = false;  // inter: temporal-difference prediction with modes[0..15]
+  // Format 1.12, with td: the difference is predicted by the 16x16 mode i16_mode (TD16).
+  bool td16 = false;
   bool shared = false;     // inter: the co-located first-plane vector (format 1.4)
   int mv_x = 0, mv_y = 0;  // inter: motion vector (samples, or quarter samples)
   int ref_idx = 0;         // inter, P planes: index into the reference list (format 1.6)
@@ -498,11 +506,11 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
 }
 
 // ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
-// Whether macroblock `mb` codes transform_size: plain inter (not TD) and I16x16 macroblocks of a
-// plane with max_transform > 4, when their cbp is nonzero.
+// Whether macroblock `mb` codes transform_size: plain inter (not TD, but TD16) and I16x16
+// macroblocks of a plane with max_transform > 4, when their cbp is nonzero.
 inline bool has_transform_size(const MacroblockData& mb, const PlaneCodingParams& p) {
   return p.max_transform > 4 && mb.cbp != 0 &&
-         ((mb.type == kMbInter && !mb.td) || mb.type == kMbI16x16);
+         ((mb.type == kMbInter && (!mb.td || mb.td16)) || mb.type == kMbI16x16);
 }
 inline int transform_code(int size) { return size == 16 ? 2 : (size == 8 ? 1 : 0); }
 
@@ -658,6 +666,7 @@ void write_b_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x,
   coder.encode(ctx.skip[flag_ctx(st.skip, [](uint8_t k) { return k != 0; })], skip);
   st.skip[mb_index] = skip;
   st.td[mb_index] = 0;
+  st.td16[mb_index] = 0;
   if (!skip)
     coder.encode(ctx.is_inter[flag_ctx(st.mb_type, [](uint8_t t) { return t == kMbInter; })],
                  inter);
@@ -733,6 +742,7 @@ void write_partitioned_motion(Coder& coder, ContextSet& ctx, PlaneState& st, int
   st.mv_x[mb_index] = static_cast<int16_t>(mb.part_mv_x[0]);
   st.mv_y[mb_index] = static_cast<int16_t>(mb.part_mv_y[0]);
   st.td[mb_index] = 0;
+  st.td16[mb_index] = 0;
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
 }
@@ -825,7 +835,17 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
       if (!mb.skip && params.td_prediction)
         coder.encode(ctx.td_flag[flag_ctx(st.td, [](uint8_t k) { return k != 0; })], td);
       st.td[mb_index] = td;
-      if (td) {
+      const bool td16 = td && params.td16 && mb.td16;
+      if (td && params.td16) {  // format 1.12
+        coder.encode(ctx.td16[flag_ctx(st.td16, [](uint8_t k) { return k != 0; })], td16);
+        if (td16) {
+          set_group(coder, kSyntaxModes);
+          coder.encode(ctx.td16_mode[0], mb.i16_mode & 1);
+          coder.encode(ctx.td16_mode[1], (mb.i16_mode >> 1) & 1);
+        }
+      }
+      st.td16[mb_index] = td16;
+      if (td && !td16) {
         for (int b = 0; b < 16; ++b) {
           const int gx = gx0 + block_x(b), gy = gy0 + block_y(b);
           write_mode(coder, ctx, mb.modes[b], most_probable_mode(st, gx, gy, false),
@@ -845,6 +865,7 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
     }
     st.skip[mb_index] = 0;
     st.td[mb_index] = 0;
+    st.td16[mb_index] = 0;
     st.ref_idx[mb_index] = 0;
     if (st.partitions) st.grid.set_macroblock(mb_x, mb_y, -1, 0, 0);  // format 1.7
   }
@@ -972,19 +993,21 @@ inline void predict_b_inter(const SamplePlane& ref0, const SamplePlane& ref1, in
 // D'(x, y) = clip(recon(x, y) - ref(x + mv_x, y + mv_y) + 2^(B-1), 0, 2^B - 1) (reference
 // coordinates clamped), with the availability and substitution rules of intra prediction.
 // mc(x, y) is the motion-compensated reference sample at (x, y) (motion_sample's value).
+// n = 4 (a TD block) or 16 (format 1.12: a TD16 macroblock, block 0, which like I16x16 reads
+// no top-right samples).
 template <class MotionSample>
 IntraNeighbors td_neighbors_from(const SamplePlane& recon, const MotionSample& mc, int x0, int y0,
-                                 int mb_x, int mb_y, int block, int bit_depth) {
-  constexpr int n = 4, stride = 2 * n + 1;
+                                 int mb_x, int mb_y, int block, int bit_depth, int n = 4) {
+  const int stride = n == 16 ? n + 1 : 2 * n + 1;
   const int32_t c = 1 << (bit_depth - 1), max_value = (1 << bit_depth) - 1;
   const auto d = [&](int x, int y) -> uint16_t {
     if (x < 0 || y < 0 || x >= recon.width || y >= recon.height) return 0;
     return static_cast<uint16_t>(std::clamp(recon.at(x, y) - mc(x, y) + c, 0, max_value));
   };
-  uint16_t local[(n + 1) * stride];
+  uint16_t local[17 * 17];
   for (int i = 0; i < stride; ++i) local[i] = d(x0 - 1 + i, y0 - 1);
   for (int j = 1; j <= n; ++j) local[j * stride] = d(x0 - 1, y0 - 1 + j);
-  const bool top_right = is_coded(x0 + n, y0 - 1, recon.width, mb_x, mb_y, block);
+  const bool top_right = n < 16 && is_coded(x0 + n, y0 - 1, recon.width, mb_x, mb_y, block);
   return make_neighbors(local, stride, 1, 1, n, y0 > 0, x0 > 0, top_right, bit_depth);
 }
 
@@ -1028,6 +1051,21 @@ inline void predict_td(const SamplePlane& recon, const TdWindow& w, int x0, int 
   const int32_t c = 1 << (bit_depth - 1);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x) pred[y * 4 + x] = w.at(x0 + x, y0 + y) + pd[y * 4 + x] - c;
+}
+
+// Format 1.12 (TD16, docs/bitstream.md 4.15): the prediction of a TD16 macroblock: the
+// motion-compensated reference plus the I16x16 prediction (mode 0..3) of the difference plane
+// from the macroblock's neighbours, 2^(B-1) removed; not clipped.
+inline void predict_td16(const SamplePlane& recon, const TdWindow& w, int mb_x, int mb_y, int mode,
+                         int bit_depth, int32_t* pred) {
+  const int x0 = mb_x * 16, y0 = mb_y * 16;
+  const IntraNeighbors nb = td_neighbors_from(
+      recon, [&](int x, int y) { return w.at(x, y); }, x0, y0, mb_x, mb_y, 0, bit_depth, 16);
+  int32_t pd[256];
+  predict_intra(16, mode, nb, (1 << bit_depth) - 1, pd);
+  const int32_t c = 1 << (bit_depth - 1);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) pred[y * 16 + x] = w.at(x0 + x, y0 + y) + pd[y * 16 + x] - c;
 }
 
 // Neighbours of the n x n block at (x0, y0), the top-left 4x4 unit of which has z-order index

@@ -96,7 +96,14 @@ class MacroblockReader {
         mb.td = !mb.skip && p_.td_prediction &&
                 dec_.decode(ctx_.td_flag[flag_ctx(st_.td, [](uint8_t k) { return k != 0; })]);
         st_.td[mb_index] = mb.td;
-        if (mb.td) {
+        mb.td16 = mb.td && p_.td16 &&  // format 1.12
+                  dec_.decode(ctx_.td16[flag_ctx(st_.td16, [](uint8_t k) { return k != 0; })]);
+        st_.td16[mb_index] = mb.td16;
+        if (mb.td16) {
+          mb.i16_mode = dec_.decode(ctx_.td16_mode[0]);
+          mb.i16_mode |= dec_.decode(ctx_.td16_mode[1]) << 1;
+        }
+        if (mb.td && !mb.td16) {
           GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));
         } else {
           for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
@@ -105,6 +112,7 @@ class MacroblockReader {
       }
       st_.skip[mb_index] = 0;
       st_.td[mb_index] = 0;
+      st_.td16[mb_index] = 0;
       st_.ref_idx[mb_index] = 0;
       if (st_.partitions) st_.grid.set_macroblock(mb_x, mb_y, -1, 0, 0);  // format 1.7
     }
@@ -148,7 +156,9 @@ class MacroblockReader {
     st_.mv_x[mb_index] = static_cast<int16_t>(mb.mv_x);
     st_.mv_y[mb_index] = static_cast<int16_t>(mb.mv_y);
     mb.td = false;
+    mb.td16 = false;
     st_.td[mb_index] = 0;
+    st_.td16[mb_index] = 0;
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
     return read_cbp_and_residuals(mb_x, mb_y, mb);
@@ -173,11 +183,13 @@ class MacroblockReader {
       return st_.neighbour_count(v, mb_x, mb_y, pred);
     };
     mb.td = false;
+    mb.td16 = false;
     mb.shared = false;
     mb.partition = kPart16x16;
     mb.skip = dec_.decode(ctx_.skip[flag_ctx(st_.skip, [](uint8_t k) { return k != 0; })]);
     st_.skip[mb_index] = mb.skip;
     st_.td[mb_index] = 0;
+    st_.td16[mb_index] = 0;
     if (!mb.skip &&
         !dec_.decode(
             ctx_.is_inter[flag_ctx(st_.mb_type, [](uint8_t t) { return t == kMbInter; })])) {
@@ -227,6 +239,7 @@ class MacroblockReader {
   Status read_intra(int mb_x, int mb_y, MacroblockData& mb) {
     const int mb_index = mb_y * st_.mbs_x + mb_x;
     mb.td = false;
+    mb.td16 = false;
     mb.shared = false;
     const auto neighbour_type = [&](int dx, int dy, MbType t) {
       const int x = mb_x + dx, y = mb_y + dy;
@@ -449,6 +462,19 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
   if (mb.type == kMbInter && reference1) {
     predict_b_inter(*reference, *reference1, mb_x * 16, mb_y * 16, mb.b_pred, mb.mv_x, mb.mv_y,
                     mb.mv_x1, mb.mv_y1, p.subpel != 0, p.bit_depth, pred);
+    add_cross(mb_x * 16, mb_y * 16, 16);
+    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                    mb_y * 16);
+  } else if (mb.type == kMbInter && mb.td16) {  // format 1.12
+    TdWindow window;
+    fill_td_window(
+        mb_x, mb_y,
+        [&](int x, int y, int w, int h, int32_t* out) {
+          predict_motion_block(*reference, x, y, w, h, mb.mv_x, mb.mv_y, p.subpel != 0, p.bit_depth,
+                               out);
+        },
+        window);
+    predict_td16(plane, window, mb_x, mb_y, mb.i16_mode, p.bit_depth, pred);
     add_cross(mb_x * 16, mb_y * 16, 16);
     reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
                                     mb_y * 16);

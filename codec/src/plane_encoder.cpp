@@ -163,6 +163,7 @@ class MacroblockEncoder {
           mv_y_ = whole_mv_y_;
           consider(kMbInter, true);
         }
+        if (p_.td16) consider_td16(best, ctx, td_ref);
       }
       consider(kMbI16x16);
       if (p_.allow_8x8) consider(kMbI8x8);
@@ -289,7 +290,7 @@ class MacroblockEncoder {
         cur_ref_ = base.ref_idx;
         mv_x_ = base.mv_x;
         mv_y_ = base.mv_y;
-        return try_td(mb, trial);
+        return base.td16 ? try_td16(mb, trial) : try_td(mb, trial);
       }
       if (base.type == kMbInter) {
         const int unit = p_.subpel != 0 ? 4 : 1;
@@ -330,12 +331,19 @@ class MacroblockEncoder {
   // bits); a P or B candidate that then has no residual at the skip vector becomes a skip.
   void choose_transform_size(Candidate& best, const ContextSet& ctx) {
     MacroblockData& mb = best.mb;
-    if (p_.max_transform <= 4 || p_.lossless || mb.skip || mb.td ||
+    if (p_.max_transform <= 4 || p_.lossless || mb.skip || (mb.td && !mb.td16) ||
         (mb.type != kMbInter && mb.type != kMbI16x16))
       return;
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int32_t pred[256];
-    if (mb.type == kMbI16x16) {
+    if (mb.td16) {  // format 1.12
+      td_window_.x0 = x0 - 1;
+      td_window_.y0 = y0 - 1;
+      interp(mb.ref_idx)
+          .predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight, mb.mv_x,
+                   mb.mv_y, p_.subpel != 0, td_window_.mc);
+      predict_td16(recon_, td_window_, mb_x_, mb_y_, mb.i16_mode, p_.bit_depth, pred);
+    } else if (mb.type == kMbI16x16) {
       const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
       predict_intra(16, mb.i16_mode, nb, max_value_, pred);
     } else if (st_.bidirectional) {
@@ -351,7 +359,8 @@ class MacroblockEncoder {
     code_residual_sizes(mb, pred, trial, mb.type == kMbInter);
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) best.recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
-    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0 && mb.partition == kPart16x16) {
+    if (mb.type == kMbInter && mb.cbp == 0 && mb.cross_scale == 0 && mb.partition == kPart16x16 &&
+        !mb.td) {
       // A skip predicts from reference 0 at the predictor (format 1.6, section 4.7) or, with
       // merge (1.11), at a neighbour's vector.
       const int idx =
@@ -934,6 +943,24 @@ class MacroblockEncoder {
     return cost;
   }
 
+  // Format 1.12: TD16 candidates at the own search's vector on reference `td_ref`, at the skip
+  // vector and at every merge candidate (reference 0).
+  void consider_td16(Candidate& best, const ContextSet& ctx, int td_ref) {
+    const auto at = [&](int ref, int mx, int my) {
+      cur_ref_ = ref;
+      mv_x_ = mx;
+      mv_y_ = my;
+      consider_candidate(
+          &best, ctx, [&](MacroblockData& mb, ContextSet& trial) { return try_td16(mb, trial); });
+    };
+    at(td_ref, own_[td_ref].mv_x, own_[td_ref].mv_y);
+    if (td_ref != 0 || own_[0].mv_x != skip_mv_x_ || own_[0].mv_y != skip_mv_y_)
+      at(0, skip_mv_x_, skip_mv_y_);
+    for (int k = 0; k < merge_count_; ++k)
+      if (td_ref != 0 || own_[0].mv_x != merge_cand_[k][0] || own_[0].mv_y != merge_cand_[k][1])
+        at(0, merge_cand_[k][0], merge_cand_[k][1]);
+  }
+
   // Inter with temporal-difference prediction, at the motion vector of the inter candidate.
   double try_td(MacroblockData& mb, ContextSet& trial) {
     int px, py;
@@ -961,6 +988,71 @@ class MacroblockEncoder {
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
       if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+    return cost;
+  }
+
+  // Format 1.12, TD16: inter at the current vector (cur_ref_, mv_x_, mv_y_) with the temporal
+  // difference predicted by one I16x16 mode from the macroblock's neighbours (with RDO every mode,
+  // or the intra shortlist's count of lowest SATD-based cost; without, the lowest), the residual
+  // coded as a plain inter macroblock's (every transform size). A vector that is a merge
+  // candidate is coded merged.
+  double try_td16(MacroblockData& mb, ContextSet& trial) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    int px, py;
+    st_.mv_predictor(mb_x_, mb_y_, &px, &py, cur_ref_);
+    mb.type = kMbInter;
+    mb.mv_x = mv_x_;
+    mb.mv_y = mv_y_;
+    mb.td = mb.td16 = true;
+    mb.ref_idx = cur_ref_;
+    mb.shared = is_shared_vector(mv_x_, mv_y_, cur_ref_);
+    const int merged = mb.shared ? -1 : merge_index(mv_x_, mv_y_, cur_ref_);
+    mb.merge_idx = std::max(merged, 0);
+    // The td and td16 bins and the mode's two bins: about 3 bits over a plain inter MB's.
+    const double side_bits =
+        3 + (merged > 0 ? merged + 1.0
+                        : motion_bits(mv_x_, mv_y_, px, py, cur_ref_) +
+                              (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_)));
+    td_window_.x0 = x0 - 1;
+    td_window_.y0 = y0 - 1;
+    interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
+                             mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
+    int32_t pred[256];
+    double estimate[kIntra16x16ModeCount];
+    int order[kIntra16x16ModeCount];
+    for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+      predict_td16(recon_, td_window_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
+      add_cross(16, x0, y0, pred);
+      estimate[mode] = static_cast<double>(distortion_estimate(16, pred, x0, y0));
+      order[mode] = mode;
+    }
+    std::sort(order, order + kIntra16x16ModeCount,
+              [&](int a, int b) { return estimate[a] < estimate[b]; });
+    int best_mode = order[0];
+    if (p_.rdo) {
+      double best_cost = std::numeric_limits<double>::infinity();
+      const int shortlist = p_.intra_rdo_shortlist > 0
+                                ? std::min(p_.intra_rdo_shortlist, kIntra16x16ModeCount)
+                                : kIntra16x16ModeCount;
+      for (int k = 0; k < shortlist; ++k) {
+        predict_td16(recon_, td_window_, mb_x_, mb_y_, order[k], p_.bit_depth, pred);
+        add_cross(16, x0, y0, pred);
+        MacroblockData m = mb;
+        ContextSet scratch = trial;
+        const double cost = code_i16_residual(m, pred, scratch, true);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_mode = order[k];
+        }
+      }
+    }
+    mb.i16_mode = best_mode;
+    predict_td16(recon_, td_window_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
+    add_cross(16, x0, y0, pred);
+    if (p_.rdo) return code_i16_residual(mb, pred, trial, true) + lambda_ * (side_bits - 2);
+    const double cost =
+        static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
+    code_i16_residual(mb, pred, trial, true);
     return cost;
   }
 
@@ -1362,9 +1454,10 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
       else if (mb.skip) {
         ++result.stats.skip_mbs;
         if (mb.merge_idx > 0) ++result.stats.merge_skip_mbs;  // format 1.11
-      } else if (mb.td)
+      } else if (mb.td) {
         ++result.stats.td_mbs;
-      else
+        if (mb.td16) ++result.stats.td16_mbs;  // format 1.12
+      } else
         ++result.stats.inter_mbs;
       if (mb.type == kMbInter && !mb.skip && mb.merge_idx > 0) ++result.stats.merged_mbs;  // 1.11
       if (st.partitions && mb.type == kMbInter && !mb.skip && !mb.shared && !mb.td)

@@ -102,6 +102,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     o.compact_segments = false;   // (nor the 1.9 segment sizes)
     o.compact_packets = false;    // (nor the 1.10 packet headers)
     o.merge = false;              // (nor the 1.11 merge)
+    o.td16 = false;               // (nor the 1.12 TD16)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
@@ -122,6 +123,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
+        o.td16 = false;               // (nor the 1.12 TD16)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
@@ -397,12 +399,14 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   fast.compact_segments = false;   // (nor the 1.9 segment sizes)
   fast.compact_packets = false;    // (nor the 1.10 packet headers)
   fast.merge = false;              // (nor the 1.11 merge)
+  fast.td16 = false;               // (nor the 1.12 TD16)
   fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;         // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
   slow.compact_segments = false;   // (nor the 1.9 segment sizes)
   slow.compact_packets = false;    // (nor the 1.10 packet headers)
   slow.merge = false;              // (nor the 1.11 merge)
+  slow.td16 = false;               // (nor the 1.12 TD16)
   slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

@@ -46,6 +46,7 @@ TEST(CompactSegments, StreamsRoundTripAndEveryPacketIsSmaller) {
       on.qp = 12;
       on.compact_packets = false;        // the 1.9 packet headers (compact_packets_test.cpp)
       on.merge = false;                  // (nor the 1.11 merge)
+      on.td16 = false;                   // (nor the 1.12 TD16)
       ASSERT_TRUE(on.compact_segments);  // on by default
       EncoderOptions off = on;
       off.compact_segments = false;
@@ -81,8 +82,8 @@ TEST(CompactSegments, BadPayloadsAreRejected) {
     EXPECT_NE(r.status().message().find(what), std::string::npos) << r.status().message();
   };
   std::string unknown = payload;
-  unknown[0] = static_cast<char>(unknown[0] | 0x40);  // (bit 5 is merge, format 1.11)
-  expect_rejected(unknown, "payload flags: unknown bits 5");
+  unknown[0] = static_cast<char>(unknown[0] | 0x80);  // (bits 5, 6: merge, TD16; 1.11, 1.12)
+  expect_rejected(unknown, "payload flags: unknown bits 9");
   // Plane count, max transform, the deblocking bytes, then X's size as a varint: cut inside the
   // frame-level fields, then inside X's segment.
   expect_rejected(payload.substr(0, 5), "plane X: segment size exceeds the payload");

@@ -57,6 +57,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
+      o.td16 = false;               // (nor the 1.12 TD16)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -72,6 +73,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   shared.compact_segments = false;   // (nor the 1.9 segment sizes)
   shared.compact_packets = false;    // (nor the 1.10 packet headers)
   shared.merge = false;              // (nor the 1.11 merge)
+  shared.td16 = false;               // (nor the 1.12 TD16)
   shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
@@ -88,6 +90,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.compact_segments = false;   // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;    // (nor the 1.10 packet headers)
   lossless.merge = false;              // (nor the 1.11 merge)
+  lossless.td16 = false;               // (nor the 1.12 TD16)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -100,6 +103,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.merge = false;              // (nor the 1.11 merge)
+  intra.td16 = false;               // (nor the 1.12 TD16)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -193,6 +197,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -228,6 +233,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;

@@ -150,6 +150,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
+      o.td16 = false;               // (nor the 1.12 TD16)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
@@ -168,6 +169,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   lossless.merge = false;                 // (nor the 1.11 merge)
+  lossless.td16 = false;                  // (nor the 1.12 TD16)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -181,6 +183,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.compact_segments = false;   // (nor the 1.9 segment sizes)
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.merge = false;              // (nor the 1.11 merge)
+  intra.td16 = false;               // (nor the 1.12 TD16)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -230,6 +233,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -272,6 +276,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -355,6 +360,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
+        o.td16 = false;               // (nor the 1.12 TD16)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
@@ -379,6 +385,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.compact_segments = false;      // (nor the 1.9 segment sizes)
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   lossless.merge = false;                 // (nor the 1.11 merge)
+  lossless.td16 = false;                  // (nor the 1.12 TD16)
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

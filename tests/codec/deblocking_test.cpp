@@ -131,6 +131,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
+      o.td16 = false;               // (nor the 1.12 TD16)
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -143,6 +144,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
   eight.compact_segments = false;  // (nor the 1.9 segment sizes)
   eight.compact_packets = false;   // (nor the 1.10 packet headers)
   eight.merge = false;             // (nor the 1.11 merge)
+  eight.td16 = false;              // (nor the 1.12 TD16)
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -167,6 +169,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
     on.compact_segments = false;  // (nor the 1.9 segment sizes)
     on.compact_packets = false;   // (nor the 1.10 packet headers)
     on.merge = false;             // (nor the 1.11 merge)
+    on.td16 = false;              // (nor the 1.12 TD16)
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;

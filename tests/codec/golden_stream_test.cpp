@@ -104,6 +104,7 @@ std::vector<GoldenCase> cases() {
     o->compact_segments = false;   // (nor the 1.9 segment sizes)
     o->compact_packets = false;    // (nor the 1.10 packet headers)
     o->merge = false;              // (nor the 1.11 merge)
+    o->td16 = false;               // (nor the 1.12 TD16)
     o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
@@ -117,6 +118,7 @@ std::vector<GoldenCase> cases() {
     o->compact_segments = false;  // (nor the 1.9 segment sizes)
     o->compact_packets = false;   // (nor the 1.10 packet headers)
     o->merge = false;             // (nor the 1.11 merge)
+    o->td16 = false;              // (nor the 1.12 TD16)
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

@@ -292,6 +292,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.compact_segments = false;   // (nor the 1.9 segment sizes)
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
+      o.td16 = false;               // (nor the 1.12 TD16)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -359,6 +360,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
@@ -397,6 +399,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;

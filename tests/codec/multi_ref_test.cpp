@@ -172,6 +172,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -244,6 +245,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -274,6 +276,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   automatic.compact_segments = false;   // (nor the 1.9 segment sizes)
   automatic.compact_packets = false;    // (nor the 1.10 packet headers)
   automatic.merge = false;              // (nor the 1.11 merge)
+  automatic.td16 = false;               // (nor the 1.12 TD16)
   automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
@@ -287,6 +290,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     b.compact_segments = false;   // (nor the 1.9 segment sizes)
     b.compact_packets = false;    // (nor the 1.10 packet headers)
     b.merge = false;              // (nor the 1.11 merge)
+    b.td16 = false;               // (nor the 1.12 TD16)
     b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
@@ -338,6 +342,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.compact_segments = false;   // (nor the 1.9 segment sizes)
     c->options.compact_packets = false;    // (nor the 1.10 packet headers)
     c->options.merge = false;              // (nor the 1.11 merge)
+    c->options.td16 = false;               // (nor the 1.12 TD16)
     c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

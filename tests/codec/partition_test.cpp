@@ -117,6 +117,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         o.compact_segments = false;   // (nor the 1.9 segment sizes)
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
+        o.td16 = false;               // (nor the 1.12 TD16)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
@@ -162,6 +163,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -203,6 +205,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -307,6 +310,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   o.compact_segments = false;   // (nor the 1.9 segment sizes)
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
+  o.td16 = false;               // (nor the 1.12 TD16)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;

@@ -190,6 +190,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
     o.compact_segments = false;   // (nor the 1.9 segment sizes)
     o.compact_packets = false;    // (nor the 1.10 packet headers)
     o.merge = false;              // (nor the 1.11 merge)
+    o.td16 = false;               // (nor the 1.12 TD16)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 12;
     o.preset = preset;

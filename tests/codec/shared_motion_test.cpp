@@ -121,6 +121,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
+  o.td16 = false;                  // (nor the 1.12 TD16)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -161,6 +162,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
+  o.td16 = false;                  // (nor the 1.12 TD16)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -218,6 +220,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   o.compact_segments = false;      // (nor the 1.9 segment sizes)
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
+  o.td16 = false;                  // (nor the 1.12 TD16)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

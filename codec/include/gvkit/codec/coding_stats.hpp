@@ -31,6 +31,7 @@ struct PlaneCodingStats {
   int64_t intra_mbs = 0;       // I4x4, I8x8, I16x16
   int64_t inter_mbs = 0;       // inter, not skip, not TD
   int64_t td_mbs = 0;          // inter with temporal-difference prediction
+  int64_t td16_mbs = 0;        // format 1.12: TD with one 16x16 mode (of td_mbs)
   int64_t skip_mbs = 0;        // inter skip
   int64_t merge_skip_mbs = 0;  // format 1.11: skips at a neighbour's vector (of skip_mbs)
   int64_t merged_mbs = 0;      // format 1.11: other inter MBs at a neighbour's vector (merged)

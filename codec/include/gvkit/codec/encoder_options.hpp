@@ -173,6 +173,10 @@ struct EncoderOptions {
   // in the fast one (docs/benchmarks.md, format 1.11); false writes the 1.10 stream of the
   // other options byte for byte.
   bool merge = true;
+  // TD16 (format 1.12, docs/bitstream.md 4.15): a TD macroblock of a P frame (frame flag bit 6,
+  // td_prediction) may predict the temporal difference with one I16x16 mode instead of sixteen
+  // 4x4 ones, its residual then coded as a plain inter macroblock's (every transform size).
+  bool td16 = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

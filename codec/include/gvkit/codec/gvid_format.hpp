@@ -45,6 +45,8 @@ inline constexpr uint8_t kMinorVersionCompactSegments = 9;
 inline constexpr uint8_t kMinorVersionCompactPackets = 10;
 // Format 1.11: a stream with merge (the payload's first byte, bit 5).
 inline constexpr uint8_t kMinorVersionMerge = 11;
+// Format 1.12: a stream with TD16 (the payload's first byte, bit 6).
+inline constexpr uint8_t kMinorVersionTd16 = 12;
 
 // The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
 enum PayloadFlag : uint8_t {
@@ -55,8 +57,11 @@ enum PayloadFlag : uint8_t {
   // since 1.11, P frames: skip and 16x16 inter macroblocks code whether they take one of up to
   // four neighbours' vectors (merge, docs/bitstream.md 4.14).
   kPayloadMerge = 32,
-  kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments |
-                  kPayloadMerge,  // every bit a reader understands
+  // since 1.12, P frames with TD prediction (frame flag bit 6): a TD macroblock codes whether it
+  // predicts the temporal difference with one 16x16 mode (TD16, docs/bitstream.md 4.15).
+  kPayloadTd16 = 64,
+  kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments | kPayloadMerge |
+                  kPayloadTd16,  // every bit a reader understands
 };
 
 // The full packet header (`GVFR`, every version); the compact one (format 1.10, `gv`) is 13 to

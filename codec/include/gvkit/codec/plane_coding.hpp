@@ -59,6 +59,10 @@ struct PlaneCodingParams {
   // and up to four neighbours' vectors it takes, a 16x16 inter macroblock whether it takes one
   // of those neighbours' vectors (merge_idx).
   bool merge = false;
+  // Format 1.12 (TD16, docs/bitstream.md 4.15), P planes with td_prediction: a TD macroblock
+  // codes whether it predicts the temporal difference with one 16x16 mode (an I16x16 mode, the
+  // residual then as a plain inter macroblock's) instead of sixteen 4x4 ones.
+  bool td16 = false;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
   // blocks of +-1 levels (decimation).
