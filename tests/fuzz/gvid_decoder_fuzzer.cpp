@@ -2,8 +2,8 @@
 // 1. the bytes as a stream: open (header, index or scan) and decode up to 8 frames;
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
 //    references or B, with or without a cross-plane source residual, inter partitions or the
-//    initial context states of an X plane, format 1.7; segments of compact packets with merge,
-//    formats 1.10 and 1.11), decoded directly, so that mutations
+//    initial context states of an X plane, format 1.7; segments of compact packets with merge
+//    and TD16, formats 1.10 to 1.12), decoded directly, so that mutations
 //    reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
@@ -44,9 +44,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Bit 5 of byte 0: inter partitions in P planes (format 1.7; B planes ignore it).
     params.partitions = (data[0] & 0x20) != 0;
     // Bit 7 of byte 1: a segment of a compact packet (format 1.10: no end-of-plane bin) with
-    // merge in P planes (format 1.11; other planes ignore it).
+    // merge in P planes (format 1.11; other planes ignore it) and, with TD prediction, TD16
+    // (format 1.12).
     params.end_of_plane_bin = (data[1] & 0x80) == 0;
     params.merge = (data[1] & 0x80) != 0;
+    params.td16 = params.merge && params.td_prediction;
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
     SamplePlane reference;
