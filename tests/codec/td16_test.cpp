@@ -119,7 +119,8 @@ TEST(Td16, MakesTheIctFaceCheaper) {
     auto reader = GvidReader::open_memory(stream, "x.gvid").value();
     GeometryError total;
     for (int64_t f = 0; f < reader->frame_count(); ++f)
-      accumulate(total, geometry_error((*frames)[static_cast<size_t>(f)], reader->decode_frame(f).value()));
+      accumulate(total, geometry_error((*frames)[static_cast<size_t>(f)],
+                                       reader->decode_frame(f).value()));
     return total.psnr_db(info.box_diagonal_mm());
   };
   EXPECT_LT(a.size(), b.size());
