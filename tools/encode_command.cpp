@@ -43,6 +43,7 @@ nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   j["inter_mbs"] = s.inter_mbs;
   j["td_mbs"] = s.td_mbs;
   j["td16_mbs"] = s.td16_mbs;
+  j["quadratic_mbs"] = s.quadratic_mbs;
   j["skip_mbs"] = s.skip_mbs;
   j["merge_skip_mbs"] = s.merge_skip_mbs;
   j["merged_mbs"] = s.merged_mbs;
@@ -202,6 +203,7 @@ void run_encode(const EncodeArgs& args) {
         {"compact_packets", options.compact_packets},
         {"merge", options.merge},
         {"td16", options.td16},
+        {"quadratic_intra", options.quadratic_intra},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -341,6 +343,10 @@ void add_encode_command(CLI::App& app) {
                 "P frames: a temporal-difference macroblock may predict the difference with one "
                 "16x16 mode, its residual then with any transform size (format 1.12; on by "
                 "default); --no-td16 writes the 1.11 stream");
+  cmd->add_flag("--quadratic-intra,!--no-quadratic-intra", args->options.quadratic_intra,
+                "I16x16 macroblocks may predict with a least-squares quadratic surface through "
+                "the two rows above and the two columns left of them (format 1.13; on by "
+                "default); --no-quadratic-intra writes the 1.12 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

@@ -20,7 +20,8 @@
 //                             [--deblock-tc N]] [--intra-rdo-only]
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 //                            [--compact-segments-only] [--compact-packets-only]
-//                            [--merge-only] [--td16-only] [--qps Q1,Q2,...]
+//                            [--merge-only] [--td16-only] [--quadratic-intra-only]
+//                            [--qps Q1,Q2,...]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
 // 1.4 tools and x265, or with --no-peers the x265 points logged for the ICT face;
@@ -45,6 +46,7 @@
 // segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
 // off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
 // --td16-only: format 1.12 TD16 off / on in both presets, and lossless (fast) off / on;
+// --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets;
 // --write-streams DIR: also write every stream
 // of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark;
 // --qps: the QPs of our curves instead of the report's own, e.g. -18,...,24 for x265's whole
@@ -860,7 +862,7 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, compact_only = false,
-       packets_only = false, merge_only = false, td16_only = false;
+       packets_only = false, merge_only = false, td16_only = false, quadratic_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -908,6 +910,8 @@ int main(int argc, char** argv) {
       merge_only = true;
     else if (a == "--td16-only")
       td16_only = true;
+    else if (a == "--quadratic-intra-only")
+      quadratic_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
@@ -962,6 +966,7 @@ int main(int argc, char** argv) {
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
           "[--compact-segments-only] [--compact-packets-only] [--merge-only] [--td16-only] "
+          "[--quadratic-intra-only] "
           "[--write-streams DIR] [--qps Q1,Q2,...]\n");
       return 2;
     }
@@ -1060,6 +1065,9 @@ int main(int argc, char** argv) {
   if (merge_only)
     return on_off(refs_presets, "--merge", "--no-merge",
                   [](EncoderOptions& o, bool on) { o.merge = on; });
+  if (quadratic_only)
+    return on_off(refs_presets, "--quadratic-intra", "--no-quadratic-intra",
+                  [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });
   if (td16_only) {  // lossy curves, then lossless (fast preset) off and on
     on_off(refs_presets, "--td16", "--no-td16", [](EncoderOptions& o, bool on) { o.td16 = on; });
     print_header();

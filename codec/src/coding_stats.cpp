@@ -20,6 +20,7 @@ PlaneCodingStats& PlaneCodingStats::operator+=(const PlaneCodingStats& other) {
   inter_mbs += other.inter_mbs;
   td_mbs += other.td_mbs;
   td16_mbs += other.td16_mbs;
+  quadratic_mbs += other.quadratic_mbs;
   skip_mbs += other.skip_mbs;
   merge_skip_mbs += other.merge_skip_mbs;
   merged_mbs += other.merged_mbs;

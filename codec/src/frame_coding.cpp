@@ -35,8 +35,9 @@ struct FrameSyntax {
   bool partitions = false;  // format 1.7: P frames with flags2 bit 5
   bool deblocking = false;  // format 1.8: flags2 bit 6
   DeblockingParams deblock;
-  bool merge = false;  // format 1.11: the payload's first byte, bit 5
-  bool td16 = false;   // format 1.12: the payload's first byte, bit 6
+  bool merge = false;            // format 1.11: the payload's first byte, bit 5
+  bool td16 = false;             // format 1.12: the payload's first byte, bit 6
+  bool quadratic_intra = false;  // format 1.13: the payload's first byte, bit 7
 };
 
 // What plane `plane` (0 = X, 1 = Y, 2 = Z, 3 = texture) of a frame exchanges with X and with the
@@ -85,8 +86,9 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.partitions = syntax.partitions;
   p.deblocking = syntax.deblocking;  // format 1.8
   p.deblock = syntax.deblock;
-  p.merge = syntax.merge;  // format 1.11
-  p.td16 = syntax.td16;    // format 1.12
+  p.merge = syntax.merge;                      // format 1.11
+  p.td16 = syntax.td16;                        // format 1.12
+  p.quadratic_intra = syntax.quadratic_intra;  // format 1.13
   if (plane < 3) {
     p.near_lossless = syntax.near_lossless;
     qp += syntax.plane_qp_offset[plane];
@@ -209,7 +211,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   syntax.merge = p_frame && options.merge && has_final_contexts(*reference);
   // Format 1.12: TD16, in P frames with TD prediction.
   syntax.td16 = p_frame && options.td16 && options.td_prediction;
-  if (options.deblocking && !bypass) {  // format 1.8
+  syntax.quadratic_intra = options.quadratic_intra;  // format 1.13: every frame
+  if (options.deblocking && !bypass) {               // format 1.8
     header.flags2 |= format::kFrame2Deblocking;
     syntax.deblocking = true;
     syntax.deblock = options.deblock;
@@ -337,7 +340,8 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   ByteWriter payload;
   payload.u8(static_cast<uint8_t>(
       planes.size() | (options.compact_segments ? format::kPayloadCompactSegments : 0) |
-      (syntax.merge ? format::kPayloadMerge : 0) | (syntax.td16 ? format::kPayloadTd16 : 0)));
+      (syntax.merge ? format::kPayloadMerge : 0) | (syntax.td16 ? format::kPayloadTd16 : 0) |
+      (syntax.quadratic_intra ? format::kPayloadQuadraticIntra : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
@@ -465,7 +469,8 @@ Result<GeometryImage> decode_frame_packet(
   syntax.partitions = (header.flags2 & format::kFrame2Partitions) != 0;  // format 1.7
   syntax.merge = (planes_byte & format::kPayloadMerge) != 0;             // format 1.11
   if (syntax.merge && !p_frame) return corrupt_data("payload flags: merge outside a P frame");
-  syntax.td16 = (planes_byte & format::kPayloadTd16) != 0;  // format 1.12
+  syntax.td16 = (planes_byte & format::kPayloadTd16) != 0;                       // format 1.12
+  syntax.quadratic_intra = (planes_byte & format::kPayloadQuadraticIntra) != 0;  // format 1.13
   if (syntax.td16 && !(p_frame && (header.flags & format::kFrameTdPrediction)))
     return corrupt_data("payload flags: TD16 outside a P frame with TD prediction");
   if (syntax.merge && !has_final_contexts(*reference))

@@ -20,6 +20,7 @@
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
+#include "gvkit/codec/quadratic_intra.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
 #include "partition_syntax.hpp"
@@ -78,6 +79,8 @@ struct ContextSet {
   // being TD16) and the two bins of its 16x16 mode.
   CabacContext td16[3];
   CabacContext td16_mode[2];
+  // Format 1.13, quadratic intra: whether an I16x16 macroblock takes the quadratic mode.
+  CabacContext i16_quadratic[1];
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -514,6 +517,12 @@ inline bool has_transform_size(const MacroblockData& mb, const PlaneCodingParams
 }
 inline int transform_code(int size) { return size == 16 ? 2 : (size == 8 ? 1 : 0); }
 
+// Format 1.13: whether the I16x16 macroblock (mb_x, mb_y) of a plane coded with `p` may take the
+// quadratic mode (it reads two rows above and two columns left of the macroblock).
+inline bool has_quadratic_mode(const PlaneCodingParams& p, int mb_x, int mb_y) {
+  return p.quadratic_intra && mb_x > 0 && mb_y > 0;
+}
+
 // transform_size after the cbp: bin 0 (size > 4, context: left and top macroblocks with
 // transform code >= 1), then with max_transform 16 and cbp 15 bin 1 (16x16, context: the
 // neighbours with code 2). Records the code for later contexts.
@@ -621,8 +630,14 @@ void write_intra_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int m
   const int gx0 = mb_x * 4, gy0 = mb_y * 4;
   if (mb.type == kMbI16x16) {
     set_group(coder, kSyntaxModes);
-    coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
-    coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
+    const bool quadratic = mb.i16_mode == kIntra16x16Quadratic;
+    GVKIT_CHECK(!quadratic || has_quadratic_mode(params, mb_x, mb_y), "quadratic mode unavailable");
+    if (has_quadratic_mode(params, mb_x, mb_y))  // format 1.13
+      coder.encode(ctx.i16_quadratic[0], quadratic);
+    if (!quadratic) {
+      coder.encode(ctx.i16_mode[0], mb.i16_mode & 1);
+      coder.encode(ctx.i16_mode[1], (mb.i16_mode >> 1) & 1);
+    }
     for (int i = 0; i < 16; ++i) st.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
   } else if (mb.type == kMbI8x8) {
     for (int q = 0; q < 4; ++q) {
@@ -1075,6 +1090,20 @@ inline IntraNeighbors block_neighbors(const SamplePlane& plane, int x0, int y0, 
   const bool top_right = n < 16 && is_coded(x0 + n, y0 - 1, plane.width, mb_x, mb_y, block);
   return make_neighbors(plane.samples.data(), plane.width, x0, y0, n, y0 > 0, x0 > 0, top_right,
                         bit_depth);
+}
+
+// The I16x16 prediction (mode 0..3, or kIntra16x16Quadratic where has_quadratic_mode) of
+// macroblock (mb_x, mb_y) from the samples of `plane` reconstructed so far.
+inline void predict_i16(const SamplePlane& plane, int mb_x, int mb_y, int mode, int bit_depth,
+                        int32_t* pred) {
+  const int max_value = (1 << bit_depth) - 1;
+  if (mode == kIntra16x16Quadratic) {
+    predict_quadratic16(plane.samples.data(), plane.width, mb_x * 16, mb_y * 16, max_value, pred);
+    return;
+  }
+  const IntraNeighbors nb =
+      block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, bit_depth);
+  predict_intra(16, mode, nb, max_value, pred);
 }
 
 }  // namespace gvkit::codec::detail

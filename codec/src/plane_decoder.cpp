@@ -257,8 +257,12 @@ class MacroblockReader {
     st_.mb_type[mb_index] = mb.type;
     const int gx0 = mb_x * 4, gy0 = mb_y * 4;
     if (mb.type == kMbI16x16) {
-      mb.i16_mode = dec_.decode(ctx_.i16_mode[0]);
-      mb.i16_mode |= dec_.decode(ctx_.i16_mode[1]) << 1;
+      if (has_quadratic_mode(p_, mb_x, mb_y) && dec_.decode(ctx_.i16_quadratic[0])) {  // 1.13
+        mb.i16_mode = kIntra16x16Quadratic;
+      } else {
+        mb.i16_mode = dec_.decode(ctx_.i16_mode[0]);
+        mb.i16_mode |= dec_.decode(ctx_.i16_mode[1]) << 1;
+      }
       for (int i = 0; i < 16; ++i) st_.mode_at(gx0 + i % 4, gy0 + i / 4) = kIntraDc;
     } else if (mb.type == kMbI8x8) {
       for (int q = 0; q < 4; ++q) {
@@ -505,9 +509,7 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
       predict_inter(*reference, mb_x * 16, mb_y * 16, mb.mv_x, mb.mv_y, p.subpel != 0, p.bit_depth,
                     pred);
     } else {
-      const IntraNeighbors nb =
-          block_neighbors(plane, mb_x * 16, mb_y * 16, 16, mb_x, mb_y, 0, p.bit_depth);
-      predict_intra(16, mb.i16_mode, nb, max_value, pred);
+      predict_i16(plane, mb_x, mb_y, mb.i16_mode, p.bit_depth, pred);
     }
     add_cross(mb_x * 16, mb_y * 16, 16);
     reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,

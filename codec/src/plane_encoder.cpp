@@ -344,8 +344,7 @@ class MacroblockEncoder {
                    mb.mv_y, p_.subpel != 0, td_window_.mc);
       predict_td16(recon_, td_window_, mb_x_, mb_y_, mb.i16_mode, p_.bit_depth, pred);
     } else if (mb.type == kMbI16x16) {
-      const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
-      predict_intra(16, mb.i16_mode, nb, max_value_, pred);
+      predict_i16(recon_, mb_x_, mb_y_, mb.i16_mode, p_.bit_depth, pred);
     } else if (st_.bidirectional) {
       b_prediction(mb.b_pred, mb.mv_x, mb.mv_y, mb.mv_x1, mb.mv_y1, pred);
     } else if (mb.partition != kPart16x16) {
@@ -1071,30 +1070,31 @@ class MacroblockEncoder {
 
   double try_i16(MacroblockData& mb, ContextSet& trial) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
-    const IntraNeighbors nb = block_neighbors(recon_, x0, y0, 16, mb_x_, mb_y_, 0, p_.bit_depth);
+    // H.264's four modes, and the quadratic one where the plane may code it (format 1.13).
+    const int modes =
+        has_quadratic_mode(p_, mb_x_, mb_y_) ? kIntra16x16Quadratic + 1 : kIntra16x16ModeCount;
     int32_t pred[256];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
     // RDO on a shortlist (p_.intra_rdo_shortlist > 0): only the modes of the lowest SATD-based
     // costs are coded.
-    bool listed[kIntra16x16ModeCount] = {true, true, true, true};
-    if (p_.rdo && p_.intra_rdo_shortlist > 0 && p_.intra_rdo_shortlist < kIntra16x16ModeCount) {
-      double estimate[kIntra16x16ModeCount];
-      int order[kIntra16x16ModeCount];
-      for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
-        predict_intra(16, mode, nb, max_value_, pred);
+    bool listed[kIntra16x16Quadratic + 1] = {true, true, true, true, true};
+    if (p_.rdo && p_.intra_rdo_shortlist > 0 && p_.intra_rdo_shortlist < modes) {
+      double estimate[kIntra16x16Quadratic + 1];
+      int order[kIntra16x16Quadratic + 1];
+      for (int mode = 0; mode < modes; ++mode) {
+        predict_i16(recon_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
         add_cross(16, x0, y0, pred);
         estimate[mode] = static_cast<double>(distortion_estimate(16, pred, x0, y0));
         order[mode] = mode;
         listed[mode] = false;
       }
-      std::sort(order, order + kIntra16x16ModeCount,
-                [&](int a, int b) { return estimate[a] < estimate[b]; });
+      std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
       for (int k = 0; k < p_.intra_rdo_shortlist; ++k) listed[order[k]] = true;
     }
-    for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+    for (int mode = 0; mode < modes; ++mode) {
       if (!listed[mode]) continue;
-      predict_intra(16, mode, nb, max_value_, pred);
+      predict_i16(recon_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
       add_cross(16, x0, y0, pred);
       double cost;
       if (p_.rdo) {
@@ -1109,7 +1109,7 @@ class MacroblockEncoder {
         best_mode = mode;
       }
     }
-    predict_intra(16, best_mode, nb, max_value_, pred);
+    predict_i16(recon_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
     mb.i16_mode = best_mode;
     const double rd_cost = code_i16_residual(mb, pred, trial);
@@ -1449,9 +1449,11 @@ PlaneEncodeResult encode_plane_impl(const SamplePlane& plane, const PlaneCodingP
         ++result.stats.cross_scale_mbs[cross_scale_index(mb.cross_scale)];
       if (has_transform_size(mb, params) && mb.transform > 4)
         ++(mb.transform == 16 ? result.stats.transform16_mbs : result.stats.transform8_mbs);
-      if (mb.type != kMbInter)
+      if (mb.type != kMbInter) {
         ++result.stats.intra_mbs;
-      else if (mb.skip) {
+        if (mb.type == kMbI16x16 && mb.i16_mode == kIntra16x16Quadratic)
+          ++result.stats.quadratic_mbs;  // format 1.13
+      } else if (mb.skip) {
         ++result.stats.skip_mbs;
         if (mb.merge_idx > 0) ++result.stats.merge_skip_mbs;  // format 1.11
       } else if (mb.td) {

@@ -103,6 +103,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
     o.compact_packets = false;    // (nor the 1.10 packet headers)
     o.merge = false;              // (nor the 1.11 merge)
     o.td16 = false;               // (nor the 1.12 TD16)
+    o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
@@ -124,6 +125,7 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
         o.td16 = false;               // (nor the 1.12 TD16)
+        o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
@@ -400,6 +402,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   fast.compact_packets = false;    // (nor the 1.10 packet headers)
   fast.merge = false;              // (nor the 1.11 merge)
   fast.td16 = false;               // (nor the 1.12 TD16)
+  fast.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   fast.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;         // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
@@ -407,6 +410,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   slow.compact_packets = false;    // (nor the 1.10 packet headers)
   slow.merge = false;              // (nor the 1.11 merge)
   slow.td16 = false;               // (nor the 1.12 TD16)
+  slow.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   slow.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

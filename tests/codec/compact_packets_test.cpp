@@ -95,6 +95,7 @@ TEST(CompactPackets, StreamsRoundTripWithTheSameFramesAndFewerBytes) {
       ASSERT_TRUE(on.compact_packets);  // on by default
       on.merge = false;                 // the 1.10 stream (merge: merge_test.cpp)
       on.td16 = false;                  // (TD16: td16_test.cpp)
+      on.quadratic_intra = false;       // (quadratic intra: quadratic_intra_test.cpp)
       EncoderOptions off = on;
       off.compact_packets = false;
       const std::string a = testing::writer_round_trip(frames, info, on);

@@ -47,6 +47,7 @@ TEST(CompactSegments, StreamsRoundTripAndEveryPacketIsSmaller) {
       on.compact_packets = false;        // the 1.9 packet headers (compact_packets_test.cpp)
       on.merge = false;                  // (nor the 1.11 merge)
       on.td16 = false;                   // (nor the 1.12 TD16)
+      on.quadratic_intra = false;        // (nor the 1.13 quadratic intra)
       ASSERT_TRUE(on.compact_segments);  // on by default
       EncoderOptions off = on;
       off.compact_segments = false;
@@ -75,15 +76,16 @@ TEST(CompactSegments, BadPayloadsAreRejected) {
       stream, GvidReader::open_memory(stream, "x.gvid").value()->header_bytes());
   ASSERT_TRUE(decode_frame_packet(packet, info, 0).is_ok());
   const std::string payload = testing::packet_payload(packet);
-  ASSERT_EQ(static_cast<uint8_t>(payload[0]), 3 | format::kPayloadCompactSegments);
+  ASSERT_EQ(static_cast<uint8_t>(payload[0]),
+            3 | format::kPayloadCompactSegments | format::kPayloadQuadraticIntra);
   const auto expect_rejected = [&](std::string p, const std::string& what) {
     auto r = decode_frame_packet(testing::with_payload(packet, std::move(p)), info, 0);
     ASSERT_FALSE(r.is_ok()) << what;
     EXPECT_NE(r.status().message().find(what), std::string::npos) << r.status().message();
   };
   std::string unknown = payload;
-  unknown[0] = static_cast<char>(unknown[0] | 0x80);  // (bits 5, 6: merge, TD16; 1.11, 1.12)
-  expect_rejected(unknown, "payload flags: unknown bits 9");
+  unknown[0] = static_cast<char>(unknown[0] | 0x20);  // a P frame's merge bit (1.11)
+  expect_rejected(unknown, "merge outside a P frame");
   // Plane count, max transform, the deblocking bytes, then X's size as a varint: cut inside the
   // frame-level fields, then inside X's segment.
   expect_rejected(payload.substr(0, 5), "plane X: segment size exceeds the payload");

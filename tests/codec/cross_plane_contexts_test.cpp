@@ -58,6 +58,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
       o.td16 = false;               // (nor the 1.12 TD16)
+      o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -74,6 +75,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   shared.compact_packets = false;    // (nor the 1.10 packet headers)
   shared.merge = false;              // (nor the 1.11 merge)
   shared.td16 = false;               // (nor the 1.12 TD16)
+  shared.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   shared.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
@@ -91,6 +93,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.compact_packets = false;    // (nor the 1.10 packet headers)
   lossless.merge = false;              // (nor the 1.11 merge)
   lossless.td16 = false;               // (nor the 1.12 TD16)
+  lossless.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -104,6 +107,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.merge = false;              // (nor the 1.11 merge)
   intra.td16 = false;               // (nor the 1.12 TD16)
+  intra.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -198,6 +202,7 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -234,6 +239,7 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;

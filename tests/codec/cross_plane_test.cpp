@@ -151,6 +151,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
       o.td16 = false;               // (nor the 1.12 TD16)
+      o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
@@ -170,6 +171,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   lossless.merge = false;                 // (nor the 1.11 merge)
   lossless.td16 = false;                  // (nor the 1.12 TD16)
+  lossless.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -184,6 +186,7 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   intra.compact_packets = false;    // (nor the 1.10 packet headers)
   intra.merge = false;              // (nor the 1.11 merge)
   intra.td16 = false;               // (nor the 1.12 TD16)
+  intra.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   intra.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
@@ -234,6 +237,7 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -277,6 +281,7 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
@@ -361,6 +366,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
         o.td16 = false;               // (nor the 1.12 TD16)
+        o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
@@ -386,6 +392,7 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.compact_packets = false;       // (nor the 1.10 packet headers)
   lossless.merge = false;                 // (nor the 1.11 merge)
   lossless.td16 = false;                  // (nor the 1.12 TD16)
+  lossless.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

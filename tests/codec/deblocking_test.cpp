@@ -132,6 +132,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
       o.td16 = false;               // (nor the 1.12 TD16)
+      o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -145,6 +146,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
   eight.compact_packets = false;   // (nor the 1.10 packet headers)
   eight.merge = false;             // (nor the 1.11 merge)
   eight.td16 = false;              // (nor the 1.12 TD16)
+  eight.quadratic_intra = false;   // (nor the 1.13 quadratic intra)
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -170,6 +172,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
     on.compact_packets = false;   // (nor the 1.10 packet headers)
     on.merge = false;             // (nor the 1.11 merge)
     on.td16 = false;              // (nor the 1.12 TD16)
+    on.quadratic_intra = false;   // (nor the 1.13 quadratic intra)
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;

@@ -105,6 +105,7 @@ std::vector<GoldenCase> cases() {
     o->compact_packets = false;    // (nor the 1.10 packet headers)
     o->merge = false;              // (nor the 1.11 merge)
     o->td16 = false;               // (nor the 1.12 TD16)
+    o->quadratic_intra = false;    // (nor the 1.13 quadratic intra)
     o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
@@ -119,6 +120,7 @@ std::vector<GoldenCase> cases() {
     o->compact_packets = false;   // (nor the 1.10 packet headers)
     o->merge = false;             // (nor the 1.11 merge)
     o->td16 = false;              // (nor the 1.12 TD16)
+    o->quadratic_intra = false;   // (nor the 1.13 quadratic intra)
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

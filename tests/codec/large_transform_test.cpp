@@ -293,6 +293,7 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
       o.compact_packets = false;    // (nor the 1.10 packet headers)
       o.merge = false;              // (nor the 1.11 merge)
       o.td16 = false;               // (nor the 1.12 TD16)
+      o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
       o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
@@ -361,6 +362,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
@@ -400,6 +402,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;

@@ -85,7 +85,7 @@ TEST(Merge, DecoderReproducesTheEncoderInEveryConfiguration) {
     std::vector<FrameCodingStats> stats;
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
     EXPECT_EQ(static_cast<uint8_t>(stream[5]), stream_minor_version(o));
-    EXPECT_GE(static_cast<uint8_t>(stream[5]), format::kMinorVersionMerge);  // 1.12 with TD16
+    EXPECT_GE(static_cast<uint8_t>(stream[5]), format::kMinorVersionMerge);  // 1.12, 1.13
     for (const auto& [type, flags] : payload_flags(stream))
       EXPECT_EQ((flags & format::kPayloadMerge) != 0, type == format::FrameType::kPredicted);
     total += merges(stats) + merges(stats, true);
@@ -106,7 +106,8 @@ TEST(Merge, NeighboursVectorsMakeTheIctFaceSmaller) {
   EncoderOptions on;
   on.preset = Preset::kSlow;
   on.qp = 12;
-  on.td16 = false;  // merge alone (TD16: td16_test.cpp)
+  on.td16 = false;             // merge alone (TD16: td16_test.cpp)
+  on.quadratic_intra = false;  // (nor quadratic intra: quadratic_intra_test.cpp)
   EncoderOptions off = on;
   off.merge = false;
   std::vector<FrameCodingStats> on_stats, off_stats;

@@ -173,6 +173,7 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
@@ -246,6 +247,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -277,6 +279,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   automatic.compact_packets = false;    // (nor the 1.10 packet headers)
   automatic.merge = false;              // (nor the 1.11 merge)
   automatic.td16 = false;               // (nor the 1.12 TD16)
+  automatic.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   automatic.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
@@ -291,6 +294,7 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
     b.compact_packets = false;    // (nor the 1.10 packet headers)
     b.merge = false;              // (nor the 1.11 merge)
     b.td16 = false;               // (nor the 1.12 TD16)
+    b.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
     b.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
@@ -343,6 +347,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.compact_packets = false;    // (nor the 1.10 packet headers)
     c->options.merge = false;              // (nor the 1.11 merge)
     c->options.td16 = false;               // (nor the 1.12 TD16)
+    c->options.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
     c->options.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

@@ -118,6 +118,7 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
         o.compact_packets = false;    // (nor the 1.10 packet headers)
         o.merge = false;              // (nor the 1.11 merge)
         o.td16 = false;               // (nor the 1.12 TD16)
+        o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
         o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
@@ -164,6 +165,7 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
@@ -206,6 +208,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
@@ -311,6 +314,7 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   o.compact_packets = false;    // (nor the 1.10 packet headers)
   o.merge = false;              // (nor the 1.11 merge)
   o.td16 = false;               // (nor the 1.12 TD16)
+  o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;

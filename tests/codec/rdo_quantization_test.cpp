@@ -191,6 +191,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
     o.compact_packets = false;    // (nor the 1.10 packet headers)
     o.merge = false;              // (nor the 1.11 merge)
     o.td16 = false;               // (nor the 1.12 TD16)
+    o.quadratic_intra = false;    // (nor the 1.13 quadratic intra)
     o.intra_rdo = false;          // (nor the fast preset's RDO in I frames)
     o.qp = 12;
     o.preset = preset;

@@ -122,6 +122,7 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
   o.td16 = false;                  // (nor the 1.12 TD16)
+  o.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -163,6 +164,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
   o.td16 = false;                  // (nor the 1.12 TD16)
+  o.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off
@@ -221,6 +223,7 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
   o.td16 = false;                  // (nor the 1.12 TD16)
+  o.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   o.intra_rdo = false;             // (nor the fast preset's RDO in I frames)
   o.cross_plane = false;           // the format 1.4 syntax alone
   o.cross_plane_contexts = false;  // format 1.7 off

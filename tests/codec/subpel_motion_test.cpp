@@ -187,6 +187,7 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   o.compact_packets = false;       // (nor the 1.10 packet headers)
   o.merge = false;                 // (nor the 1.11 merge)
   o.td16 = false;                  // (nor the 1.12 TD16)
+  o.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)

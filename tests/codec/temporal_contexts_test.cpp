@@ -23,10 +23,10 @@
 namespace gvkit::codec {
 namespace {
 
-// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 12 (the
-// default options: compact packets, merge and TD16 too).
+// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 13 (the
+// default options: compact packets, merge, TD16 and quadratic intra too).
 void expect_temporal_in_inter_frames(const std::string& stream) {
-  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionTd16);
+  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionQuadraticIntra);
   auto reader = GvidReader::open_memory(stream, "x.gvid").value();
   int inter = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -111,6 +111,7 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       on.compact_packets = false;  // the 1.9 stream
       on.merge = false;            // (nor the 1.11 merge)
       on.td16 = false;             // (nor the 1.12 TD16)
+      on.quadratic_intra = false;  // (nor the 1.13 quadratic intra)
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
@@ -149,6 +150,7 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.compact_packets = false;  // (nor the 1.10 packet headers)
   o.merge = false;            // (nor the 1.11 merge)
   o.td16 = false;             // (nor the 1.12 TD16)
+  o.quadratic_intra = false;  // (nor the 1.13 quadratic intra)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");

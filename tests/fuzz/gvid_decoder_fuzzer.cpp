@@ -3,8 +3,8 @@
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
 //    references or B, with or without a cross-plane source residual, inter partitions or the
 //    initial context states of an X plane, format 1.7; segments of compact packets with merge
-//    and TD16, formats 1.10 to 1.12), decoded directly, so that mutations
-//    reach the macroblock layer without getting past the CRCs.
+//    and TD16, formats 1.10 to 1.12; the quadratic intra mode, 1.13), decoded directly, so that
+//    mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
 #include <cstdint>
@@ -49,6 +49,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     params.end_of_plane_bin = (data[1] & 0x80) == 0;
     params.merge = (data[1] & 0x80) != 0;
     params.td16 = params.merge && params.td_prediction;
+    // Bit 3 of byte 0: the quadratic 16x16 intra mode (format 1.13).
+    params.quadratic_intra = (data[0] & 0x08) != 0;
     const int width = 16 * (1 + data[0] % 8), height = 16 * (1 + data[1] % 8);
     // Bit 7 of byte 2: a P plane, predicted from a ramp reference.
     SamplePlane reference;

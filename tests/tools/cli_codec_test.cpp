@@ -107,10 +107,10 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge --no-td16");
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
+                       "--no-merge --no-td16 --no-quadratic-intra");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -125,10 +125,11 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
-  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
-                         "--no-compact-segments --no-compact-packets --no-merge --no-td16");
+  auto plain = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
+      " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
+      "--no-compact-segments --no-compact-packets --no-merge --no-td16 --no-quadratic-intra");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -170,7 +171,7 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                          " --qp 12 --no-temporal-contexts --no-compact-segments "
-                         "--no-compact-packets --no-merge --no-td16" +
+                         "--no-compact-packets --no-merge --no-td16 --no-quadratic-intra" +
                          (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -211,22 +212,25 @@ TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
   EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
 }
 
-// Merge (format 1.11) and TD16 (format 1.12): on by default, in the stats; with --no-td16 a
-// version 1.11 stream, with --no-merge as well a version 1.10 one; all decode.
-TEST(CliCodec, MergeAndTd16AreOptionsInTheStatsAndEveryStreamDecodes) {
+// Merge (format 1.11), TD16 (1.12) and quadratic intra (1.13): on by default, in the stats;
+// with --no-quadratic-intra a version 1.12 stream, with --no-td16 as well 1.11, with --no-merge
+// as well 1.10; all decode.
+TEST(CliCodec, MergeTd16AndQuadraticIntraAreOptionsInTheStatsAndEveryStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 4);
-  for (const int version : {12, 11, 10}) {
+  const std::string off[4] = {"", " --no-quadratic-intra", " --no-quadratic-intra --no-td16",
+                              " --no-quadratic-intra --no-td16 --no-merge"};
+  for (int k = 0; k < 4; ++k) {
+    const int version = 13 - k;
     const std::string gvid = (dir / ("v" + std::to_string(version) + ".gvid")).string();
-    const std::string flags =
-        version == 12 ? "" : (version == 11 ? " --no-td16" : " --no-merge --no-td16");
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --bframes 0" + flags);
+                         " --qp 12 --bframes 0" + off[k]);
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["quadratic_intra"], version >= 13);
+    EXPECT_EQ((*stats)["options"]["td16"], version >= 12);
     EXPECT_EQ((*stats)["options"]["merge"], version >= 11);
-    EXPECT_EQ((*stats)["options"]["td16"], version == 12);
     auto bytes = read_file(gvid);
     ASSERT_TRUE(bytes.is_ok());
     EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), version);
@@ -247,7 +251,8 @@ TEST(CliCodec, CompactPacketsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-merge --no-td16" + (on ? "" : " --no-compact-packets"));
+                         " --qp 12 --no-merge --no-td16 --no-quadratic-intra" +
+                         (on ? "" : " --no-compact-packets"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -278,7 +283,7 @@ TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-compact-packets --no-merge --no-td16" +
+                         " --qp 12 --no-compact-packets --no-merge --no-td16 --no-quadratic-intra" +
                          (on ? "" : " --no-temporal-contexts --no-compact-segments"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -299,10 +304,10 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
-      "--no-compact-segments --no-compact-packets --no-merge --no-td16");  // on by default
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
+                       "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
+                       "--no-quadratic-intra");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -317,10 +322,10 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane-contexts: version 1.6, no frame with the tool.
-  auto off = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge --no-td16");
+  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
+                       "--no-merge --no-td16 --no-quadratic-intra");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -334,10 +339,10 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
-      "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge --no-td16");
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
+                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
+                       "--no-merge --no-td16 --no-quadratic-intra");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -352,9 +357,10 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // On by default in the slow preset: the same stream.
-  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                            " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
-                            "--no-compact-segments --no-compact-packets --no-merge --no-td16");
+  auto defaults = run_gvkit(
+      "encode " + (dir / "in").string() + " -o " + gvid +
+      " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
+      "--no-compact-segments --no-compact-packets --no-merge --no-td16 --no-quadratic-intra");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -362,11 +368,11 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
   // preset codes 16x16 only.
   for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
-    auto plain = run_gvkit(
-        "encode " + (dir / "in").string() + " -o " + gvid +
-        " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
-        "--no-temporal-contexts --no-compact-segments --no-compact-packets --no-merge --no-td16" +
-        args);
+    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
+                           "--no-temporal-contexts --no-compact-segments --no-compact-packets "
+                           "--no-merge --no-td16 --no-quadratic-intra" +
+                           args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);
     ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;

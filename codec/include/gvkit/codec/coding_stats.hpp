@@ -32,6 +32,7 @@ struct PlaneCodingStats {
   int64_t inter_mbs = 0;       // inter, not skip, not TD
   int64_t td_mbs = 0;          // inter with temporal-difference prediction
   int64_t td16_mbs = 0;        // format 1.12: TD with one 16x16 mode (of td_mbs)
+  int64_t quadratic_mbs = 0;   // format 1.13: I16x16 with the quadratic mode (of intra_mbs)
   int64_t skip_mbs = 0;        // inter skip
   int64_t merge_skip_mbs = 0;  // format 1.11: skips at a neighbour's vector (of skip_mbs)
   int64_t merged_mbs = 0;      // format 1.11: other inter MBs at a neighbour's vector (merged)

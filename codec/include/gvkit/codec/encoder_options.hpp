@@ -180,6 +180,10 @@ struct EncoderOptions {
   // -23.24 % in the fast one at 0.90x, -7.9 % lossless (docs/benchmarks.md, format 1.12); false
   // (or td_prediction false) writes the 1.11 stream of the other options byte for byte.
   bool td16 = true;
+  // Quadratic intra (format 1.13, docs/bitstream.md 6.1): I16x16 macroblocks (of any frame) not
+  // in the first macroblock row or column may predict with a least-squares quadratic surface
+  // through the two rows above and the two columns left of them (quadratic_intra.hpp).
+  bool quadratic_intra = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

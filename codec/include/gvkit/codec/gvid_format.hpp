@@ -47,6 +47,8 @@ inline constexpr uint8_t kMinorVersionCompactPackets = 10;
 inline constexpr uint8_t kMinorVersionMerge = 11;
 // Format 1.12: a stream with TD16 (the payload's first byte, bit 6).
 inline constexpr uint8_t kMinorVersionTd16 = 12;
+// Format 1.13: a stream with the quadratic intra mode (the payload's first byte, bit 7).
+inline constexpr uint8_t kMinorVersionQuadraticIntra = 13;
 
 // The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
 enum PayloadFlag : uint8_t {
@@ -60,8 +62,11 @@ enum PayloadFlag : uint8_t {
   // since 1.12, P frames with TD prediction (frame flag bit 6): a TD macroblock codes whether it
   // predicts the temporal difference with one 16x16 mode (TD16, docs/bitstream.md 4.15).
   kPayloadTd16 = 64,
-  kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments | kPayloadMerge |
-                  kPayloadTd16,  // every bit a reader understands
+  // since 1.13, every frame: I16x16 macroblocks may take the quadratic mode (docs/bitstream.md
+  // 6.1). The last bit of this byte.
+  kPayloadQuadraticIntra = 128,
+  kPayloadKnown = kPayloadPlaneCount | kPayloadCompactSegments | kPayloadMerge | kPayloadTd16 |
+                  kPayloadQuadraticIntra,  // every bit a reader understands
 };
 
 // The full packet header (`GVFR`, every version); the compact one (format 1.10, `gv`) is 13 to
