@@ -46,7 +46,8 @@
 // segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
 // off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
 // --td16-only: format 1.12 TD16 off / on in both presets, and lossless (fast) off / on;
-// --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets;
+// --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets, and lossless
+// (fast) off / on;
 // --write-streams DIR: also write every stream
 // of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark;
 // --qps: the QPs of our curves instead of the report's own, e.g. -18,...,24 for x265's whole
@@ -1065,21 +1066,23 @@ int main(int argc, char** argv) {
   if (merge_only)
     return on_off(refs_presets, "--merge", "--no-merge",
                   [](EncoderOptions& o, bool on) { o.merge = on; });
-  if (quadratic_only)
-    return on_off(refs_presets, "--quadratic-intra", "--no-quadratic-intra",
-                  [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });
-  if (td16_only) {  // lossy curves, then lossless (fast preset) off and on
-    on_off(refs_presets, "--td16", "--no-td16", [](EncoderOptions& o, bool on) { o.td16 = on; });
+  // One tool off and on as on_off does, then lossless (fast preset) off and on.
+  const auto on_off_lossless = [&](const char* on_flag, const char* off_flag, auto set) {
+    on_off(refs_presets, on_flag, off_flag, set);
     print_header();
     for (const bool on : {false, true}) {
       EncoderOptions o = base;
       o.lossless = true;
-      o.td16 = on;
-      print_row(std::string("lossless, fast, ") + (on ? "--td16" : "--no-td16"), "-",
-                run_ours(m, o));
+      set(o, on);
+      print_row(std::string("lossless, fast, ") + (on ? on_flag : off_flag), "-", run_ours(m, o));
     }
     return 0;
-  }
+  };
+  if (quadratic_only)
+    return on_off_lossless("--quadratic-intra", "--no-quadratic-intra",
+                           [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });
+  if (td16_only)
+    return on_off_lossless("--td16", "--no-td16", [](EncoderOptions& o, bool on) { o.td16 = on; });
   if (packets_only)
     return on_off(refs_presets, "--compact-packets", "--no-compact-packets",
                   [](EncoderOptions& o, bool on) { o.compact_packets = on; });
