@@ -81,6 +81,7 @@ struct ContextSet {
   CabacContext td16_mode[2];
   // Format 1.13, quadratic intra: whether an I16x16 macroblock takes the quadratic mode.
   CabacContext i16_quadratic[1];
+  CabacContext td16_quadratic[1];  // ... and a TD16 macroblock
   // (Format 1.7, cross-plane contexts: Y and Z inherit every context declared above
   // adaptive_levels, so new contexts go above it.)
   // Adaptive level coding (lossless streams): |level| - 2 as bypass Exp-Golomb with an order
@@ -855,8 +856,15 @@ void write_macroblock(Coder& coder, ContextSet& ctx, PlaneState& st, int mb_x, i
         coder.encode(ctx.td16[flag_ctx(st.td16, [](uint8_t k) { return k != 0; })], td16);
         if (td16) {
           set_group(coder, kSyntaxModes);
-          coder.encode(ctx.td16_mode[0], mb.i16_mode & 1);
-          coder.encode(ctx.td16_mode[1], (mb.i16_mode >> 1) & 1);
+          const bool quadratic = mb.i16_mode == kIntra16x16Quadratic;
+          GVKIT_CHECK(!quadratic || has_quadratic_mode(params, mb_x, mb_y),
+                      "quadratic mode unavailable");
+          if (has_quadratic_mode(params, mb_x, mb_y))  // format 1.13
+            coder.encode(ctx.td16_quadratic[0], quadratic);
+          if (!quadratic) {
+            coder.encode(ctx.td16_mode[0], mb.i16_mode & 1);
+            coder.encode(ctx.td16_mode[1], (mb.i16_mode >> 1) & 1);
+          }
         }
       }
       st.td16[mb_index] = td16;
@@ -1026,13 +1034,19 @@ IntraNeighbors td_neighbors_from(const SamplePlane& recon, const MotionSample& m
   return make_neighbors(local, stride, 1, 1, n, y0 > 0, x0 > 0, top_right, bit_depth);
 }
 
-// The motion-compensated reference over a macroblock and the samples its 4x4 blocks' TD
-// neighbours read: one column left, one row above and up to 4 samples beyond the right edge,
-// i.e. picture positions (16 mb_x - 1 .. 16 mb_x + 19, 16 mb_y - 1 .. 16 mb_y + 15).
+// The motion-compensated reference over a macroblock and the samples its TD neighbours read:
+// two columns left, two rows above (the quadratic TD16 mode, format 1.13; the other TD modes
+// read one) and up to 4 samples beyond the right edge, i.e. picture positions
+// (16 mb_x - 2 .. 16 mb_x + 19, 16 mb_y - 2 .. 16 mb_y + 15).
 struct TdWindow {
-  static constexpr int kWidth = 21, kHeight = 17;
-  int x0 = 0, y0 = 0;  // picture position of mc[0] (the macroblock's corner - (1, 1))
+  static constexpr int kWidth = 22, kHeight = 18;
+  int x0 = 0, y0 = 0;  // picture position of mc[0] (the macroblock's corner - (2, 2))
   int32_t mc[kWidth * kHeight];
+  // The window of macroblock (mb_x, mb_y): sets x0, y0 (mc is the caller's to fill).
+  void place(int mb_x, int mb_y) {
+    x0 = mb_x * 16 - 2;
+    y0 = mb_y * 16 - 2;
+  }
   // motion_sample's value at picture position (x, y) inside the window.
   int32_t at(int x, int y) const { return mc[(y - y0) * kWidth + x - x0]; }
 };
@@ -1041,10 +1055,9 @@ struct TdWindow {
 // motion-compensated block at (x, y) (predict_motion_block's values, any size up to 16 x 16).
 template <class PredictBlock>
 void fill_td_window(int mb_x, int mb_y, const PredictBlock& predict, TdWindow& w) {
-  w.x0 = mb_x * 16 - 1;
-  w.y0 = mb_y * 16 - 1;
-  // Tiles of at most 16 x 16: columns 0..15 and 16..20, rows 0..15 and 16.
-  constexpr int kTiles[4][4] = {{0, 0, 16, 16}, {16, 0, 5, 16}, {0, 16, 16, 1}, {16, 16, 5, 1}};
+  w.place(mb_x, mb_y);
+  // Tiles of at most 16 x 16: columns 0..15 and 16..21, rows 0..15 and 16..17.
+  constexpr int kTiles[4][4] = {{0, 0, 16, 16}, {16, 0, 6, 16}, {0, 16, 16, 2}, {16, 16, 6, 2}};
   int32_t block[256];
   for (const auto& t : kTiles) {
     predict(w.x0 + t[0], w.y0 + t[1], t[2], t[3], block);
@@ -1069,16 +1082,31 @@ inline void predict_td(const SamplePlane& recon, const TdWindow& w, int x0, int 
 }
 
 // Format 1.12 (TD16, docs/bitstream.md 4.15): the prediction of a TD16 macroblock: the
-// motion-compensated reference plus the I16x16 prediction (mode 0..3) of the difference plane
-// from the macroblock's neighbours, 2^(B-1) removed; not clipped.
+// motion-compensated reference plus the I16x16 prediction (mode 0..3, or since 1.13 the quadratic
+// mode where has_quadratic_mode) of the difference plane from the macroblock's neighbours,
+// 2^(B-1) removed; not clipped.
 inline void predict_td16(const SamplePlane& recon, const TdWindow& w, int mb_x, int mb_y, int mode,
                          int bit_depth, int32_t* pred) {
   const int x0 = mb_x * 16, y0 = mb_y * 16;
-  const IntraNeighbors nb = td_neighbors_from(
-      recon, [&](int x, int y) { return w.at(x, y); }, x0, y0, mb_x, mb_y, 0, bit_depth, 16);
+  const int32_t c = 1 << (bit_depth - 1), max_value = (1 << bit_depth) - 1;
   int32_t pd[256];
-  predict_intra(16, mode, nb, (1 << bit_depth) - 1, pd);
-  const int32_t c = 1 << (bit_depth - 1);
+  if (mode == kIntra16x16Quadratic) {
+    // The difference plane over the two rows above and the two columns left (18 x 18, the
+    // block's own samples unused).
+    uint16_t local[18 * 18] = {};
+    const auto d = [&](int x, int y) {
+      return static_cast<uint16_t>(
+          std::clamp(recon.at(x0 + x, y0 + y) - w.at(x0 + x, y0 + y) + c, 0, max_value));
+    };
+    for (int y = -2; y < 16; ++y)
+      for (int x = -2; x < 16; ++x)
+        if (y < 0 || x < 0) local[(y + 2) * 18 + x + 2] = d(x, y);
+    predict_quadratic16(local, 18, 2, 2, max_value, pd);
+  } else {
+    const IntraNeighbors nb = td_neighbors_from(
+        recon, [&](int x, int y) { return w.at(x, y); }, x0, y0, mb_x, mb_y, 0, bit_depth, 16);
+    predict_intra(16, mode, nb, max_value, pd);
+  }
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x) pred[y * 16 + x] = w.at(x0 + x, y0 + y) + pd[y * 16 + x] - c;
 }

@@ -100,8 +100,12 @@ class MacroblockReader {
                   dec_.decode(ctx_.td16[flag_ctx(st_.td16, [](uint8_t k) { return k != 0; })]);
         st_.td16[mb_index] = mb.td16;
         if (mb.td16) {
-          mb.i16_mode = dec_.decode(ctx_.td16_mode[0]);
-          mb.i16_mode |= dec_.decode(ctx_.td16_mode[1]) << 1;
+          if (has_quadratic_mode(p_, mb_x, mb_y) && dec_.decode(ctx_.td16_quadratic[0])) {
+            mb.i16_mode = kIntra16x16Quadratic;  // format 1.13
+          } else {
+            mb.i16_mode = dec_.decode(ctx_.td16_mode[0]);
+            mb.i16_mode |= dec_.decode(ctx_.td16_mode[1]) << 1;
+          }
         }
         if (mb.td && !mb.td16) {
           GVKIT_RETURN_IF_ERROR(read_4x4_modes(gx0, gy0, mb));

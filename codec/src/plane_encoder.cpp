@@ -337,8 +337,7 @@ class MacroblockEncoder {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int32_t pred[256];
     if (mb.td16) {  // format 1.12
-      td_window_.x0 = x0 - 1;
-      td_window_.y0 = y0 - 1;
+      td_window_.place(mb_x_, mb_y_);
       interp(mb.ref_idx)
           .predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight, mb.mv_x,
                    mb.mv_y, p_.subpel != 0, td_window_.mc);
@@ -974,8 +973,7 @@ class MacroblockEncoder {
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     // The motion-compensated reference over the macroblock and the samples its blocks' TD
     // neighbours read (one column left, one row above, up to 4 beyond the right edge).
-    td_window_.x0 = mb_x_ * 16 - 1;
-    td_window_.y0 = mb_y_ * 16 - 1;
+    td_window_.place(mb_x_, mb_y_);
     interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
                              mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
     for (int b = 0; b < 16; ++b) {
@@ -1012,27 +1010,27 @@ class MacroblockEncoder {
         3 + (merged > 0 ? merged + 1.0
                         : motion_bits(mv_x_, mv_y_, px, py, cur_ref_) +
                               (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_)));
-    td_window_.x0 = x0 - 1;
-    td_window_.y0 = y0 - 1;
+    td_window_.place(mb_x_, mb_y_);
     interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
                              mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
     int32_t pred[256];
-    double estimate[kIntra16x16ModeCount];
-    int order[kIntra16x16ModeCount];
-    for (int mode = 0; mode < kIntra16x16ModeCount; ++mode) {
+    // H.264's four modes, and the quadratic one where the plane may code it (format 1.13).
+    const int modes =
+        has_quadratic_mode(p_, mb_x_, mb_y_) ? kIntra16x16Quadratic + 1 : kIntra16x16ModeCount;
+    double estimate[kIntra16x16Quadratic + 1];
+    int order[kIntra16x16Quadratic + 1];
+    for (int mode = 0; mode < modes; ++mode) {
       predict_td16(recon_, td_window_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
       add_cross(16, x0, y0, pred);
       estimate[mode] = static_cast<double>(distortion_estimate(16, pred, x0, y0));
       order[mode] = mode;
     }
-    std::sort(order, order + kIntra16x16ModeCount,
-              [&](int a, int b) { return estimate[a] < estimate[b]; });
+    std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
     int best_mode = order[0];
     if (p_.rdo) {
       double best_cost = std::numeric_limits<double>::infinity();
-      const int shortlist = p_.intra_rdo_shortlist > 0
-                                ? std::min(p_.intra_rdo_shortlist, kIntra16x16ModeCount)
-                                : kIntra16x16ModeCount;
+      const int shortlist =
+          p_.intra_rdo_shortlist > 0 ? std::min(p_.intra_rdo_shortlist, modes) : modes;
       for (int k = 0; k < shortlist; ++k) {
         predict_td16(recon_, td_window_, mb_x_, mb_y_, order[k], p_.bit_depth, pred);
         add_cross(16, x0, y0, pred);
