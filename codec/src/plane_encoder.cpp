@@ -989,10 +989,10 @@ class MacroblockEncoder {
   }
 
   // Format 1.12, TD16: inter at the current vector (cur_ref_, mv_x_, mv_y_) with the temporal
-  // difference predicted by one I16x16 mode from the macroblock's neighbours (with RDO every mode,
-  // or the intra shortlist's count of lowest SATD-based cost; without, the lowest), the residual
-  // coded as a plain inter macroblock's (every transform size). A vector that is a merge
-  // candidate is coded merged.
+  // difference predicted by one I16x16 mode (format 1.13: or the quadratic one) from the
+  // macroblock's neighbours (with RDO every mode, or the intra shortlist's count of lowest
+  // SATD-based cost; without, the lowest), the residual coded as a plain inter macroblock's
+  // (every transform size). A vector that is a merge candidate is coded merged.
   double try_td16(MacroblockData& mb, ContextSet& trial) {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int px, py;

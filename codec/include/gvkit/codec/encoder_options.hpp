@@ -182,10 +182,11 @@ struct EncoderOptions {
   bool td16 = true;
   // Quadratic intra (format 1.13, docs/bitstream.md 6.1): I16x16 macroblocks (of any frame) not
   // in the first macroblock row or column may predict with a least-squares quadratic surface
-  // through the two rows above and the two columns left of them (quadratic_intra.hpp). On by
-  // default: on the ICT face -5.69 % BD-rate in the slow preset at 0.87x its encode speed,
-  // -5.24 % in the fast one at the same speed (docs/benchmarks.md, format 1.13); false writes the
-  // 1.12 stream of the other options byte for byte.
+  // through the two rows above and the two columns left of them (quadratic_intra.hpp), and TD16
+  // macroblocks likewise for their temporal difference. On by default: on the ICT face -7.20 %
+  // BD-rate in the slow preset, -6.90 % in the fast one, at about the same encode speed
+  // (docs/benchmarks.md, format 1.13); false writes the 1.12 stream of the other options byte
+  // for byte.
   bool quadratic_intra = true;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 

@@ -63,9 +63,9 @@ struct PlaneCodingParams {
   // codes whether it predicts the temporal difference with one 16x16 mode (an I16x16 mode, the
   // residual then as a plain inter macroblock's) instead of sixteen 4x4 ones.
   bool td16 = false;
-  // Format 1.13 (quadratic intra, docs/bitstream.md 6.1): I16x16 macroblocks not in the first
-  // macroblock row or column may take the quadratic mode (quadratic_intra.hpp), coded with one
-  // bin before the mode's two.
+  // Format 1.13 (quadratic intra, docs/bitstream.md 6.1): I16x16 and TD16 macroblocks not in
+  // the first macroblock row or column may take the quadratic mode (quadratic_intra.hpp), coded
+  // with one bin before the mode's two.
   bool quadratic_intra = false;
   bool allow_8x8 = true;  // encoder only: consider I8x8 macroblocks
   // Encoder only, lossy inter macroblocks: quantize with the inter dead zone and drop sparse
