@@ -473,19 +473,6 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
     add_cross(mb_x * 16, mb_y * 16, 16);
     reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
                                     mb_y * 16);
-  } else if (mb.type == kMbInter && mb.td16) {  // format 1.12
-    TdWindow window;
-    fill_td_window(
-        mb_x, mb_y,
-        [&](int x, int y, int w, int h, int32_t* out) {
-          predict_motion_block(*reference, x, y, w, h, mb.mv_x, mb.mv_y, p.subpel != 0, p.bit_depth,
-                               out);
-        },
-        window);
-    predict_td16(plane, window, mb_x, mb_y, mb.i16_mode, p.bit_depth, pred);
-    add_cross(mb_x * 16, mb_y * 16, 16);
-    reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
-                                    mb_y * 16);
   } else if (mb.type == kMbInter && mb.td) {
     TdWindow window;
     fill_td_window(
@@ -495,6 +482,13 @@ void reconstruct_macroblock(SamplePlane& plane, int mb_x, int mb_y, const Macrob
                                out);
         },
         window);
+    if (mb.td16) {  // format 1.12: one 16x16 prediction, the residual of a plain inter MB
+      predict_td16(plane, window, mb_x, mb_y, mb.i16_mode, p.bit_depth, pred);
+      add_cross(mb_x * 16, mb_y * 16, 16);
+      reconstruct_macroblock_residual(pred, mb, p, plane.samples.data(), plane.width, mb_x * 16,
+                                      mb_y * 16);
+      return;
+    }
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x * 16 + block_x(b) * 4, y0 = mb_y * 16 + block_y(b) * 4;
       predict_td(plane, window, x0, y0, mb_x, mb_y, b, mb.modes[b], p.bit_depth, pred);

@@ -31,21 +31,6 @@ int64_t merges(const std::vector<FrameCodingStats>& stats, bool merged = false) 
   return n;
 }
 
-// The payload's first byte of every packet of a stream, with its frame type.
-std::vector<std::pair<format::FrameType, uint8_t>> payload_flags(const std::string& stream) {
-  auto reader = GvidReader::open_memory(stream, "x.gvid").value();
-  size_t offset = static_cast<size_t>(reader->header_bytes());
-  std::vector<std::pair<format::FrameType, uint8_t>> out;
-  for (int64_t k = 0; k < reader->frame_count(); ++k) {
-    auto h = format::read_packet_header(std::string_view(stream).substr(offset));
-    EXPECT_TRUE(h.is_ok());
-    if (!h.is_ok()) break;
-    out.push_back({h->type, static_cast<uint8_t>(stream[offset + h->header_size])});
-    offset += h->header_size + h->payload_size;
-  }
-  return out;
-}
-
 TEST(Merge, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = testing::make_moving_analytic_video(64, 7);
   const SequenceInfo info = testing::info_for(frames);
@@ -86,7 +71,7 @@ TEST(Merge, DecoderReproducesTheEncoderInEveryConfiguration) {
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
     EXPECT_EQ(static_cast<uint8_t>(stream[5]), stream_minor_version(o));
     EXPECT_GE(static_cast<uint8_t>(stream[5]), format::kMinorVersionMerge);  // 1.12, 1.13
-    for (const auto& [type, flags] : payload_flags(stream))
+    for (const auto& [type, flags] : testing::payload_flags(stream))
       EXPECT_EQ((flags & format::kPayloadMerge) != 0, type == format::FrameType::kPredicted);
     total += merges(stats) + merges(stats, true);
   }
@@ -118,7 +103,8 @@ TEST(Merge, NeighboursVectorsMakeTheIctFaceSmaller) {
   EXPECT_EQ(merges(off_stats) + merges(off_stats, true), 0);
   EXPECT_LT(a.size(), b.size());
   EXPECT_EQ(static_cast<uint8_t>(b[5]), format::kMinorVersionCompactPackets);
-  for (const auto& [type, flags] : payload_flags(b)) EXPECT_EQ(flags & format::kPayloadMerge, 0);
+  for (const auto& [type, flags] : testing::payload_flags(b))
+    EXPECT_EQ(flags & format::kPayloadMerge, 0);
 }
 
 TEST(Merge, FlagOutsideAPFrameIsRejected) {

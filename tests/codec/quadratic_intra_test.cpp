@@ -126,16 +126,9 @@ TEST(QuadraticIntra, MakesTheIctFaceCheaper) {
   off.quadratic_intra = false;
   const std::string a = testing::writer_round_trip(*frames, info, on);
   const std::string b = testing::writer_round_trip(*frames, info, off);
-  const auto psnr = [&](const std::string& stream) {
-    auto reader = GvidReader::open_memory(stream, "x.gvid").value();
-    GeometryError total;
-    for (int64_t f = 0; f < reader->frame_count(); ++f)
-      accumulate(total, geometry_error((*frames)[static_cast<size_t>(f)],
-                                       reader->decode_frame(f).value()));
-    return total.psnr_db(info.box_diagonal_mm());
-  };
   EXPECT_LT(a.size(), b.size());
-  EXPECT_GT(psnr(a), psnr(b) - 0.05);
+  EXPECT_GT(testing::stream_psnr_db(*frames, info, a),
+            testing::stream_psnr_db(*frames, info, b) - 0.05);
   EXPECT_EQ(static_cast<uint8_t>(b[5]), stream_minor_version(off));
   EXPECT_LT(static_cast<uint8_t>(b[5]), format::kMinorVersionQuadraticIntra);
 }

@@ -31,21 +31,6 @@ int64_t td16_macroblocks(const std::vector<FrameCodingStats>& stats) {
   return n;
 }
 
-// The payload's first byte of every packet of a stream, with its frame type.
-std::vector<std::pair<format::FrameType, uint8_t>> payload_flags(const std::string& stream) {
-  auto reader = GvidReader::open_memory(stream, "x.gvid").value();
-  size_t offset = static_cast<size_t>(reader->header_bytes());
-  std::vector<std::pair<format::FrameType, uint8_t>> out;
-  for (int64_t k = 0; k < reader->frame_count(); ++k) {
-    auto h = format::read_packet_header(std::string_view(stream).substr(offset));
-    EXPECT_TRUE(h.is_ok());
-    if (!h.is_ok()) break;
-    out.push_back({h->type, static_cast<uint8_t>(stream[offset + h->header_size])});
-    offset += h->header_size + h->payload_size;
-  }
-  return out;
-}
-
 TEST(Td16, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = testing::make_moving_analytic_video(64, 7);
   const SequenceInfo info = testing::info_for(frames);
@@ -89,7 +74,7 @@ TEST(Td16, DecoderReproducesTheEncoderInEveryConfiguration) {
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
     EXPECT_EQ(static_cast<uint8_t>(stream[5]), stream_minor_version(o));
     EXPECT_GE(static_cast<uint8_t>(stream[5]), format::kMinorVersionTd16);  // 1.13 by default
-    for (const auto& [type, flags] : payload_flags(stream))
+    for (const auto& [type, flags] : testing::payload_flags(stream))
       EXPECT_EQ((flags & format::kPayloadTd16) != 0, type == format::FrameType::kPredicted);
     total += td16_macroblocks(stats);
   }
@@ -117,18 +102,12 @@ TEST(Td16, MakesTheIctFaceCheaper) {
   const std::string b = testing::writer_round_trip(*frames, info, off, &off_stats);
   EXPECT_GT(td16_macroblocks(on_stats), 0);
   EXPECT_EQ(td16_macroblocks(off_stats), 0);
-  const auto psnr = [&](const std::string& stream) {
-    auto reader = GvidReader::open_memory(stream, "x.gvid").value();
-    GeometryError total;
-    for (int64_t f = 0; f < reader->frame_count(); ++f)
-      accumulate(total, geometry_error((*frames)[static_cast<size_t>(f)],
-                                       reader->decode_frame(f).value()));
-    return total.psnr_db(info.box_diagonal_mm());
-  };
   EXPECT_LT(a.size(), b.size());
-  EXPECT_GT(psnr(a), psnr(b) - 0.05);
+  EXPECT_GT(testing::stream_psnr_db(*frames, info, a),
+            testing::stream_psnr_db(*frames, info, b) - 0.05);
   EXPECT_EQ(static_cast<uint8_t>(b[5]), format::kMinorVersionMerge);
-  for (const auto& [type, flags] : payload_flags(b)) EXPECT_EQ(flags & format::kPayloadTd16, 0);
+  for (const auto& [type, flags] : testing::payload_flags(b))
+    EXPECT_EQ(flags & format::kPayloadTd16, 0);
 }
 
 TEST(Td16, FlagOutsideAPFrameWithTdPredictionIsRejected) {

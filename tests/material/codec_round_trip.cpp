@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/core/atomic_file.hpp"
@@ -67,6 +68,16 @@ std::string writer_round_trip(const std::vector<GeometryImage>& frames,
     }
   }
   return *bytes;
+}
+
+double stream_psnr_db(const std::vector<GeometryImage>& frames, const codec::SequenceInfo& info,
+                      const std::string& stream) {
+  auto reader = codec::GvidReader::open_memory(stream, "x.gvid").value();
+  codec::GeometryError total;
+  for (int64_t f = 0; f < reader->frame_count(); ++f)
+    codec::accumulate(total, codec::geometry_error(frames[static_cast<size_t>(f)],
+                                                   reader->decode_frame(f).value()));
+  return total.psnr_db(info.box_diagonal_mm());
 }
 
 }  // namespace gvkit::testing

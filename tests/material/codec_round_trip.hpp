@@ -28,4 +28,10 @@ std::string writer_round_trip(const std::vector<GeometryImage>& frames,
                               const codec::SequenceInfo& info, const codec::EncoderOptions& options,
                               std::vector<codec::FrameCodingStats>* stats = nullptr);
 
+// The geometry PSNR (dB, peak = info's box diagonal) of every frame of `stream` decoded with
+// GvidReader against `frames`, over domain pixels. Contract: a readable stream of frames.size()
+// frames.
+double stream_psnr_db(const std::vector<GeometryImage>& frames, const codec::SequenceInfo& info,
+                      const std::string& stream);
+
 }  // namespace gvkit::testing

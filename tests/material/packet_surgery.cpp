@@ -2,8 +2,11 @@
 
 #include <string_view>
 
+#include <gtest/gtest.h>
+
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/gvid_format.hpp"
+#include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::testing {
@@ -49,6 +52,20 @@ std::string damage_payload(std::string packet, std::mt19937& rng, int flips, siz
   for (int k = 0; k < flips; ++k)
     packet[header + keep + rng() % (payload - keep)] ^= static_cast<char>(1 << (rng() % 8));
   return with_payload(packet, packet.substr(header));
+}
+
+std::vector<std::pair<format::FrameType, uint8_t>> payload_flags(const std::string& stream) {
+  auto reader = codec::GvidReader::open_memory(stream, "x.gvid").value();
+  size_t offset = static_cast<size_t>(reader->header_bytes());
+  std::vector<std::pair<format::FrameType, uint8_t>> out;
+  for (int64_t k = 0; k < reader->frame_count(); ++k) {
+    auto h = format::read_packet_header(std::string_view(stream).substr(offset));
+    EXPECT_TRUE(h.is_ok());
+    if (!h.is_ok()) break;
+    out.push_back({h->type, static_cast<uint8_t>(stream[offset + h->header_size])});
+    offset += h->header_size + h->payload_size;
+  }
+  return out;
 }
 
 }  // namespace gvkit::testing

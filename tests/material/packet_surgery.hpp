@@ -9,6 +9,10 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
+
+#include "gvkit/codec/gvid_format.hpp"
 
 namespace gvkit::testing {
 
@@ -26,6 +30,10 @@ std::string with_flags2(std::string packet, uint8_t flags2);
 
 // `packet`'s header with `payload` as the payload (size and CRC rewritten).
 std::string with_payload(const std::string& packet, std::string payload);
+
+// The first byte of every packet's payload (plane count and payload flags) in decode order, with
+// the packet's frame type. EXPECTs readable packet headers.
+std::vector<std::pair<codec::format::FrameType, uint8_t>> payload_flags(const std::string& stream);
 
 // `packet` with `flips` random bits of its payload flipped, none in the payload's first `keep`
 // bytes (keep < payload size), and the CRC fixed up. Draws from `rng`.
