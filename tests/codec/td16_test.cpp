@@ -34,38 +34,10 @@ int64_t td16_macroblocks(const std::vector<FrameCodingStats>& stats) {
 TEST(Td16, DecoderReproducesTheEncoderInEveryConfiguration) {
   const auto frames = testing::make_moving_analytic_video(64, 7);
   const SequenceInfo info = testing::info_for(frames);
-  std::vector<std::pair<std::string, EncoderOptions>> cases;
-  for (const Preset preset : {Preset::kFast, Preset::kSlow})
-    for (const int bframes : {0, 1})
-      for (const int qp : {0, 12}) {
-        EncoderOptions o;
-        o.preset = preset;
-        o.bframes = bframes;
-        o.qp = qp;
-        o.intra_period = 5;
-        o.threads = 2;
-        cases.push_back({std::string(preset_name(preset)) + " bframes " + std::to_string(bframes) +
-                             " qp " + std::to_string(qp),
-                         o});
-      }
-  EncoderOptions refs1 = cases[0].second;
-  refs1.refs = 1;
-  cases.push_back({"fast refs 1", refs1});
+  auto cases = testing::p_frame_cases();
   EncoderOptions no_merge = cases[4].second;  // slow, no B frames, QP 0
   no_merge.merge = false;
   cases.push_back({"slow without merge", no_merge});
-  EncoderOptions shared = cases[4].second;
-  shared.shared_motion = true;
-  shared.joint_motion_search = true;
-  cases.push_back({"slow shared motion", shared});
-  EncoderOptions lossless;
-  lossless.lossless = true;
-  lossless.preset = Preset::kFast;
-  cases.push_back({"lossless", lossless});
-  EncoderOptions bounded;
-  bounded.max_error_mm = 0.05;
-  bounded.preset = Preset::kFast;
-  cases.push_back({"near-lossless", bounded});
   int64_t total = 0;
   for (const auto& [what, o] : cases) {
     SCOPED_TRACE(what);

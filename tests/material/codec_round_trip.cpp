@@ -80,4 +80,37 @@ double stream_psnr_db(const std::vector<GeometryImage>& frames, const codec::Seq
   return total.psnr_db(info.box_diagonal_mm());
 }
 
+std::vector<std::pair<std::string, codec::EncoderOptions>> p_frame_cases() {
+  std::vector<std::pair<std::string, codec::EncoderOptions>> cases;
+  for (const codec::Preset preset : {codec::Preset::kFast, codec::Preset::kSlow})
+    for (const int bframes : {0, 1})
+      for (const int qp : {0, 12}) {
+        codec::EncoderOptions o;
+        o.preset = preset;
+        o.bframes = bframes;
+        o.qp = qp;
+        o.intra_period = 5;
+        o.threads = 2;
+        cases.push_back({std::string(codec::preset_name(preset)) + " bframes " +
+                             std::to_string(bframes) + " qp " + std::to_string(qp),
+                         o});
+      }
+  codec::EncoderOptions refs1 = cases[0].second;
+  refs1.refs = 1;
+  cases.push_back({"fast refs 1", refs1});
+  codec::EncoderOptions shared = cases[4].second;  // slow, no B frames, QP 0
+  shared.shared_motion = true;
+  shared.joint_motion_search = true;
+  cases.push_back({"slow shared motion", shared});
+  codec::EncoderOptions lossless;
+  lossless.lossless = true;
+  lossless.preset = codec::Preset::kFast;
+  cases.push_back({"lossless", lossless});
+  codec::EncoderOptions bounded;
+  bounded.max_error_mm = 0.05;
+  bounded.preset = codec::Preset::kFast;
+  cases.push_back({"near-lossless", bounded});
+  return cases;
+}
+
 }  // namespace gvkit::testing

@@ -4,6 +4,7 @@
 // trip that expects the decoder to reproduce the encoder's reconstructions bit for bit.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -27,6 +28,11 @@ bool same_samples(const cv::Mat& a, const cv::Mat& b);
 std::string writer_round_trip(const std::vector<GeometryImage>& frames,
                               const codec::SequenceInfo& info, const codec::EncoderOptions& options,
                               std::vector<codec::FrameCodingStats>* stats = nullptr);
+
+// Encoder configurations with P frames that a P-frame tool must survive, named: fast and slow
+// preset x 0 / 1 B frames x QP 0 / 12 (intra period 5, 2 threads; index 4 is slow, no B frames,
+// QP 0), then one reference, slow with shared motion, lossless and near-lossless.
+std::vector<std::pair<std::string, codec::EncoderOptions>> p_frame_cases();
 
 // The geometry PSNR (dB, peak = info's box diagonal) of every frame of `stream` decoded with
 // GvidReader against `frames`, over domain pixels. Contract: a readable stream of frames.size()
