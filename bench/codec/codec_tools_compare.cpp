@@ -824,7 +824,8 @@ void report_qp_offsets(const Material& m, const EncoderOptions& base, const std:
   };
   const EncoderOptions defaults;
   std::vector<Setting> settings = {{defaults.p_qp_offset, defaults.b_qp_offset}};
-  for (int p : {2, 4, 8, 10}) settings.push_back({p, defaults.b_qp_offset});
+  for (int p : {2, 4, 6, 8, 10})
+    if (p != defaults.p_qp_offset) settings.push_back({p, defaults.b_qp_offset});
   for (int b : {0, 4}) settings.push_back({defaults.p_qp_offset, b});
   const auto name = [&](const Setting& s) {
     return std::string(preset_name(base.preset)) + ", --p-qp-offset " + std::to_string(s.p) +
