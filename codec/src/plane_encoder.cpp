@@ -337,10 +337,7 @@ class MacroblockEncoder {
     const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
     int32_t pred[256];
     if (mb.td16) {  // format 1.12
-      td_window_.place(mb_x_, mb_y_);
-      interp(mb.ref_idx)
-          .predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight, mb.mv_x,
-                   mb.mv_y, p_.subpel != 0, td_window_.mc);
+      fill_td_window_at(mb.ref_idx, mb.mv_x, mb.mv_y);
       predict_td16(recon_, td_window_, mb_x_, mb_y_, mb.i16_mode, p_.bit_depth, pred);
     } else if (mb.type == kMbI16x16) {
       predict_i16(recon_, mb_x_, mb_y_, mb.i16_mode, p_.bit_depth, pred);
@@ -959,6 +956,13 @@ class MacroblockEncoder {
         at(0, merge_cand_[k][0], merge_cand_[k][1]);
   }
 
+  // td_window_ over the current macroblock: reference `ref` motion-compensated at (mx, my).
+  void fill_td_window_at(int ref, int mx, int my) {
+    td_window_.place(mb_x_, mb_y_);
+    interp(ref).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight, mx, my,
+                        p_.subpel != 0, td_window_.mc);
+  }
+
   // Inter with temporal-difference prediction, at the motion vector of the inter candidate.
   double try_td(MacroblockData& mb, ContextSet& trial) {
     int px, py;
@@ -972,10 +976,8 @@ class MacroblockEncoder {
                            (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_));
     double cost = p_.rdo ? lambda_ * mv_bits : lambda_sad_ * mv_bits;
     // The motion-compensated reference over the macroblock and the samples its blocks' TD
-    // neighbours read (one column left, one row above, up to 4 beyond the right edge).
-    td_window_.place(mb_x_, mb_y_);
-    interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
-                             mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
+    // neighbours read (TdWindow).
+    fill_td_window_at(cur_ref_, mv_x_, mv_y_);
     for (int b = 0; b < 16; ++b) {
       const int gx = mb_x_ * 4 + block_x(b), gy = mb_y_ * 4 + block_y(b);
       cost += try_block_modes(4, b, mode_count4(p_), most_probable_mode(st_, gx, gy, false), trial,
@@ -1010,9 +1012,7 @@ class MacroblockEncoder {
         3 + (merged > 0 ? merged + 1.0
                         : motion_bits(mv_x_, mv_y_, px, py, cur_ref_) +
                               (mb.shared ? 0.0 : ref_idx_bits(trial, cur_ref_)));
-    td_window_.place(mb_x_, mb_y_);
-    interp(cur_ref_).predict(td_window_.x0, td_window_.y0, TdWindow::kWidth, TdWindow::kHeight,
-                             mv_x_, mv_y_, p_.subpel != 0, td_window_.mc);
+    fill_td_window_at(cur_ref_, mv_x_, mv_y_);
     int32_t pred[256];
     // H.264's four modes, and the quadratic one where the plane may code it (format 1.13).
     const int modes =
