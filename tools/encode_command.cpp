@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EncodeArgs {
-  std::string input, output, preset = "slow", value_prediction = "none";
+  std::string input, output, preset = "slow", value_prediction = "none", resolution = "auto";
   std::vector<int> plane_qp_offsets;
   codec::EncoderOptions options;
   double fps = 30.0;
@@ -106,6 +106,7 @@ void run_encode(const EncodeArgs& args) {
   options.inter_decimation = !args.no_decimation;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.value_prediction = value_or_throw(codec::parse_value_prediction(args.value_prediction));
+  options.resolution = value_or_throw(codec::parse_resolution(args.resolution));
   if (!args.plane_qp_offsets.empty()) {
     if (args.plane_qp_offsets.size() != 3)
       throw CommandFailed(invalid_argument("--plane-qp-offsets: give three values (X Y Z)"));
@@ -204,6 +205,7 @@ void run_encode(const EncodeArgs& args) {
         {"merge", options.merge},
         {"td16", options.td16},
         {"quadratic_intra", options.quadratic_intra},
+        {"resolution", codec::resolution_name(options.resolution)},
         {"value_prediction", codec::value_prediction_name(options.value_prediction)},
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
@@ -347,6 +349,10 @@ void add_encode_command(CLI::App& app) {
                 "I16x16 macroblocks may predict with a least-squares quadratic surface through "
                 "the two rows above and the two columns left of them (format 1.13; on by "
                 "default); --no-quadratic-intra writes the 1.12 stream");
+  cmd->add_option("--resolution", args->resolution,
+                  "full, half or auto: code lossy frames at half resolution, upsampled 2x by the "
+                  "decoder (format 1.14); auto (default) decides per I frame: half where halving "
+                  "loses less than coding at full resolution; full writes the 1.13 stream");
   cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
   auto* max_error = cmd->add_option(

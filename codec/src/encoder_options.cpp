@@ -31,6 +31,23 @@ Result<ValuePrediction> parse_value_prediction(const std::string& name) {
                           "' unknown (none, offset, weighted or affine)");
 }
 
+const char* resolution_name(Resolution resolution) {
+  switch (resolution) {
+    case Resolution::kFull:
+      return "full";
+    case Resolution::kHalf:
+      return "half";
+    default:
+      return "auto";
+  }
+}
+
+Result<Resolution> parse_resolution(const std::string& name) {
+  for (Resolution r : {Resolution::kFull, Resolution::kHalf, Resolution::kAuto})
+    if (name == resolution_name(r)) return r;
+  return invalid_argument("resolution '" + name + "' unknown (full, half or auto)");
+}
+
 Status EncoderOptions::check() const {
   if (bit_depth < 8 || bit_depth > 16)
     return invalid_argument("bit depth " + std::to_string(bit_depth) + " out of range (8..16)");
@@ -100,6 +117,9 @@ Status EncoderOptions::check() const {
   if (deblock.beta < 1 || deblock.beta > 255 || deblock.tc < 1 || deblock.tc > 255)
     return invalid_argument("deblocking strength " + std::to_string(deblock.beta) + "/" +
                             std::to_string(deblock.tc) + " out of range (1..255 each)");
+  if (resolution == Resolution::kHalf && bypass())
+    return invalid_argument(
+        "resolution half: lossless and max-error coding are at full resolution only");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

@@ -11,6 +11,7 @@
 #include "gvkit/codec/byte_io.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
+#include "gvkit/codec/half_resolution.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/value_prediction.hpp"
 
@@ -141,27 +142,61 @@ int near_lossless_delta(const SequenceInfo& info, double max_error_mm) {
   return static_cast<int>(std::min(std::floor(d), 65535.0));
 }
 
-Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
-                                  const EncoderOptions& options, uint32_t frame_number,
-                                  const std::vector<SamplePlane>* reference,
-                                  const std::vector<SamplePlane>* reference1,
-                                  const std::vector<const std::vector<SamplePlane>*>* older,
-                                  ReferenceInterpolationCache* cache) {
-  const std::string name = "frame " + std::to_string(frame_number);
-  if (image.xyz_mm.rows != info.height || image.xyz_mm.cols != info.width)
-    return invalid_argument(name + ": size differs from the sequence's");
-  GVKIT_RETURN_IF_ERROR(image.check().with_context(name));
-  if (info.has_texture && image.texture.empty())
-    return invalid_argument(name + ": texture missing (the sequence has a texture plane)");
-  const int delta = near_lossless_delta(info, options.max_error_mm);
-  if (delta < 0)
-    return invalid_argument(
-        "max error " + std::to_string(options.max_error_mm) + " mm is below the " +
-        std::to_string(info.bit_depth) + "-bit quantization error (" +
-        std::to_string(std::sqrt(3.0) * 0.5 * info.step_mm()) + " mm); raise --bit-depth");
-  const std::vector<SamplePlane> planes = quantize_geometry(image, info);
+namespace {
+
+int plane_bit_depth(const SequenceInfo& info, size_t plane) {
+  return plane < 3 ? info.bit_depth : 8;
+}
+
+// Format 1.14: the encoder's half-resolution planes of full-resolution ones, and the decoder's
+// full-resolution planes of half-resolution ones (half_resolution.hpp).
+std::vector<SamplePlane> downsample_planes(const std::vector<SamplePlane>& planes,
+                                           const SequenceInfo& info) {
+  std::vector<SamplePlane> half;
+  for (size_t i = 0; i < planes.size(); ++i) {
+    half.push_back(downsample_plane(planes[i], info.width, info.height, plane_bit_depth(info, i)));
+    half.back().half_resolution = true;
+  }
+  return half;
+}
+std::vector<SamplePlane> upsample_planes(const std::vector<SamplePlane>& half,
+                                         const SequenceInfo& info) {
+  std::vector<SamplePlane> full;
+  for (size_t i = 0; i < half.size(); ++i)
+    full.push_back(upsample_half_plane(half[i], info.width, info.height, plane_bit_depth(info, i)));
+  return full;
+}
+
+// A B frame's anchors at two resolutions (format 1.14: a resolution change at the I frame after
+// it): the anchor after it at the resolution of the anchor before it, by the normative 2x
+// upsampling or 2x2 mean (docs/bitstream.md 2.3).
+std::vector<SamplePlane> at_resolution(const std::vector<SamplePlane>& planes, bool half,
+                                       const SequenceInfo& info) {
+  if (half) {
+    std::vector<SamplePlane> out;
+    for (const SamplePlane& plane : planes) {
+      out.push_back(halve_plane_mean(plane, info.width, info.height));
+      out.back().half_resolution = true;
+    }
+    return out;
+  }
+  return upsample_planes(planes, info);
+}
+
+// encode_frame with its coded planes given: the quantized frame, or with `half` (format 1.14)
+// its half-resolution planes.
+EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
+                           const SequenceInfo& info, const EncoderOptions& options,
+                           uint32_t frame_number, int delta,
+                           const std::vector<SamplePlane>* reference,
+                           const std::vector<SamplePlane>* reference1,
+                           const std::vector<const std::vector<SamplePlane>*>* older,
+                           ReferenceInterpolationCache* cache) {
   format::PacketHeader header;
   header.compact = options.compact_packets;  // format 1.10
+  header.half_resolution = half;             // format 1.14
+  // The domain at the coded resolution (value prediction's fit).
+  const cv::Mat mask = half ? half_domain_mask(info.domain_mask) : info.domain_mask;
   const bool bidirectional = reference1 != nullptr;
   header.type = bidirectional
                     ? format::FrameType::kBidirectional
@@ -217,24 +252,25 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
     syntax.deblocking = true;
     syntax.deblock = options.deblock;
   }
-  header.qp = bypass ? 0
-                     : std::clamp(options.qp + (reference ? options.p_qp_offset : 0) +
-                                      (bidirectional ? options.b_qp_offset : 0),
-                                  -6 * (info.bit_depth - 8), 51);
+  // Half resolution: 6 QP finer (a coded sample stands for four pixels: lambda / 4 per sample).
+  header.qp = bypass
+                  ? 0
+                  : std::clamp(options.qp - (half ? 6 : 0) + (reference ? options.p_qp_offset : 0) +
+                                   (bidirectional ? options.b_qp_offset : 0),
+                               -6 * (info.bit_depth - 8), 51);
   header.frame_number = frame_number;
   // Value-domain prediction: fit and apply the transform; signalled only when not the identity.
   std::vector<SamplePlane> transformed;
   const std::vector<SamplePlane>* prediction_ref = reference;
   bool try_without_transform = false;
   if (p_frame && options.value_prediction != ValuePrediction::kNone) {
-    syntax.value_transform = fit_value_transform(planes, *reference, info.domain_mask,
-                                                 options.value_prediction, info.bit_depth);
+    syntax.value_transform =
+        fit_value_transform(planes, *reference, mask, options.value_prediction, info.bit_depth);
     if (!syntax.value_transform.is_identity()) {
       transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
       // Tried only when it brings the reference clearly closer to the frame (sum of absolute
       // differences over the domain), and then kept only when the frame costs less with it.
-      if (domain_sad(planes, transformed, info.domain_mask) <
-          0.9 * domain_sad(planes, *reference, info.domain_mask)) {
+      if (domain_sad(planes, transformed, mask) < 0.9 * domain_sad(planes, *reference, mask)) {
         header.flags |= format::kFrameValuePrediction;
         prediction_ref = &transformed;
         try_without_transform = true;
@@ -368,9 +404,61 @@ Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo
   header.payload_size = static_cast<uint32_t>(payload.size());
   header.payload_crc = crc32(payload.str());
   out.packet = format::write_packet_header(header) + payload.str();
-  out.reconstruction = dequantize_geometry(recon, info, frame_number);
+  for (SamplePlane& plane : recon) plane.half_resolution = half;
+  out.reconstruction =
+      dequantize_geometry(half ? upsample_planes(recon, info) : recon, info, frame_number);
   out.planes = std::move(recon);
   return out;
+}
+
+}  // namespace
+
+Result<EncodedFrame> encode_frame(const GeometryImage& image, const SequenceInfo& info,
+                                  const EncoderOptions& options, uint32_t frame_number,
+                                  const std::vector<SamplePlane>* reference,
+                                  const std::vector<SamplePlane>* reference1,
+                                  const std::vector<const std::vector<SamplePlane>*>* older,
+                                  ReferenceInterpolationCache* cache) {
+  const std::string name = "frame " + std::to_string(frame_number);
+  if (image.xyz_mm.rows != info.height || image.xyz_mm.cols != info.width)
+    return invalid_argument(name + ": size differs from the sequence's");
+  GVKIT_RETURN_IF_ERROR(image.check().with_context(name));
+  if (info.has_texture && image.texture.empty())
+    return invalid_argument(name + ": texture missing (the sequence has a texture plane)");
+  const int delta = near_lossless_delta(info, options.max_error_mm);
+  if (delta < 0)
+    return invalid_argument(
+        "max error " + std::to_string(options.max_error_mm) + " mm is below the " +
+        std::to_string(info.bit_depth) + "-bit quantization error (" +
+        std::to_string(std::sqrt(3.0) * 0.5 * info.step_mm()) + " mm); raise --bit-depth");
+  const std::vector<SamplePlane> planes = quantize_geometry(image, info);
+  const auto encode = [&](const std::vector<SamplePlane>& coded, bool half) {
+    return encode_planes(coded, half, info, options, frame_number, delta, reference, reference1,
+                         older, cache);
+  };
+  // Format 1.14: P and B frames code at their references' resolution; an I frame as the options
+  // say.
+  if (reference) {
+    const bool half = (*reference)[0].half_resolution;
+    if (half && options.bypass())
+      return invalid_argument(name +
+                              ": lossless or max-error coding from a half-resolution reference");
+    std::vector<SamplePlane> converted;
+    if (reference1 && (*reference1)[0].half_resolution != half) {
+      converted = at_resolution(*reference1, half, info);
+      reference1 = &converted;
+    }
+    return encode(half ? downsample_planes(planes, info) : planes, half);
+  }
+  if (!options.half_resolution_allowed()) return encode(planes, false);
+  if (options.resolution == Resolution::kHalf) return encode(downsample_planes(planes, info), true);
+  // Automatic: half resolution where halving and upsampling the frame loses no more than coding
+  // it at full resolution does (mean squared sample error over the domain, X, Y, Z).
+  EncodedFrame full = encode(planes, false);
+  std::vector<SamplePlane> halved = downsample_planes(planes, info);
+  const double resampling = domain_mse(planes, upsample_planes(halved, info), info.domain_mask);
+  if (resampling > domain_mse(planes, full.planes, info.domain_mask)) return full;
+  return encode(halved, true);
 }
 
 Result<int> packet_reference_count(std::string_view packet) {
@@ -424,6 +512,18 @@ Result<GeometryImage> decode_frame_packet(
         "frame flags: P-frame tools (value, TD prediction or shared motion) in a "
         "B frame");
   const bool lossless = (header.flags & format::kFrameLossless) != 0;
+  const bool half = header.half_resolution;  // format 1.14
+  if (half && lossless) return corrupt_data("packet type: half resolution in a lossless frame");
+  if (predicted && (*reference)[0].half_resolution != half)
+    return corrupt_data(std::string("frame at ") + (half ? "half" : "full") +
+                        " resolution, its reference frame at " + (half ? "full" : "half"));
+  // Format 1.14: a B frame whose anchor after it has the other resolution (a change at that I
+  // frame) predicts from it converted to its own.
+  std::vector<SamplePlane> converted;
+  if (bidirectional && (*reference1)[0].half_resolution != half) {
+    converted = at_resolution(*reference1, half, info);
+    reference1 = &converted;
+  }
   if ((header.flags & format::kFrameNearLossless) && !lossless)
     return corrupt_data("frame flags: near-lossless without transform bypass");
   if ((header.flags & format::kFramePlaneQp) && lossless)
@@ -482,13 +582,16 @@ Result<GeometryImage> decode_frame_packet(
     if (!r.ok() || syntax.near_lossless == 0)
       return corrupt_data("near-lossless delta missing or 0");
   }
+  // The coded planes' size: the frame's, or (format 1.14) half of it, padded to whole
+  // macroblocks.
+  const int pw = ((half ? half_size(info.width) : info.width) + 15) / 16 * 16;
+  const int ph = ((half ? half_size(info.height) : info.height) + 15) / 16 * 16;
   std::vector<SamplePlane> transformed;
   const std::vector<SamplePlane>* prediction_ref = predicted ? reference : nullptr;
   if (header.flags & format::kFrameValuePrediction) {
     auto transform = read_value_transform(r);
     if (!transform.is_ok()) return transform.status();
     syntax.value_transform = *transform;
-    const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
     for (int i = 0; i < 3; ++i)
       if ((*reference)[i].width != pw || (*reference)[i].height != ph)
         return corrupt_data("reference frame size differs");
@@ -532,7 +635,6 @@ Result<GeometryImage> decode_frame_packet(
     syntax.deblock.tc = r.u8();
     if (!r.ok()) return corrupt_data("deblocking parameters missing");
   }
-  const int pw = (info.width + 15) / 16 * 16, ph = (info.height + 15) / 16 * 16;
   for (int l = 0; l < 2 && predicted; ++l) {
     const std::vector<SamplePlane>* refs = l ? reference1 : reference;
     if (!refs) continue;
@@ -542,7 +644,7 @@ Result<GeometryImage> decode_frame_packet(
   }
   for (const auto& list : more)
     for (const SamplePlane* plane : list)
-      if (plane->width != pw || plane->height != ph)
+      if (plane->width != pw || plane->height != ph || plane->half_resolution != half)
         return corrupt_data("reference frame size differs");
   std::vector<SamplePlane> planes;
   MotionField x_motion;  // shared motion: the X plane's, candidate of Y and Z
@@ -578,7 +680,9 @@ Result<GeometryImage> decode_frame_packet(
       planes.back().motion = std::make_shared<const MotionField>(std::move(motion));
   }
   if (r.remaining() != 0) return corrupt_data("trailing bytes after the planes");
-  GeometryImage image = dequantize_geometry(planes, info, frame_number);
+  for (SamplePlane& plane : planes) plane.half_resolution = half;
+  GeometryImage image =
+      dequantize_geometry(half ? upsample_planes(planes, info) : planes, info, frame_number);
   if (planes_out) *planes_out = std::move(planes);
   return image;
 }

@@ -100,7 +100,8 @@ std::string write_packet_header(const PacketHeader& h) {
   // Magic, then type, flags, qp and flags2 in both forms.
   const auto start = [&](std::string_view magic) {
     w.bytes(magic);
-    w.u8(static_cast<uint8_t>(h.type));
+    w.u8(static_cast<uint8_t>(static_cast<uint8_t>(h.type) |
+                              (h.half_resolution ? kPacketTypeHalfResolution : 0)));
     w.u8(h.flags);
     w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
     w.u8(h.flags2);
@@ -126,6 +127,14 @@ bool starts_with_packet_magic(std::string_view bytes) {
          (bytes.size() >= 2 && std::memcmp(bytes.data(), kCompactPacketMagic, 2) == 0);
 }
 
+namespace {
+// The type byte: the frame type and (format 1.14) the half-resolution bit.
+void read_type(PacketHeader& h, uint8_t byte) {
+  h.half_resolution = (byte & kPacketTypeHalfResolution) != 0;
+  h.type = static_cast<FrameType>(byte & ~kPacketTypeHalfResolution);
+}
+}  // namespace
+
 Result<PacketHeader> read_packet_header(std::string_view bytes) {
   PacketHeader h;
   if (bytes.size() >= 2 && std::memcmp(bytes.data(), kCompactPacketMagic, 2) == 0) {
@@ -133,7 +142,7 @@ Result<PacketHeader> read_packet_header(std::string_view bytes) {
     const std::string_view fields = bytes.substr(2, kCompactPacketHeaderMaxSize - 2);
     ByteReader r(fields);
     h.compact = true;
-    h.type = static_cast<FrameType>(r.u8());
+    read_type(h, r.u8());
     h.flags = r.u8();
     h.qp = static_cast<int8_t>(r.u8());
     h.flags2 = r.u8();
@@ -153,7 +162,7 @@ Result<PacketHeader> read_packet_header(std::string_view bytes) {
   if (bytes.size() < kPacketHeaderSize) return corrupt_data("packet header truncated");
   if (!magic_is(bytes, kPacketMagic)) return corrupt_data("packet magic 'GVFR' missing");
   ByteReader r(bytes.substr(4));
-  h.type = static_cast<FrameType>(r.u8());
+  read_type(h, r.u8());
   h.flags = r.u8();
   h.qp = static_cast<int8_t>(r.u8());
   h.flags2 = r.u8();

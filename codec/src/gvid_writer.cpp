@@ -182,6 +182,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
 }
 
 uint8_t stream_minor_version(const EncoderOptions& options) {
+  if (options.half_resolution_allowed()) return format::kMinorVersionHalfResolution;  // 1.14
   if (options.quadratic_intra) return format::kMinorVersionQuadraticIntra;  // 1.13: every stream
   if (options.td16 && options.td_prediction && !options.intra_only && options.intra_period >= 2)
     return format::kMinorVersionTd16;  // 1.12: P frames with TD prediction

@@ -96,6 +96,7 @@ TEST(CompactPackets, StreamsRoundTripWithTheSameFramesAndFewerBytes) {
       on.merge = false;                 // the 1.10 stream (merge: merge_test.cpp)
       on.td16 = false;                  // (TD16: td16_test.cpp)
       on.quadratic_intra = false;       // (quadratic intra: quadratic_intra_test.cpp)
+      on.resolution = Resolution::kFull;
       EncoderOptions off = on;
       off.compact_packets = false;
       const std::string a = testing::writer_round_trip(frames, info, on);

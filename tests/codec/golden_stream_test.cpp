@@ -100,13 +100,14 @@ std::vector<GoldenCase> cases() {
     o->cross_plane_contexts = false;
     o->partitions = false;
     o->deblocking = false;
-    o->temporal_contexts = false;  // (nor the format 1.9 temporal contexts)
-    o->compact_segments = false;   // (nor the 1.9 segment sizes)
-    o->compact_packets = false;    // (nor the 1.10 packet headers)
-    o->merge = false;              // (nor the 1.11 merge)
-    o->td16 = false;               // (nor the 1.12 TD16)
-    o->quadratic_intra = false;    // (nor the 1.13 quadratic intra)
-    o->intra_rdo = false;          // (nor the fast preset's RDO in I frames)
+    o->temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
+    o->compact_segments = false;        // (nor the 1.9 segment sizes)
+    o->compact_packets = false;         // (nor the 1.10 packet headers)
+    o->merge = false;                   // (nor the 1.11 merge)
+    o->td16 = false;                    // (nor the 1.12 TD16)
+    o->quadratic_intra = false;         // (nor the 1.13 quadratic intra)
+    o->resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+    o->intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
   // The streams before 1.8 were written without the deblocking filter (the ones above too).
@@ -116,11 +117,12 @@ std::vector<GoldenCase> cases() {
   // ... and those before 1.9 without temporal contexts.
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast}) {
     o->temporal_contexts = false;
-    o->compact_segments = false;  // (nor the 1.9 segment sizes)
-    o->compact_packets = false;   // (nor the 1.10 packet headers)
-    o->merge = false;             // (nor the 1.11 merge)
-    o->td16 = false;              // (nor the 1.12 TD16)
-    o->quadratic_intra = false;   // (nor the 1.13 quadratic intra)
+    o->compact_segments = false;        // (nor the 1.9 segment sizes)
+    o->compact_packets = false;         // (nor the 1.10 packet headers)
+    o->merge = false;                   // (nor the 1.11 merge)
+    o->td16 = false;                    // (nor the 1.12 TD16)
+    o->quadratic_intra = false;         // (nor the 1.13 quadratic intra)
+    o->resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

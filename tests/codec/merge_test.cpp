@@ -65,6 +65,7 @@ TEST(Merge, NeighboursVectorsMakeTheIctFaceSmaller) {
   on.qp = 12;
   on.td16 = false;             // merge alone (TD16: td16_test.cpp)
   on.quadratic_intra = false;  // (nor quadratic intra: quadratic_intra_test.cpp)
+  on.resolution = Resolution::kFull;
   EncoderOptions off = on;
   off.merge = false;
   std::vector<FrameCodingStats> on_stats, off_stats;

@@ -101,7 +101,9 @@ TEST(QuadraticIntra, DecoderReproducesTheEncoderInEveryConfiguration) {
     ASSERT_TRUE(o.quadratic_intra);  // on by default
     std::vector<FrameCodingStats> stats;
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
-    EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionQuadraticIntra);
+    EXPECT_EQ(static_cast<uint8_t>(stream[5]), o.half_resolution_allowed()
+                                                   ? format::kMinorVersionHalfResolution
+                                                   : format::kMinorVersionQuadraticIntra);
     for (const FrameCodingStats& f : stats)
       for (const PlaneCodingStats& p : f.planes) total += p.quadratic_mbs;
   }
@@ -122,6 +124,7 @@ TEST(QuadraticIntra, MakesTheIctFaceCheaper) {
   on.preset = Preset::kSlow;
   on.intra_only = true;
   on.qp = 12;
+  on.resolution = Resolution::kFull;  // the quadratic mode alone
   EncoderOptions off = on;
   off.quadratic_intra = false;
   const std::string a = testing::writer_round_trip(*frames, info, on);

@@ -179,15 +179,16 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   EncoderOptions o;
   o.lossless = true;
   o.preset = Preset::kFast;
-  ASSERT_EQ(o.subpel, 4);          // the default
-  o.cross_plane = false;           // the 1.4 header (1.6 with cross-plane prediction)
-  o.cross_plane_contexts = false;  // format 1.7 off
-  o.temporal_contexts = false;     // format 1.9 off
-  o.compact_segments = false;      // (nor the 1.9 segment sizes)
-  o.compact_packets = false;       // (nor the 1.10 packet headers)
-  o.merge = false;                 // (nor the 1.11 merge)
-  o.td16 = false;                  // (nor the 1.12 TD16)
-  o.quadratic_intra = false;       // (nor the 1.13 quadratic intra)
+  ASSERT_EQ(o.subpel, 4);            // the default
+  o.cross_plane = false;             // the 1.4 header (1.6 with cross-plane prediction)
+  o.cross_plane_contexts = false;    // format 1.7 off
+  o.temporal_contexts = false;       // format 1.9 off
+  o.compact_segments = false;        // (nor the 1.9 segment sizes)
+  o.compact_packets = false;         // (nor the 1.10 packet headers)
+  o.merge = false;                   // (nor the 1.11 merge)
+  o.td16 = false;                    // (nor the 1.12 TD16)
+  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
+  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)

@@ -67,6 +67,7 @@ TEST(Td16, MakesTheIctFaceCheaper) {
   on.preset = Preset::kFast;
   on.qp = 0;
   on.quadratic_intra = false;  // TD16 alone (1.13: quadratic_intra_test.cpp)
+  on.resolution = Resolution::kFull;
   EncoderOptions off = on;
   off.td16 = false;
   std::vector<FrameCodingStats> on_stats, off_stats;

@@ -23,10 +23,13 @@
 namespace gvkit::codec {
 namespace {
 
-// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is 13 (the
-// default options: compact packets, merge, TD16 and quadratic intra too).
-void expect_temporal_in_inter_frames(const std::string& stream) {
-  EXPECT_EQ(static_cast<uint8_t>(stream[5]), format::kMinorVersionQuadraticIntra);
+// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is that
+// of the options (1.14 with the default options, 1.13 lossless: compact packets, merge, TD16
+// and quadratic intra too).
+void expect_temporal_in_inter_frames(const std::string& stream, const EncoderOptions& options) {
+  EXPECT_EQ(static_cast<uint8_t>(stream[5]), options.half_resolution_allowed()
+                                                 ? format::kMinorVersionHalfResolution
+                                                 : format::kMinorVersionQuadraticIntra);
   auto reader = GvidReader::open_memory(stream, "x.gvid").value();
   int inter = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -72,7 +75,7 @@ TEST(TemporalContexts, DecoderReproducesTheEncoderInEveryConfiguration) {
   cases.push_back({"one reference, affine value prediction", one_ref});
   for (const auto& [name, o] : cases) {
     SCOPED_TRACE(name);
-    expect_temporal_in_inter_frames(testing::writer_round_trip(frames, info, o));
+    expect_temporal_in_inter_frames(testing::writer_round_trip(frames, info, o), o);
   }
 }
 
@@ -108,10 +111,11 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EncoderOptions on;
       on.qp = qp;
       on.preset = preset;
-      on.compact_packets = false;  // the 1.9 stream
-      on.merge = false;            // (nor the 1.11 merge)
-      on.td16 = false;             // (nor the 1.12 TD16)
-      on.quadratic_intra = false;  // (nor the 1.13 quadratic intra)
+      on.compact_packets = false;         // the 1.9 stream
+      on.merge = false;                   // (nor the 1.11 merge)
+      on.td16 = false;                    // (nor the 1.12 TD16)
+      on.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
+      on.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
@@ -147,10 +151,11 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.intra_rdo = false;  // (the fast preset's I frames were decided by SATD then)
   o.temporal_contexts = false;
   o.compact_segments = false;
-  o.compact_packets = false;  // (nor the 1.10 packet headers)
-  o.merge = false;            // (nor the 1.11 merge)
-  o.td16 = false;             // (nor the 1.12 TD16)
-  o.quadratic_intra = false;  // (nor the 1.13 quadratic intra)
+  o.compact_packets = false;         // (nor the 1.10 packet headers)
+  o.merge = false;                   // (nor the 1.11 merge)
+  o.td16 = false;                    // (nor the 1.12 TD16)
+  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
+  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");

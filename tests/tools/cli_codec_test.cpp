@@ -110,7 +110,7 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
                        "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra");
+                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -125,11 +125,11 @@ TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
-  auto plain = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-      " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
-      "--no-compact-segments --no-compact-packets --no-merge --no-td16 --no-quadratic-intra");
+  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
+                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
+                         "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
+                         "--no-quadratic-intra --resolution full");
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   auto plain_info = run_gvkit("info " + gvid);
   ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
@@ -169,10 +169,11 @@ TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
   write_frames(dir / "in", 3);
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-temporal-contexts --no-compact-segments "
-                         "--no-compact-packets --no-merge --no-td16 --no-quadratic-intra" +
-                         (on ? "" : " --no-deblock"));
+    auto enc = run_gvkit(
+        "encode " + (dir / "in").string() + " -o " + gvid +
+        " --qp 12 --no-temporal-contexts --no-compact-segments "
+        "--no-compact-packets --no-merge --no-td16 --no-quadratic-intra --resolution full" +
+        (on ? "" : " --no-deblock"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
@@ -212,22 +213,24 @@ TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
   EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
 }
 
-// Merge (format 1.11), TD16 (1.12) and quadratic intra (1.13): on by default, in the stats;
-// with --no-quadratic-intra a version 1.12 stream, with --no-td16 as well 1.11, with --no-merge
-// as well 1.10; all decode.
-TEST(CliCodec, MergeTd16AndQuadraticIntraAreOptionsInTheStatsAndEveryStreamDecodes) {
+// Merge (format 1.11), TD16 (1.12), quadratic intra (1.13) and half resolution (1.14): on by
+// default, in the stats; with --resolution full a version 1.13 stream, with --no-quadratic-intra
+// as well 1.12, with --no-td16 as well 1.11, with --no-merge as well 1.10; all decode.
+TEST(CliCodec, MergeTd16QuadraticIntraAndResolutionAreOptionsInTheStatsAndEveryStreamDecodes) {
   TempDir dir;
   write_frames(dir / "in", 4);
-  const std::string off[4] = {"", " --no-quadratic-intra", " --no-quadratic-intra --no-td16",
-                              " --no-quadratic-intra --no-td16 --no-merge"};
-  for (int k = 0; k < 4; ++k) {
-    const int version = 13 - k;
+  const std::string off[5] = {"", " --resolution full", " --resolution full --no-quadratic-intra",
+                              " --resolution full --no-quadratic-intra --no-td16",
+                              " --resolution full --no-quadratic-intra --no-td16 --no-merge"};
+  for (int k = 0; k < 5; ++k) {
+    const int version = 14 - k;
     const std::string gvid = (dir / ("v" + std::to_string(version) + ".gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                          " --qp 12 --bframes 0" + off[k]);
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["resolution"], version >= 14 ? "auto" : "full");
     EXPECT_EQ((*stats)["options"]["quadratic_intra"], version >= 13);
     EXPECT_EQ((*stats)["options"]["td16"], version >= 12);
     EXPECT_EQ((*stats)["options"]["merge"], version >= 11);
@@ -238,6 +241,10 @@ TEST(CliCodec, MergeTd16AndQuadraticIntraAreOptionsInTheStatsAndEveryStreamDecod
         run_gvkit("decode " + gvid + " -o " + (dir / ("v" + std::to_string(version))).string());
     ASSERT_EQ(dec.exit_code, 0) << dec.output;
   }
+  const auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " +
+                             (dir / "bad.gvid").string() + " --resolution quarter");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("resolution 'quarter' unknown"), std::string::npos) << bad.output;
 }
 
 // Compact packets (format 1.10): on by default, in the stats and in `gvkit info` on every frame;
@@ -251,7 +258,7 @@ TEST(CliCodec, CompactPacketsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-merge --no-td16 --no-quadratic-intra" +
+                         " --qp 12 --no-merge --no-td16 --no-quadratic-intra --resolution full" +
                          (on ? "" : " --no-compact-packets"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -283,7 +290,8 @@ TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
   for (const bool on : {true, false}) {
     const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
     auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-compact-packets --no-merge --no-td16 --no-quadratic-intra" +
+                         " --qp 12 --no-compact-packets --no-merge --no-td16 --no-quadratic-intra "
+                         "--resolution full" +
                          (on ? "" : " --no-temporal-contexts --no-compact-segments"));
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
@@ -307,7 +315,7 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
                        "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
-                       "--no-quadratic-intra");  // on by default
+                       "--no-quadratic-intra --resolution full");  // on by default
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -325,7 +333,7 @@ TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
                        "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra");
+                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
   ASSERT_EQ(off.exit_code, 0) << off.output;
   auto off_info = run_gvkit("info " + gvid);
   ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
@@ -342,7 +350,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                        " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
                        "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra");
+                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -357,10 +365,10 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
   auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
   // On by default in the slow preset: the same stream.
-  auto defaults = run_gvkit(
-      "encode " + (dir / "in").string() + " -o " + gvid +
-      " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
-      "--no-compact-segments --no-compact-packets --no-merge --no-td16 --no-quadratic-intra");
+  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
+                            " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
+                            "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
+                            "--no-quadratic-intra --resolution full");
   ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
   auto default_bytes = read_file(gvid);
   ASSERT_TRUE(default_bytes.is_ok());
@@ -371,7 +379,7 @@ TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
     auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
                            " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
                            "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                           "--no-merge --no-td16 --no-quadratic-intra" +
+                           "--no-merge --no-td16 --no-quadratic-intra --resolution full" +
                            args);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     auto plain_info = run_gvkit("info " + gvid);

@@ -28,6 +28,19 @@ enum class ValuePrediction {
 const char* value_prediction_name(ValuePrediction mode);
 Result<ValuePrediction> parse_value_prediction(const std::string& name);
 
+// The resolution frames are coded at (format 1.14, docs/bitstream.md 2.3; half_resolution.hpp).
+// An I frame decides for itself and the P and B frames that predict from it.
+enum class Resolution {
+  kFull,  // every frame at the sequence's resolution
+  kHalf,  // every lossy frame at half resolution (upsampled 2x by the decoder)
+  // Per I frame: half resolution when the error of halving and upsampling the frame is at most
+  // the error of coding it at full resolution (over the domain), i.e. where the detail half
+  // resolution loses is below the coding noise anyway; full resolution otherwise.
+  kAuto,
+};
+const char* resolution_name(Resolution resolution);
+Result<Resolution> parse_resolution(const std::string& name);
+
 struct EncoderOptions {
   int qp = 12;                 // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8)
   bool lossless = false;       // transform bypass: decoded samples equal the quantized input
@@ -188,6 +201,11 @@ struct EncoderOptions {
   // (docs/benchmarks.md, format 1.13); false writes the 1.12 stream of the other options byte
   // for byte.
   bool quadratic_intra = true;
+  // Half-resolution coding (format 1.14, docs/bitstream.md 2.3). Half-resolution frames are
+  // coded 6 QP finer (a coded sample stands for four pixels: the same lambda per pixel). Lossless
+  // and max-error streams are coded at full resolution. kAuto by default: on the ICT face it
+  // gives RESULT_PENDING; kFull writes the 1.13 stream of the other options byte for byte.
+  Resolution resolution = Resolution::kAuto;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.
@@ -218,6 +236,8 @@ struct EncoderOptions {
   bool use_partitions() const { return partitions && preset == Preset::kSlow; }
   // Transform-bypass coding (lossless or near-lossless).
   bool bypass() const { return lossless || max_error_mm > 0; }
+  // Whether lossy frames may be coded at half resolution (format 1.14).
+  bool half_resolution_allowed() const { return resolution != Resolution::kFull && !bypass(); }
 };
 
 }  // namespace gvkit::codec

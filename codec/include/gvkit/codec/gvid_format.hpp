@@ -49,6 +49,8 @@ inline constexpr uint8_t kMinorVersionMerge = 11;
 inline constexpr uint8_t kMinorVersionTd16 = 12;
 // Format 1.13: a stream with the quadratic intra mode (the payload's first byte, bit 7).
 inline constexpr uint8_t kMinorVersionQuadraticIntra = 13;
+// Format 1.14: a stream that may code frames at half resolution (the packet type byte, bit 4).
+inline constexpr uint8_t kMinorVersionHalfResolution = 14;
 
 // The payload's first byte: the plane count in bits 0-3 and, since 1.9, payload flags above.
 enum PayloadFlag : uint8_t {
@@ -82,6 +84,9 @@ enum PlaneFlag : uint8_t { kPlaneX = 1, kPlaneY = 2, kPlaneZ = 4, kPlaneTexture 
 // Packets are in decode order: a B frame (1.5) follows the anchor (I or P frame) after it in
 // display order; frame_number is the display index.
 enum class FrameType : uint8_t { kIntra = 0, kPredicted = 1, kBidirectional = 2 };
+// Format 1.14: bit 4 of the packet header's type byte, the frame is coded at half resolution
+// (docs/bitstream.md 2.3); the type is the byte's other bits.
+inline constexpr uint8_t kPacketTypeHalfResolution = 16;
 // "I", "P" or "B" ("?" for other values).
 const char* frame_type_name(FrameType type);
 enum FrameFlag : uint8_t {
@@ -121,6 +126,7 @@ struct PacketHeader {
   uint32_t frame_number = 0;
   uint32_t payload_size = 0;
   uint32_t payload_crc = 0;
+  bool half_resolution = false;  // format 1.14: the type byte's bit 4
   // Written: the compact header (format 1.10) instead of the full one. Read: which one it was.
   bool compact = false;
   // Read: the header's length in bytes (kPacketHeaderSize, or 13..21 when compact); the payload

@@ -103,6 +103,9 @@ struct SamplePlane {
   // decode_frame_packet reconstructed (null on other planes); the same plane of a later P frame
   // takes its co-located vector as a merge candidate.
   std::shared_ptr<const MotionField> motion;
+  // Format 1.14 (docs/bitstream.md 2.3): a plane of a half-resolution frame, as coded (before
+  // upsampling); a P or B frame codes at the resolution of its references.
+  bool half_resolution = false;
   uint16_t& at(int x, int y) { return samples[static_cast<size_t>(y) * width + x]; }
   uint16_t at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
 };
