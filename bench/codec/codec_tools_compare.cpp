@@ -21,6 +21,7 @@
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 //                            [--compact-segments-only] [--compact-packets-only]
 //                            [--merge-only] [--td16-only] [--quadratic-intra-only]
+//                            [--resolution-only]
 //                            [--qps Q1,Q2,...]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
@@ -46,6 +47,7 @@
 // segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
 // off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
 // --td16-only: format 1.12 TD16 off / on in both presets, and lossless (fast) off / on;
+// --resolution-only: format 1.14 half resolution, --resolution full / auto in both presets;
 // --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets, and lossless
 // (fast) off / on;
 // --write-streams DIR: also write every stream
@@ -864,7 +866,8 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, compact_only = false,
-       packets_only = false, merge_only = false, td16_only = false, quadratic_only = false;
+       packets_only = false, merge_only = false, td16_only = false, quadratic_only = false,
+       resolution_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -914,6 +917,8 @@ int main(int argc, char** argv) {
       td16_only = true;
     else if (a == "--quadratic-intra-only")
       quadratic_only = true;
+    else if (a == "--resolution-only")
+      resolution_only = true;
     else if (a == "--deblock-beta" && i + 1 < argc)
       deblock.beta = std::atoi(argv[++i]);
     else if (a == "--deblock-tc" && i + 1 < argc)
@@ -968,7 +973,7 @@ int main(int argc, char** argv) {
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
           "[--compact-segments-only] [--compact-packets-only] [--merge-only] [--td16-only] "
-          "[--quadratic-intra-only] "
+          "[--quadratic-intra-only] [--resolution-only] "
           "[--write-streams DIR] [--qps Q1,Q2,...]\n");
       return 2;
     }
@@ -1079,6 +1084,11 @@ int main(int argc, char** argv) {
     }
     return 0;
   };
+  if (resolution_only)
+    return on_off(refs_presets, "--resolution auto", "--resolution full",
+                  [](EncoderOptions& o, bool on) {
+                    o.resolution = on ? Resolution::kAuto : Resolution::kFull;
+                  });
   if (quadratic_only)
     return on_off_lossless("--quadratic-intra", "--no-quadratic-intra",
                            [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });
