@@ -184,8 +184,9 @@ void describe_gvid(const fs::path& path) {
       if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
       if (h->flags2 & codec::format::kFrame2Deblocking) tools += "  deblocking";  // format 1.8
       if (h->flags2 & codec::format::kFrame2TemporalContexts)
-        tools += "  temporal-contexts";             // 1.9
-      if (h->compact) tools += "  compact-packet";  // 1.10
+        tools += "  temporal-contexts";                      // 1.9
+      if (h->compact) tools += "  compact-packet";           // 1.10
+      if (h->half_resolution) tools += "  half-resolution";  // 1.14
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)

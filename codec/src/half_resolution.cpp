@@ -1,10 +1,10 @@
 #include "gvkit/codec/half_resolution.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
-
-#include <opencv2/core.hpp>
 
 namespace gvkit::codec {
 namespace {
@@ -30,60 +30,108 @@ Tap tap(int out, int k, int n) {
   return {std::clamp(i - 2 + k, 0, n - 1), kHalfUpsampleTaps[3 - k]};
 }
 
-// The 1-D upsampling operator as an n_full x half_size(n_full) matrix (weights / 64) and its
-// least-squares pseudo-inverse (U^T U)^-1 U^T.
-cv::Mat pseudo_inverse(int n_full) {
-  const int n = half_size(n_full);
-  cv::Mat u = cv::Mat::zeros(n_full, n, CV_64F);
-  for (int out = 0; out < n_full; ++out)
-    for (int k = 0; k < 4; ++k) {
-      const Tap t = tap(out, k, n);
-      u.at<double>(out, t.sample) += t.weight / 64.0;
+// Least-squares halving along one axis of n_full pixels: the m = half_size(n_full) samples z
+// minimising |U z - x|^2, U the 1-D upsampling operator, by the normal equations
+// (U^T U) z = U^T x. U^T U is banded (a pixel's four taps span four samples: |i - j| <= 3), so
+// its Cholesky factor is too and every line costs O(n).
+class LeastSquaresHalving {
+ public:
+  explicit LeastSquaresHalving(int n_full) : n_(n_full), m_(half_size(n_full)), l_(m_) {
+    std::vector<std::array<double, 4>> normal(m_, {0, 0, 0, 0});  // normal[i][d] = N(i, i - d)
+    for (int out = 0; out < n_; ++out)
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const Tap ta = tap(out, a, m_), tb = tap(out, b, m_);
+          if (ta.sample >= tb.sample)
+            normal[ta.sample][ta.sample - tb.sample] += ta.weight * tb.weight / 4096.0;
+        }
+    for (int i = 0; i < m_; ++i)
+      for (int j = std::max(0, i - 3); j <= i; ++j) {
+        double sum = normal[i][i - j];
+        for (int k = std::max(0, i - 3); k < j; ++k) sum -= l_[i][i - k] * l_[j][j - k];
+        l_[i][i - j] = i == j ? std::sqrt(std::max(sum, 1e-12)) : sum / l_[j][0];
+      }
+  }
+
+  // z[0..m) from x[0..n) (strided).
+  void apply(const double* x, ptrdiff_t x_stride, double* z, ptrdiff_t z_stride) const {
+    std::vector<double> b(m_, 0.0);
+    for (int out = 0; out < n_; ++out)
+      for (int k = 0; k < 4; ++k) {
+        const Tap t = tap(out, k, m_);
+        b[t.sample] += t.weight / 64.0 * x[out * x_stride];
+      }
+    for (int i = 0; i < m_; ++i) {  // L y = b
+      for (int k = std::max(0, i - 3); k < i; ++k) b[i] -= l_[i][i - k] * b[k];
+      b[i] /= l_[i][0];
     }
-  cv::Mat normal = u.t() * u, inverse;
-  cv::invert(normal, inverse, cv::DECOMP_SVD);
-  return inverse * u.t();
-}
+    for (int i = m_ - 1; i >= 0; --i) {  // L^T z = y
+      for (int k = i + 1; k <= std::min(m_ - 1, i + 3); ++k) b[i] -= l_[k][k - i] * b[k];
+      b[i] /= l_[i][0];
+    }
+    for (int i = 0; i < m_; ++i) z[i * z_stride] = b[i];
+  }
+
+ private:
+  int n_, m_;
+  std::vector<std::array<double, 4>> l_;  // l_[i][d] = L(i, i - d), the Cholesky factor
+};
 
 }  // namespace
 
 SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, int bit_depth) {
   const int w = half_size(width), h = half_size(height);
   GVKIT_CHECK(half.width >= w && half.height >= h);
+  // The four taps of every output column and row, computed once.
+  const auto taps_of = [](int n_full, int n) {
+    std::vector<std::array<Tap, 4>> taps(n_full);
+    for (int out = 0; out < n_full; ++out)
+      for (int k = 0; k < 4; ++k) taps[out][k] = tap(out, k, n);
+    return taps;
+  };
+  const auto columns = taps_of(width, w), rows_taps = taps_of(height, h);
   std::vector<int32_t> rows(static_cast<size_t>(width) * h);  // horizontal pass, x64
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    const uint16_t* in = &half.samples[static_cast<size_t>(y) * half.width];
+    int32_t* row = &rows[static_cast<size_t>(y) * width];
     for (int x = 0; x < width; ++x) {
-      int32_t sum = 0;
-      for (int k = 0; k < 4; ++k) {
-        const Tap t = tap(x, k, w);
-        sum += t.weight * half.at(t.sample, y);
-      }
-      rows[static_cast<size_t>(y) * width + x] = sum;
+      const std::array<Tap, 4>& t = columns[x];
+      row[x] = t[0].weight * in[t[0].sample] + t[1].weight * in[t[1].sample] +
+               t[2].weight * in[t[2].sample] + t[3].weight * in[t[3].sample];
     }
+  }
   SamplePlane out;
   out.width = padded(width);
   out.height = padded(height);
   out.samples.assign(static_cast<size_t>(out.width) * out.height, 0);
   const int64_t max_value = (int64_t{1} << bit_depth) - 1;
-  for (int y = 0; y < height; ++y)
+  for (int y = 0; y < height; ++y) {
+    const std::array<Tap, 4>& t = rows_taps[y];
+    const int32_t* r[4];
+    for (int k = 0; k < 4; ++k) r[k] = &rows[static_cast<size_t>(t[k].sample) * width];
+    uint16_t* o = &out.samples[static_cast<size_t>(y) * out.width];
     for (int x = 0; x < width; ++x) {
-      int64_t sum = 0;
-      for (int k = 0; k < 4; ++k) {
-        const Tap t = tap(y, k, h);
-        sum += int64_t{t.weight} * rows[static_cast<size_t>(t.sample) * width + x];
-      }
-      out.at(x, y) = static_cast<uint16_t>(std::clamp<int64_t>((sum + 2048) >> 12, 0, max_value));
+      const int64_t sum = int64_t{t[0].weight} * r[0][x] + int64_t{t[1].weight} * r[1][x] +
+                          int64_t{t[2].weight} * r[2][x] + int64_t{t[3].weight} * r[3][x];
+      o[x] = static_cast<uint16_t>(std::clamp<int64_t>((sum + 2048) >> 12, 0, max_value));
     }
+  }
   pad_plane(out, width, height);
   return out;
 }
 
 SamplePlane downsample_plane(const SamplePlane& full, int width, int height, int bit_depth) {
   const int w = half_size(width), h = half_size(height);
-  cv::Mat x(height, width, CV_64F);
+  std::vector<double> x(static_cast<size_t>(width) * height);
   for (int y = 0; y < height; ++y)
-    for (int i = 0; i < width; ++i) x.at<double>(y, i) = full.at(i, y);
-  const cv::Mat low = pseudo_inverse(height) * x * pseudo_inverse(width).t();  // h x w
+    for (int i = 0; i < width; ++i) x[static_cast<size_t>(y) * width + i] = full.at(i, y);
+  // Separable: columns (height -> h), then rows (width -> w).
+  std::vector<double> columns(static_cast<size_t>(width) * h), low(static_cast<size_t>(w) * h);
+  const LeastSquaresHalving vertical(height), horizontal(width);
+  for (int i = 0; i < width; ++i) vertical.apply(&x[i], width, &columns[i], width);
+  for (int y = 0; y < h; ++y)
+    horizontal.apply(&columns[static_cast<size_t>(y) * width], 1, &low[static_cast<size_t>(y) * w],
+                     1);
   SamplePlane out;
   out.width = padded(w);
   out.height = padded(h);
@@ -91,8 +139,8 @@ SamplePlane downsample_plane(const SamplePlane& full, int width, int height, int
   const double max_value = std::ldexp(1.0, bit_depth) - 1;
   for (int y = 0; y < h; ++y)
     for (int i = 0; i < w; ++i)
-      out.at(i, y) =
-          static_cast<uint16_t>(std::clamp(std::round(low.at<double>(y, i)), 0.0, max_value));
+      out.at(i, y) = static_cast<uint16_t>(
+          std::clamp(std::round(low[static_cast<size_t>(y) * w + i]), 0.0, max_value));
   pad_plane(out, w, h);
   return out;
 }

@@ -241,6 +241,18 @@ TEST(CliCodec, MergeTd16QuadraticIntraAndResolutionAreOptionsInTheStatsAndEveryS
         run_gvkit("decode " + gvid + " -o " + (dir / ("v" + std::to_string(version))).string());
     ASSERT_EQ(dec.exit_code, 0) << dec.output;
   }
+  // --resolution half: every frame at half resolution, shown by `gvkit info`; it decodes.
+  const std::string half = (dir / "half.gvid").string();
+  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + half + " --resolution half");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  const auto info = run_gvkit("info " + half);
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  size_t shown = 0;
+  for (size_t at = info.output.find("half-resolution"); at != std::string::npos;
+       at = info.output.find("half-resolution", at + 1))
+    ++shown;
+  EXPECT_EQ(shown, 4u) << info.output;
+  EXPECT_EQ(run_gvkit("decode " + half + " -o " + (dir / "half").string()).exit_code, 0);
   const auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " +
                              (dir / "bad.gvid").string() + " --resolution quarter");
   EXPECT_NE(bad.exit_code, 0);
