@@ -73,6 +73,7 @@
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/half_resolution.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "libav_peer.hpp"
@@ -384,7 +385,9 @@ void report_transforms(const Material& m, const EncoderOptions& base, const std:
     }
 }
 
-std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config);
+// half: the peer codes the frames halved as our encoder halves them (downsample_plane) and its
+// output is upsampled by the format 1.14 filter before it is measured.
+std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config, bool half = false);
 
 // Cross-plane scales coded by the Y and Z planes of a run, per scale (kCrossScales order).
 struct ScaleCounts {
@@ -670,7 +673,8 @@ void report_refs(const Material& m, const EncoderOptions& base, const std::vecto
 }
 
 // x265 12-bit 4:4:4 with the GOP, one B frame and 5 references at --peer-preset, QP 0 .. 24.
-std::vector<RdPoint> run_x265(const Material& m, int gop, const std::string& peer_preset) {
+std::vector<RdPoint> run_x265(const Material& m, int gop, const std::string& peer_preset,
+                              bool half = false) {
   print_header();
   std::vector<RdPoint> points;
   PeerConfig x265{"libx265", "yuv444p12le", 12, {{"preset", peer_preset}, {"tune", "psnr"}}};
@@ -680,9 +684,10 @@ std::vector<RdPoint> run_x265(const Material& m, int gop, const std::string& pee
     PeerConfig c = x265;
     c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
                                             ":bframes=1:ref=5:qp=" + std::to_string(qp)});
-    auto r = run_peer_config(m, c);
+    auto r = run_peer_config(m, c, half);
     if (!r) break;
-    print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset,
+    print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + peer_preset +
+                  (half ? ", half resolution (1.14 filters)" : ""),
               "qp " + std::to_string(qp), *r);
     points.push_back(r->point);
   }
@@ -742,12 +747,19 @@ std::vector<std::vector<RdPoint>> report_motion_tools(const Material& m, const E
   return curves;
 }
 
-std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) {
+std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config, bool half) {
   SequenceInfo info = m.info;
   info.bit_depth = config.bit_depth;
   std::vector<std::vector<SamplePlane>> planes;
-  for (const auto& f : m.frames) planes.push_back(quantize_geometry(f, info));
-  auto run = run_peer(planes, info.width, info.height, config);
+  for (const auto& f : m.frames) {
+    planes.push_back(quantize_geometry(f, info));
+    if (half)
+      for (SamplePlane& p : planes.back())
+        p = downsample_plane(p, info.width, info.height, info.bit_depth);
+  }
+  const int width = half ? half_size(info.width) : info.width;
+  const int height = half ? half_size(info.height) : info.height;
+  auto run = run_peer(planes, width, height, config);
   if (!run.is_ok()) {
     std::fprintf(stderr, "%s\n", run.status().message().c_str());
     return std::nullopt;
@@ -755,6 +767,9 @@ std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config) 
   GeometryError total;
   int64_t bytes = 0;
   for (size_t f = 0; f < m.frames.size(); ++f) {
+    if (half)
+      for (SamplePlane& p : run->decoded[f])
+        p = upsample_half_plane(p, info.width, info.height, info.bit_depth);
     accumulate(total, geometry_error(m.frames[f], dequantize_geometry(run->decoded[f], info, f)));
     bytes += run->frame_bytes[f];
   }
@@ -1084,11 +1099,28 @@ int main(int argc, char** argv) {
     }
     return 0;
   };
-  if (resolution_only)
-    return on_off(refs_presets, "--resolution auto", "--resolution full",
-                  [](EncoderOptions& o, bool on) {
-                    o.resolution = on ? Resolution::kAuto : Resolution::kFull;
-                  });
+  if (resolution_only) {
+    on_off(refs_presets, "--resolution auto", "--resolution full", [](EncoderOptions& o, bool on) {
+      o.resolution = on ? Resolution::kAuto : Resolution::kFull;
+    });
+    if (!peers) return 0;
+    // x265 given the same halved frames, its output upsampled by the same filter: how much of
+    // the gain is the resolution alone.
+    const std::vector<RdPoint> x265 = run_x265(m, gop, peer_preset);
+    const std::vector<RdPoint> x265_half = run_x265(m, gop, peer_preset, true);
+    std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+    print_bd("x265 at half resolution vs x265", x265, x265_half);
+    for (const Preset preset : refs_presets) {
+      EncoderOptions o = base;
+      o.preset = preset;
+      o.resolution = Resolution::kHalf;
+      const std::vector<RdPoint> ours =
+          qp_curve(m, o, std::string(preset_name(preset)) + ", --resolution half", qps);
+      print_bd(std::string(preset_name(preset)) + ", --resolution half vs x265 at half resolution",
+               x265_half, ours);
+    }
+    return 0;
+  }
   if (quadratic_only)
     return on_off_lossless("--quadratic-intra", "--no-quadratic-intra",
                            [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });

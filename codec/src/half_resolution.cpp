@@ -36,7 +36,10 @@ Tap tap(int out, int k, int n) {
 // its Cholesky factor is too and every line costs O(n).
 class LeastSquaresHalving {
  public:
-  explicit LeastSquaresHalving(int n_full) : n_(n_full), m_(half_size(n_full)), l_(m_) {
+  explicit LeastSquaresHalving(int n_full)
+      : n_(n_full), m_(half_size(n_full)), l_(m_), taps_(n_full) {
+    for (int out = 0; out < n_; ++out)
+      for (int k = 0; k < 4; ++k) taps_[out][k] = tap(out, k, m_);
     std::vector<std::array<double, 4>> normal(m_, {0, 0, 0, 0});  // normal[i][d] = N(i, i - d)
     for (int out = 0; out < n_; ++out)
       for (int a = 0; a < 4; ++a)
@@ -53,28 +56,45 @@ class LeastSquaresHalving {
       }
   }
 
-  // z[0..m) from x[0..n) (strided).
-  void apply(const double* x, ptrdiff_t x_stride, double* z, ptrdiff_t z_stride) const {
-    std::vector<double> b(m_, 0.0);
-    for (int out = 0; out < n_; ++out)
-      for (int k = 0; k < 4; ++k) {
-        const Tap t = tap(out, k, m_);
-        b[t.sample] += t.weight / 64.0 * x[out * x_stride];
+  // The m x cols samples z (row-major) of the n x cols pixels x: every column of x halved, all
+  // columns at once (contiguous rows).
+  void apply(const double* x, int cols, double* z) const {
+    std::fill(z, z + static_cast<size_t>(m_) * cols, 0.0);
+    for (int out = 0; out < n_; ++out) {  // z = U^T x
+      const double* xr = x + static_cast<size_t>(out) * cols;
+      for (const Tap& t : taps_[out]) {
+        double* zr = z + static_cast<size_t>(t.sample) * cols;
+        const double w = t.weight / 64.0;
+        for (int c = 0; c < cols; ++c) zr[c] += w * xr[c];
       }
-    for (int i = 0; i < m_; ++i) {  // L y = b
-      for (int k = std::max(0, i - 3); k < i; ++k) b[i] -= l_[i][i - k] * b[k];
-      b[i] /= l_[i][0];
+    }
+    const auto row = [&](int i) { return z + static_cast<size_t>(i) * cols; };
+    for (int i = 0; i < m_; ++i) {  // L y = z
+      double* zi = row(i);
+      for (int k = std::max(0, i - 3); k < i; ++k) {
+        const double l = l_[i][i - k];
+        const double* zk = row(k);
+        for (int c = 0; c < cols; ++c) zi[c] -= l * zk[c];
+      }
+      const double inv = 1.0 / l_[i][0];
+      for (int c = 0; c < cols; ++c) zi[c] *= inv;
     }
     for (int i = m_ - 1; i >= 0; --i) {  // L^T z = y
-      for (int k = i + 1; k <= std::min(m_ - 1, i + 3); ++k) b[i] -= l_[k][k - i] * b[k];
-      b[i] /= l_[i][0];
+      double* zi = row(i);
+      for (int k = i + 1; k <= std::min(m_ - 1, i + 3); ++k) {
+        const double l = l_[k][k - i];
+        const double* zk = row(k);
+        for (int c = 0; c < cols; ++c) zi[c] -= l * zk[c];
+      }
+      const double inv = 1.0 / l_[i][0];
+      for (int c = 0; c < cols; ++c) zi[c] *= inv;
     }
-    for (int i = 0; i < m_; ++i) z[i * z_stride] = b[i];
   }
 
  private:
   int n_, m_;
   std::vector<std::array<double, 4>> l_;  // l_[i][d] = L(i, i - d), the Cholesky factor
+  std::vector<std::array<Tap, 4>> taps_;  // the four taps of every pixel
 };
 
 }  // namespace
@@ -125,13 +145,18 @@ SamplePlane downsample_plane(const SamplePlane& full, int width, int height, int
   std::vector<double> x(static_cast<size_t>(width) * height);
   for (int y = 0; y < height; ++y)
     for (int i = 0; i < width; ++i) x[static_cast<size_t>(y) * width + i] = full.at(i, y);
-  // Separable: columns (height -> h), then rows (width -> w).
-  std::vector<double> columns(static_cast<size_t>(width) * h), low(static_cast<size_t>(w) * h);
-  const LeastSquaresHalving vertical(height), horizontal(width);
-  for (int i = 0; i < width; ++i) vertical.apply(&x[i], width, &columns[i], width);
+  // Separable: columns (height -> h), then rows (width -> w) as the columns of the transpose.
+  std::vector<double> columns(static_cast<size_t>(h) * width), transposed(columns.size());
+  LeastSquaresHalving(height).apply(x.data(), width, columns.data());
   for (int y = 0; y < h; ++y)
-    horizontal.apply(&columns[static_cast<size_t>(y) * width], 1, &low[static_cast<size_t>(y) * w],
-                     1);
+    for (int i = 0; i < width; ++i)
+      transposed[static_cast<size_t>(i) * h + y] = columns[static_cast<size_t>(y) * width + i];
+  std::vector<double> low_t(static_cast<size_t>(w) * h);  // w x h
+  LeastSquaresHalving(width).apply(transposed.data(), h, low_t.data());
+  std::vector<double> low(low_t.size());
+  for (int i = 0; i < w; ++i)
+    for (int y = 0; y < h; ++y)
+      low[static_cast<size_t>(y) * w + i] = low_t[static_cast<size_t>(i) * h + y];
   SamplePlane out;
   out.width = padded(w);
   out.height = padded(h);

@@ -3,7 +3,8 @@
 // 2. the bytes after a 4-byte prefix as one plane's CABAC segment (intra, P, P with several
 //    references or B, with or without a cross-plane source residual, inter partitions or the
 //    initial context states of an X plane, format 1.7; segments of compact packets with merge
-//    and TD16, formats 1.10 to 1.12; the quadratic intra mode, 1.13), decoded directly, so that
+//    and TD16, formats 1.10 to 1.12; the quadratic intra mode, 1.13; half-resolution frames,
+//    1.14, reach the decoder through the stream entry), decoded directly, so that
 //    mutations reach the macroblock layer without getting past the CRCs.
 // Every input must end in frames or a Status: a crash, hang, leak or sanitizer report is a bug.
 #include <cstddef>
