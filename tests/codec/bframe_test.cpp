@@ -406,6 +406,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   fast.td16 = false;                    // (nor the 1.12 TD16)
   fast.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
   fast.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  fast.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
   fast.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   slow.deblocking = false;              // (syntax before the format 1.8 filter)
   slow.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
@@ -415,6 +416,7 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   slow.td16 = false;                    // (nor the 1.12 TD16)
   slow.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
   slow.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  slow.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
   slow.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;

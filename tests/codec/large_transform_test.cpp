@@ -365,6 +365,7 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   o.td16 = false;                    // (nor the 1.12 TD16)
   o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
   o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
   o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;

@@ -353,6 +353,7 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
     c->options.td16 = false;                    // (nor the 1.12 TD16)
     c->options.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
     c->options.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+    c->options.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
     c->options.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {

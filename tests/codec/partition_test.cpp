@@ -147,6 +147,7 @@ TEST(Partitions, TwoMotionsCostLessWithPartitions) {
   EncoderOptions o;
   o.preset = Preset::kSlow;
   o.qp = 6;
+  o.p_qp_offset = 6;  // P frames at QP 12, where the test was made (the two sizes cross near 10)
   o.bframes = 0;
   o.partitions = false;
   auto off = encode_gvid(frames, info, o);
@@ -212,6 +213,7 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   o.td16 = false;                    // (nor the 1.12 TD16)
   o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
   o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
   o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;

@@ -193,7 +193,8 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
     o.td16 = false;                    // (nor the 1.12 TD16)
     o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
     o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-    o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+    o.p_qp_offset = 6;    // (nor the 1.14 P-frame QP offset 4: P frames at QP 18, as measured)
+    o.intra_rdo = false;  // (nor the fast preset's RDO in I frames)
     o.qp = 12;
     o.preset = preset;
     o.intra_period = 4;

@@ -156,6 +156,7 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.td16 = false;                    // (nor the 1.12 TD16)
   o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
   o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");

@@ -88,7 +88,9 @@ struct EncoderOptions {
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
   bool skip_check = false;
   int plane_qp_offset[3] = {0, 0, 0};  // added to qp for X, Y, Z (lossy frames), -12..12
-  int p_qp_offset = 6;  // added to qp in P frames (a finer I frame is a better reference), 0..12
+  // Added to qp in P frames (a finer I frame is a better reference), 0..12. 4 since format 1.14
+  // (was 6): -1.10 % BD-rate slow, -2.53 % fast on the ICT face (docs/benchmarks.md, format 1.14).
+  int p_qp_offset = 4;
   // B frames (format 1.5): up to this many consecutive frames between two anchors (I or P
   // frames) are coded as B frames, predicted from the anchor before and the anchor after them
   // and coded after the latter; 0..3, or -1 = automatic: 1 in lossy streams (-17 to -19 %
