@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/byte_io.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
@@ -97,15 +98,8 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   double p_worst[2] = {0, 0};
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    o.deblocking = false;              // (syntax before the format 1.8 filter)
-    o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-    o.compact_segments = false;        // (nor the 1.9 segment sizes)
-    o.compact_packets = false;         // (nor the 1.10 packet headers)
-    o.merge = false;                   // (nor the 1.11 merge)
-    o.td16 = false;                    // (nor the 1.12 TD16)
-    o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-    o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+    testing::format_tools_before(8, &o);  // a 1.7 stream
+    o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
     auto reader = open_bytes(encode_gvid(frames, info, o).value());
@@ -120,15 +114,8 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         SCOPED_TRACE("bframes " + std::to_string(bframes) + (lossless ? " lossless " : " qp 4 ") +
                      preset_name(preset));
         EncoderOptions o;
-        o.deblocking = false;              // (syntax before the format 1.8 filter)
-        o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-        o.compact_segments = false;        // (nor the 1.9 segment sizes)
-        o.compact_packets = false;         // (nor the 1.10 packet headers)
-        o.merge = false;                   // (nor the 1.11 merge)
-        o.td16 = false;                    // (nor the 1.12 TD16)
-        o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-        o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-        o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+        testing::format_tools_before(8, &o);  // a 1.7 stream
+        o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
         o.qp = 4;
@@ -398,26 +385,12 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
   const auto frames = moving_video(48, 4);
   const SequenceInfo info = info_for(frames);
   EncoderOptions fast, slow;
-  fast.deblocking = false;              // (syntax before the format 1.8 filter)
-  fast.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  fast.compact_segments = false;        // (nor the 1.9 segment sizes)
-  fast.compact_packets = false;         // (nor the 1.10 packet headers)
-  fast.merge = false;                   // (nor the 1.11 merge)
-  fast.td16 = false;                    // (nor the 1.12 TD16)
-  fast.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  fast.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  fast.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  fast.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
-  slow.deblocking = false;              // (syntax before the format 1.8 filter)
-  slow.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  slow.compact_segments = false;        // (nor the 1.9 segment sizes)
-  slow.compact_packets = false;         // (nor the 1.10 packet headers)
-  slow.merge = false;                   // (nor the 1.11 merge)
-  slow.td16 = false;                    // (nor the 1.12 TD16)
-  slow.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  slow.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  slow.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  slow.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &fast);  // a 1.7 stream
+  fast.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  fast.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &slow);  // a 1.7 stream
+  slow.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  slow.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   fast.qp = 0;
   fast.preset = Preset::kFast;
   fast.intra_period = 3;

@@ -91,12 +91,9 @@ TEST(CompactPackets, StreamsRoundTripWithTheSameFramesAndFewerBytes) {
       on.qp = mode == 0 ? 12 : 0;
       on.lossless = mode == 2;
       on.max_error_mm = mode == 3 ? 0.05 : 0;
-      on.intra_period = 5;              // I P B P B I P ...
-      ASSERT_TRUE(on.compact_packets);  // on by default
-      on.merge = false;                 // the 1.10 stream (merge: merge_test.cpp)
-      on.td16 = false;                  // (TD16: td16_test.cpp)
-      on.quadratic_intra = false;       // (quadratic intra: quadratic_intra_test.cpp)
-      on.resolution = Resolution::kFull;
+      on.intra_period = 5;                    // I P B P B I P ...
+      ASSERT_TRUE(on.compact_packets);        // on by default
+      testing::format_tools_before(11, &on);  // a 1.10 stream
       EncoderOptions off = on;
       off.compact_packets = false;
       const std::string a = testing::writer_round_trip(frames, info, on);

@@ -44,12 +44,8 @@ TEST(CompactSegments, StreamsRoundTripAndEveryPacketIsSmaller) {
       EncoderOptions on;
       on.lossless = lossless;
       on.qp = 12;
-      on.compact_packets = false;         // the 1.9 packet headers (compact_packets_test.cpp)
-      on.merge = false;                   // (nor the 1.11 merge)
-      on.td16 = false;                    // (nor the 1.12 TD16)
-      on.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      on.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-      ASSERT_TRUE(on.compact_segments);   // on by default
+      testing::format_tools_before(10, &on);  // a 1.9 stream
+      ASSERT_TRUE(on.compact_segments);       // on by default
       EncoderOptions off = on;
       off.compact_segments = false;
       const std::string a = testing::writer_round_trip(frames, info, on);

@@ -52,15 +52,8 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
-      o.deblocking = false;              // (syntax before the format 1.8 filter)
-      o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-      o.compact_segments = false;        // (nor the 1.9 segment sizes)
-      o.compact_packets = false;         // (nor the 1.10 packet headers)
-      o.merge = false;                   // (nor the 1.11 merge)
-      o.td16 = false;                    // (nor the 1.12 TD16)
-      o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-      o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+      testing::format_tools_before(8, &o);  // a 1.7 stream
+      o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.bframes = bframes;
@@ -70,15 +63,8 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
           {std::string(preset_name(preset)) + (bframes ? ", B frames" : ", P frames"), o});
     }
   EncoderOptions shared;
-  shared.deblocking = false;              // (syntax before the format 1.8 filter)
-  shared.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  shared.compact_segments = false;        // (nor the 1.9 segment sizes)
-  shared.compact_packets = false;         // (nor the 1.10 packet headers)
-  shared.merge = false;                   // (nor the 1.11 merge)
-  shared.td16 = false;                    // (nor the 1.12 TD16)
-  shared.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  shared.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  shared.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &shared);  // a 1.7 stream
+  shared.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   shared.qp = 0;
   shared.preset = Preset::kSlow;
   shared.bframes = 0;
@@ -90,13 +76,7 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.lossless = true;
   lossless.preset = Preset::kFast;
   lossless.cross_plane_contexts = true;
-  lossless.temporal_contexts = false;       // format 1.9 off
-  lossless.compact_segments = false;        // (nor the 1.9 segment sizes)
-  lossless.compact_packets = false;         // (nor the 1.10 packet headers)
-  lossless.merge = false;                   // (nor the 1.11 merge)
-  lossless.td16 = false;                    // (nor the 1.12 TD16)
-  lossless.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  lossless.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  testing::format_tools_before(9, &lossless);  // a 1.8 stream
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -104,15 +84,8 @@ TEST(CrossPlaneContexts, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.preset = Preset::kSlow;
   cases.push_back({"near-lossless, slow", near});
   EncoderOptions intra;
-  intra.deblocking = false;              // (syntax before the format 1.8 filter)
-  intra.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  intra.compact_segments = false;        // (nor the 1.9 segment sizes)
-  intra.compact_packets = false;         // (nor the 1.10 packet headers)
-  intra.merge = false;                   // (nor the 1.11 merge)
-  intra.td16 = false;                    // (nor the 1.12 TD16)
-  intra.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  intra.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  intra.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &intra);  // a 1.7 stream
+  intra.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -200,16 +173,9 @@ TEST(CrossPlaneContexts, OffWritesThe16StreamByteForByteAndOnWrites17) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.bframes = 1;
@@ -239,15 +205,8 @@ TEST(CrossPlaneContexts, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;

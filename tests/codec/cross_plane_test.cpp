@@ -145,15 +145,8 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow})
     for (const int bframes : {0, 1}) {
       EncoderOptions o;
-      o.deblocking = false;              // (syntax before the format 1.8 filter)
-      o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-      o.compact_segments = false;        // (nor the 1.9 segment sizes)
-      o.compact_packets = false;         // (nor the 1.10 packet headers)
-      o.merge = false;                   // (nor the 1.11 merge)
-      o.td16 = false;                    // (nor the 1.12 TD16)
-      o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-      o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+      testing::format_tools_before(8, &o);  // a 1.7 stream
+      o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
       o.qp = 0;
       o.preset = preset;
       o.bframes = bframes;
@@ -166,14 +159,8 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   lossless.lossless = true;
   lossless.preset = Preset::kFast;
   lossless.cross_plane = true;
-  lossless.cross_plane_contexts = false;    // format 1.7 off
-  lossless.temporal_contexts = false;       // format 1.9 off
-  lossless.compact_segments = false;        // (nor the 1.9 segment sizes)
-  lossless.compact_packets = false;         // (nor the 1.10 packet headers)
-  lossless.merge = false;                   // (nor the 1.11 merge)
-  lossless.td16 = false;                    // (nor the 1.12 TD16)
-  lossless.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  lossless.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  lossless.cross_plane_contexts = false;       // format 1.7 off
+  testing::format_tools_before(9, &lossless);  // a 1.8 stream
   cases.push_back({"lossless", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;
@@ -182,15 +169,8 @@ TEST(CrossPlane, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   near.threads = 3;
   cases.push_back({"near-lossless, shared motion, 3 threads", near});
   EncoderOptions intra;
-  intra.deblocking = false;              // (syntax before the format 1.8 filter)
-  intra.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  intra.compact_segments = false;        // (nor the 1.9 segment sizes)
-  intra.compact_packets = false;         // (nor the 1.10 packet headers)
-  intra.merge = false;                   // (nor the 1.11 merge)
-  intra.td16 = false;                    // (nor the 1.12 TD16)
-  intra.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  intra.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  intra.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &intra);  // a 1.7 stream
+  intra.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   intra.qp = -12;
   intra.intra_only = true;
   intra.preset = Preset::kSlow;
@@ -234,16 +214,9 @@ TEST(CrossPlane, OffWritesTheOlderStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_period = 3;
@@ -280,15 +253,8 @@ TEST(CrossPlane, BadSyntaxIsRejectedWithAMessage) {
   const auto frames = testing::make_moving_analytic_video(32, 1);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kFast;
   o.intra_only = true;
@@ -366,15 +332,8 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
     for (const int bframes : {0, 2})
       for (const int qp : {6, 24}) {
         EncoderOptions o;
-        o.deblocking = false;              // (syntax before the format 1.8 filter)
-        o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-        o.compact_segments = false;        // (nor the 1.9 segment sizes)
-        o.compact_packets = false;         // (nor the 1.10 packet headers)
-        o.merge = false;                   // (nor the 1.11 merge)
-        o.td16 = false;                    // (nor the 1.12 TD16)
-        o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-        o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-        o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+        testing::format_tools_before(8, &o);  // a 1.7 stream
+        o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
         o.qp = qp;
         o.preset = preset;
         o.bframes = bframes;
@@ -393,14 +352,8 @@ TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   lossless.bframes = 0;
   lossless.refs = 3;
   lossless.cross_plane = true;
-  lossless.cross_plane_contexts = false;    // format 1.7 off
-  lossless.temporal_contexts = false;       // format 1.9 off
-  lossless.compact_segments = false;        // (nor the 1.9 segment sizes)
-  lossless.compact_packets = false;         // (nor the 1.10 packet headers)
-  lossless.merge = false;                   // (nor the 1.11 merge)
-  lossless.td16 = false;                    // (nor the 1.12 TD16)
-  lossless.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  lossless.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  lossless.cross_plane_contexts = false;       // format 1.7 off
+  testing::format_tools_before(9, &lossless);  // a 1.8 stream
   cases.push_back({"lossless, P frames", lossless});
   EncoderOptions near = lossless;
   near.lossless = false;

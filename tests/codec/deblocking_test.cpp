@@ -127,13 +127,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
     for (const int qp : {0, 18}) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " qp " + std::to_string(qp));
       EncoderOptions o;
-      o.temporal_contexts = false;       // the 1.8 streams (format 1.9: temporal_contexts_test)
-      o.compact_segments = false;        // (nor the 1.9 segment sizes)
-      o.compact_packets = false;         // (nor the 1.10 packet headers)
-      o.merge = false;                   // (nor the 1.11 merge)
-      o.td16 = false;                    // (nor the 1.12 TD16)
-      o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+      testing::format_tools_before(9, &o);  // a 1.8 stream
       o.qp = qp;
       o.preset = preset;
       o.intra_period = 4;  // I P B P, I P
@@ -142,13 +136,7 @@ TEST(Deblocking, DecoderReproducesTheFilteredReconstructionBitExactly) {
     }
   const auto frames8 = testing::make_moving_analytic_video(32, 3);
   EncoderOptions eight;
-  eight.temporal_contexts = false;
-  eight.compact_segments = false;        // (nor the 1.9 segment sizes)
-  eight.compact_packets = false;         // (nor the 1.10 packet headers)
-  eight.merge = false;                   // (nor the 1.11 merge)
-  eight.td16 = false;                    // (nor the 1.12 TD16)
-  eight.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  eight.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  testing::format_tools_before(9, &eight);  // a 1.8 stream
   eight.bit_depth = 8;
   eight.qp = 24;
   expect_deblocked(testing::writer_round_trip(frames8, testing::info_for(frames8, 8), eight), true);
@@ -169,13 +157,7 @@ TEST(Deblocking, LowersTheErrorOfACoarseEncodeAtAboutTheSameRate) {
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     SCOPED_TRACE(preset_name(preset));
     EncoderOptions on;
-    on.temporal_contexts = false;
-    on.compact_segments = false;        // (nor the 1.9 segment sizes)
-    on.compact_packets = false;         // (nor the 1.10 packet headers)
-    on.merge = false;                   // (nor the 1.11 merge)
-    on.td16 = false;                    // (nor the 1.12 TD16)
-    on.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    on.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+    testing::format_tools_before(9, &on);  // a 1.8 stream
     on.qp = 18;
     on.preset = preset;
     EncoderOptions off = on;

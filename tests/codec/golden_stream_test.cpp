@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
@@ -99,15 +100,8 @@ std::vector<GoldenCase> cases() {
                             &cross_fast,   &cross_near}) {
     o->cross_plane_contexts = false;
     o->partitions = false;
-    o->deblocking = false;
-    o->temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-    o->compact_segments = false;        // (nor the 1.9 segment sizes)
-    o->compact_packets = false;         // (nor the 1.10 packet headers)
-    o->merge = false;                   // (nor the 1.11 merge)
-    o->td16 = false;                    // (nor the 1.12 TD16)
-    o->quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    o->resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-    o->intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+    testing::format_tools_before(8, o);  // a 1.7 stream
+    o->intra_rdo = false;                // (nor the fast preset's RDO in I frames)
   }
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless}) o->partitions = false;
   // The streams before 1.8 were written without the deblocking filter (the ones above too).
@@ -116,13 +110,7 @@ std::vector<GoldenCase> cases() {
   ctx_fast.intra_rdo = deblock_fast.intra_rdo = false;
   // ... and those before 1.9 without temporal contexts.
   for (EncoderOptions* o : {&ctx_fast, &ctx_lossless, &part_slow, &deblock_fast}) {
-    o->temporal_contexts = false;
-    o->compact_segments = false;        // (nor the 1.9 segment sizes)
-    o->compact_packets = false;         // (nor the 1.10 packet headers)
-    o->merge = false;                   // (nor the 1.11 merge)
-    o->td16 = false;                    // (nor the 1.12 TD16)
-    o->quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    o->resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+    testing::format_tools_before(9, o);  // a 1.8 stream
   }
   ctx_fast.qp = 0;  // version 1.7: cross-plane contexts on the 1.6 defaults, one B frame, fast
   ctx_fast.preset = Preset::kFast;

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -287,15 +288,8 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
     for (const int max_transform : {4, 8, 16}) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " max " + std::to_string(max_transform));
       EncoderOptions o;
-      o.deblocking = false;              // (syntax before the format 1.8 filter)
-      o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-      o.compact_segments = false;        // (nor the 1.9 segment sizes)
-      o.compact_packets = false;         // (nor the 1.10 packet headers)
-      o.merge = false;                   // (nor the 1.11 merge)
-      o.td16 = false;                    // (nor the 1.12 TD16)
-      o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-      o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+      testing::format_tools_before(8, &o);  // a 1.7 stream
+      o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.intra_period = 3;
@@ -357,16 +351,9 @@ TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -399,15 +386,8 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;

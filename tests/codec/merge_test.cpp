@@ -63,9 +63,7 @@ TEST(Merge, NeighboursVectorsMakeTheIctFaceSmaller) {
   EncoderOptions on;
   on.preset = Preset::kSlow;
   on.qp = 12;
-  on.td16 = false;             // merge alone (TD16: td16_test.cpp)
-  on.quadratic_intra = false;  // (nor quadratic intra: quadratic_intra_test.cpp)
-  on.resolution = Resolution::kFull;
+  testing::format_tools_before(12, &on);  // a 1.11 stream
   EncoderOptions off = on;
   off.merge = false;
   std::vector<FrameCodingStats> on_stats, off_stats;

@@ -167,15 +167,8 @@ TEST(MultiRef, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.qp = 0;
   o.refs = 2;
@@ -242,15 +235,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   const auto frames = video(48, 4);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.max_transform = 4;  // without the other 1.6 tools, one reference writes the 1.4 stream
@@ -275,15 +261,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   o.intra_only = true;
   EXPECT_EQ(stream_minor_version(o), format::kMinorVersionWithoutBFrames);
   EncoderOptions automatic;
-  automatic.deblocking = false;              // (syntax before the format 1.8 filter)
-  automatic.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  automatic.compact_segments = false;        // (nor the 1.9 segment sizes)
-  automatic.compact_packets = false;         // (nor the 1.10 packet headers)
-  automatic.merge = false;                   // (nor the 1.11 merge)
-  automatic.td16 = false;                    // (nor the 1.12 TD16)
-  automatic.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  automatic.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  automatic.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &automatic);  // a 1.7 stream
+  automatic.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   automatic.lossless = true;
   EXPECT_EQ(automatic.reference_frames(), 1);  // 1 in lossless and near-lossless streams
   automatic.lossless = false;
@@ -291,15 +270,8 @@ TEST(MultiRef, OneReferenceWritesTheOlderStreamAndOptionsAreChecked) {
   EXPECT_EQ(automatic.reference_frames(), 1);
   for (int bad : {0, -2, 6}) {
     EncoderOptions b;
-    b.deblocking = false;              // (syntax before the format 1.8 filter)
-    b.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-    b.compact_segments = false;        // (nor the 1.9 segment sizes)
-    b.compact_packets = false;         // (nor the 1.10 packet headers)
-    b.merge = false;                   // (nor the 1.11 merge)
-    b.td16 = false;                    // (nor the 1.12 TD16)
-    b.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    b.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-    b.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+    testing::format_tools_before(8, &b);  // a 1.7 stream
+    b.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
     b.refs = bad;
     const Status s = b.check();
     ASSERT_FALSE(s.is_ok());
@@ -343,18 +315,11 @@ TEST(MultiRef, EncoderWritesTheGoldenStreamsByteForByte) {
   for (Case* c : {&fast, &lossless, &refs3, &refs2}) {
     c->options.cross_plane = false;
     c->options.cross_plane_contexts = false;
-    c->options.partitions = false;              // nor the inter partitions of 1.7
-    c->options.rdoq = false;                    // nor RDO quantization
-    c->options.deblocking = false;              // nor the deblocking filter of 1.8
-    c->options.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-    c->options.compact_segments = false;        // (nor the 1.9 segment sizes)
-    c->options.compact_packets = false;         // (nor the 1.10 packet headers)
-    c->options.merge = false;                   // (nor the 1.11 merge)
-    c->options.td16 = false;                    // (nor the 1.12 TD16)
-    c->options.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    c->options.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-    c->options.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-    c->options.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+    c->options.partitions = false;                 // nor the inter partitions of 1.7
+    c->options.rdoq = false;                       // nor RDO quantization
+    testing::format_tools_before(8, &c->options);  // a 1.7 stream
+    c->options.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+    c->options.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   }
   for (Case c : {fast, lossless, refs3, refs2}) {
     testing::GeometryVideoOptions vo;

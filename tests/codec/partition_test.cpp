@@ -112,15 +112,8 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (int bframes : {0, 1}) {
         if (preset == Preset::kFast && mode > 0) continue;  // the fast preset codes 16x16 only
         EncoderOptions o;
-        o.deblocking = false;              // (syntax before the format 1.8 filter)
-        o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-        o.compact_segments = false;        // (nor the 1.9 segment sizes)
-        o.compact_packets = false;         // (nor the 1.10 packet headers)
-        o.merge = false;                   // (nor the 1.11 merge)
-        o.td16 = false;                    // (nor the 1.12 TD16)
-        o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-        o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-        o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+        testing::format_tools_before(8, &o);  // a 1.7 stream
+        o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
         o.preset = preset;
         o.qp = mode == 1 ? 12 : 0;
         o.lossless = mode == 2;
@@ -161,15 +154,8 @@ TEST(Partitions, OffWritesTheOlderStreamAndIntraOnlyStaysOlder) {
   const auto frames = video(48, 3);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kFast;
   o.bframes = 0;
   o.cross_plane_contexts = false;  // the other 1.7 tool off: "older" = 1.6
@@ -205,16 +191,9 @@ TEST(Partitions, EncoderWritesTheGoldenStreamByteForByte) {
   testing::move_in_picture(&frames, 0.75);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 0;
   o.preset = Preset::kSlow;
   o.bframes = 0;
@@ -313,15 +292,8 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = testing::info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.preset = Preset::kSlow;
   o.qp = 0;
   o.partitions = true;

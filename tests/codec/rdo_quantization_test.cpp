@@ -185,14 +185,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    o.deblocking = false;              // (syntax before the format 1.8 filter)
-    o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-    o.compact_segments = false;        // (nor the 1.9 segment sizes)
-    o.compact_packets = false;         // (nor the 1.10 packet headers)
-    o.merge = false;                   // (nor the 1.11 merge)
-    o.td16 = false;                    // (nor the 1.12 TD16)
-    o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-    o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+    testing::format_tools_before(8, &o);  // a 1.7 stream
     o.p_qp_offset = 6;    // (nor the 1.14 P-frame QP offset 4: P frames at QP 18, as measured)
     o.intra_rdo = false;  // (nor the fast preset's RDO in I frames)
     o.qp = 12;

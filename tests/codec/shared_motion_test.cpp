@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -116,17 +117,10 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;             // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;    // format 1.7 off
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
+  o.cross_plane = false;                // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;       // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
@@ -159,17 +153,10 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;             // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;    // format 1.7 off
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
+  o.cross_plane = false;                // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;       // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = true;
@@ -219,17 +206,10 @@ TEST(SharedMotion, OffWritesTheOlderSyntax) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  o.deblocking = false;              // (syntax before the format 1.8 filter)
-  o.temporal_contexts = false;       // (nor the format 1.9 temporal contexts)
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.intra_rdo = false;               // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;             // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;    // format 1.7 off
+  testing::format_tools_before(8, &o);  // a 1.7 stream
+  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
+  o.cross_plane = false;                // the format 1.4 syntax alone
+  o.cross_plane_contexts = false;       // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = false;

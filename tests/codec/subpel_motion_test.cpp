@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
@@ -179,16 +180,10 @@ TEST(SubpelMotion, StreamsAreVersion13AndLosslessWithSubpel) {
   EncoderOptions o;
   o.lossless = true;
   o.preset = Preset::kFast;
-  ASSERT_EQ(o.subpel, 4);            // the default
-  o.cross_plane = false;             // the 1.4 header (1.6 with cross-plane prediction)
-  o.cross_plane_contexts = false;    // format 1.7 off
-  o.temporal_contexts = false;       // format 1.9 off
-  o.compact_segments = false;        // (nor the 1.9 segment sizes)
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+  ASSERT_EQ(o.subpel, 4);               // the default
+  o.cross_plane = false;                // the 1.4 header (1.6 with cross-plane prediction)
+  o.cross_plane_contexts = false;       // format 1.7 off
+  testing::format_tools_before(9, &o);  // a 1.8 stream
   auto bytes = encode_gvid(frames, *info, o);
   ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
   EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // minor version (1.3 motion, 1.4 header)

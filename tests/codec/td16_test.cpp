@@ -66,8 +66,7 @@ TEST(Td16, MakesTheIctFaceCheaper) {
   EncoderOptions on;
   on.preset = Preset::kFast;
   on.qp = 0;
-  on.quadratic_intra = false;  // TD16 alone (1.13: quadratic_intra_test.cpp)
-  on.resolution = Resolution::kFull;
+  testing::format_tools_before(13, &on);  // a 1.12 stream
   EncoderOptions off = on;
   off.td16 = false;
   std::vector<FrameCodingStats> on_stats, off_stats;

@@ -111,11 +111,7 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EncoderOptions on;
       on.qp = qp;
       on.preset = preset;
-      on.compact_packets = false;         // the 1.9 stream
-      on.merge = false;                   // (nor the 1.11 merge)
-      on.td16 = false;                    // (nor the 1.12 TD16)
-      on.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-      on.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
+      testing::format_tools_before(10, &on);  // a 1.9 stream
       EncoderOptions off = on;
       off.temporal_contexts = false;
       off.compact_segments = false;  // the 1.8 payload too
@@ -148,15 +144,9 @@ TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
   o.qp = 12;
   o.preset = Preset::kFast;
   o.bframes = 1;
-  o.intra_rdo = false;  // (the fast preset's I frames were decided by SATD then)
-  o.temporal_contexts = false;
-  o.compact_segments = false;
-  o.compact_packets = false;         // (nor the 1.10 packet headers)
-  o.merge = false;                   // (nor the 1.11 merge)
-  o.td16 = false;                    // (nor the 1.12 TD16)
-  o.quadratic_intra = false;         // (nor the 1.13 quadratic intra)
-  o.resolution = Resolution::kFull;  // (nor the 1.14 half resolution)
-  o.p_qp_offset = 6;                 // (nor the 1.14 P-frame QP offset 4)
+  o.intra_rdo = false;                  // (the fast preset's I frames were decided by SATD then)
+  testing::format_tools_before(9, &o);  // a 1.8 stream
+  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
   const std::string stream = encode_gvid(frames, info, o).value();
   auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
                           "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");
