@@ -1100,13 +1100,14 @@ int main(int argc, char** argv) {
     return 0;
   };
   if (resolution_only) {
-    on_off(refs_presets, "--resolution auto", "--resolution full", [](EncoderOptions& o, bool on) {
-      o.resolution = on ? Resolution::kAuto : Resolution::kFull;
-    });
+    const std::vector<RdPoint> x265 = peers ? run_x265(m, gop, peer_preset) : kLoggedX265Ict;
+    report_on_off(m, base, qps, x265, peers ? "this run" : "logged", refs_presets,
+                  "--resolution auto", "--resolution full", [](EncoderOptions& o, bool on) {
+                    o.resolution = on ? Resolution::kAuto : Resolution::kFull;
+                  });
     if (!peers) return 0;
     // x265 given the same halved frames, its output upsampled by the same filter: how much of
     // the gain is the resolution alone.
-    const std::vector<RdPoint> x265 = run_x265(m, gop, peer_preset);
     const std::vector<RdPoint> x265_half = run_x265(m, gop, peer_preset, true);
     std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
     print_bd("x265 at half resolution vs x265", x265, x265_half);

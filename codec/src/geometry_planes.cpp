@@ -69,6 +69,8 @@ void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int he
   }
 }
 
+}  // namespace
+
 SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value) {
   SamplePlane p;
   p.width = padded(width);
@@ -85,8 +87,6 @@ SamplePlane to_plane(const std::vector<double>& values, int width, int height, i
     }
   return p;
 }
-
-}  // namespace
 
 void fill_outside_domain(std::vector<double>& values, int width, int height, const cv::Mat& mask) {
   std::vector<double> weights(values.size());

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "gvkit/codec/geometry_planes.hpp"
+
 namespace gvkit::codec {
 namespace {
 
@@ -30,6 +32,14 @@ Tap tap(int out, int k, int n) {
   return {std::clamp(i - 2 + k, 0, n - 1), kHalfUpsampleTaps[3 - k]};
 }
 
+// The four taps of every one of n_full pixels over n samples.
+std::vector<std::array<Tap, 4>> taps_of(int n_full, int n) {
+  std::vector<std::array<Tap, 4>> taps(n_full);
+  for (int out = 0; out < n_full; ++out)
+    for (int k = 0; k < 4; ++k) taps[out][k] = tap(out, k, n);
+  return taps;
+}
+
 // Least-squares halving along one axis of n_full pixels: the m = half_size(n_full) samples z
 // minimising |U z - x|^2, U the 1-D upsampling operator, by the normal equations
 // (U^T U) z = U^T x. U^T U is banded (a pixel's four taps span four samples: |i - j| <= 3), so
@@ -37,14 +47,11 @@ Tap tap(int out, int k, int n) {
 class LeastSquaresHalving {
  public:
   explicit LeastSquaresHalving(int n_full)
-      : n_(n_full), m_(half_size(n_full)), l_(m_), taps_(n_full) {
-    for (int out = 0; out < n_; ++out)
-      for (int k = 0; k < 4; ++k) taps_[out][k] = tap(out, k, m_);
+      : n_(n_full), m_(half_size(n_full)), l_(m_), taps_(taps_of(n_full, m_)) {
     std::vector<std::array<double, 4>> normal(m_, {0, 0, 0, 0});  // normal[i][d] = N(i, i - d)
-    for (int out = 0; out < n_; ++out)
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b) {
-          const Tap ta = tap(out, a, m_), tb = tap(out, b, m_);
+    for (const std::array<Tap, 4>& t : taps_)
+      for (const Tap& ta : t)
+        for (const Tap& tb : t) {
           if (ta.sample >= tb.sample)
             normal[ta.sample][ta.sample - tb.sample] += ta.weight * tb.weight / 4096.0;
         }
@@ -103,12 +110,6 @@ SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, 
   const int w = half_size(width), h = half_size(height);
   GVKIT_CHECK(half.width >= w && half.height >= h);
   // The four taps of every output column and row, computed once.
-  const auto taps_of = [](int n_full, int n) {
-    std::vector<std::array<Tap, 4>> taps(n_full);
-    for (int out = 0; out < n_full; ++out)
-      for (int k = 0; k < 4; ++k) taps[out][k] = tap(out, k, n);
-    return taps;
-  };
   const auto columns = taps_of(width, w), rows_taps = taps_of(height, h);
   std::vector<int32_t> rows(static_cast<size_t>(width) * h);  // horizontal pass, x64
   for (int y = 0; y < h; ++y) {
@@ -153,21 +154,11 @@ SamplePlane downsample_plane(const SamplePlane& full, int width, int height, int
       transposed[static_cast<size_t>(i) * h + y] = columns[static_cast<size_t>(y) * width + i];
   std::vector<double> low_t(static_cast<size_t>(w) * h);  // w x h
   LeastSquaresHalving(width).apply(transposed.data(), h, low_t.data());
-  std::vector<double> low(low_t.size());
+  std::vector<double> low(low_t.size());  // h x w
   for (int i = 0; i < w; ++i)
     for (int y = 0; y < h; ++y)
       low[static_cast<size_t>(y) * w + i] = low_t[static_cast<size_t>(i) * h + y];
-  SamplePlane out;
-  out.width = padded(w);
-  out.height = padded(h);
-  out.samples.assign(static_cast<size_t>(out.width) * out.height, 0);
-  const double max_value = std::ldexp(1.0, bit_depth) - 1;
-  for (int y = 0; y < h; ++y)
-    for (int i = 0; i < w; ++i)
-      out.at(i, y) = static_cast<uint16_t>(
-          std::clamp(std::round(low[static_cast<size_t>(y) * w + i]), 0.0, max_value));
-  pad_plane(out, w, h);
-  return out;
+  return to_plane(low, w, h, (1 << bit_depth) - 1);
 }
 
 SamplePlane halve_plane_mean(const SamplePlane& full, int width, int height) {

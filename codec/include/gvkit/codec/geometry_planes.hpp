@@ -21,6 +21,10 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
 GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
                                   int64_t frame_number);
 
+// width x height values (row-major) as a plane: rounded (halves away from zero), clamped to
+// [0, max_value], padded to multiples of 16 by repeating the last row and column.
+SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value);
+
 // Replaces values where mask == 0 by a smooth fill from the values where mask != 0 (width x
 // height, row-major). With no masked-in value, every value becomes 0.
 void fill_outside_domain(std::vector<double>& values, int width, int height, const cv::Mat& mask);
