@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,6 +40,7 @@ struct MapCommandOptions {
   std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle";
   int threads = 0;
   bool same_vertices = false;
+  bool plain_cotan = false;
   bool png = false;
   bool resume = false;
 };
@@ -162,7 +164,9 @@ void run(const MapCommandOptions& o) {
     const auto rim = o.rim == "flow"    ? facemap::RimCorrespondence::kFlow
                      : o.rim == "angle" ? facemap::RimCorrespondence::kAngle
                                         : facemap::RimCorrespondence::kArcLength;
-    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, rim));
+    const double floor =
+        o.plain_cotan ? -std::numeric_limits<double>::infinity() : facemap::kDefaultMinCotanWeight;
+    domain = value_or_throw(facemap::CanonicalDomain::create(spec, size, rim, floor));
   }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
@@ -173,6 +177,7 @@ void run(const MapCommandOptions& o) {
                                   {"size", o.size},
                                   {"method", o.method},
                                   {"rim", o.rim},
+                                  {"plain_cotan", o.plain_cotan},
                                   {"domain", o.domain},
                                   {"threads", o.threads},
                                   {"same_vertices", o.same_vertices},
@@ -387,6 +392,10 @@ void add_facemap_map_command(CLI::App& app) {
                   "the nose-chin anchor), angle (with the angle around the nose tip) or flow (s "
                   "where the integral curves arrive, the seed's)")
       ->capture_default_str();
+  cmd->add_flag("--plain-cotan", o->plain_cotan,
+                "EIP: solve f and its conjugate with the plain cotangent weights, negative ones "
+                "included (the seed's; default: half cotangents floored at 0.02, no interior "
+                "extrema)");
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--same-vertices", o->same_vertices,

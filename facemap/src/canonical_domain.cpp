@@ -143,7 +143,7 @@ Result<CanonicalDomainSpec> CanonicalDomainSpec::load_default() {
 }
 
 Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec, cv::Size size,
-                                                RimCorrespondence rim) {
+                                                RimCorrespondence rim, double min_cotan_weight) {
   const std::string name =
       "canonical domain " + std::to_string(size.width) + "x" + std::to_string(size.height);
   if (size.width < 16 || size.height < 16)
@@ -228,7 +228,7 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.distance_crop_mm = 0;  // Euclidean distances cost nothing to solve
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
-  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim));
+  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim, min_cotan_weight));
 
   const TriSurface& s = d.annulus_.surface;
   d.st_.assign(size.area(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));

@@ -106,8 +106,9 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
     }
     out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
   }
-  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow,
-                         flow_coordinates(annulus, domain.key_u(), domain.flow().rim));
+  GVKIT_ASSIGN_OR_RETURN(
+      FlowCoordinates flow,
+      flow_coordinates(annulus, domain.key_u(), domain.flow().rim, domain.flow().min_cotan_weight));
   out.interior_extrema = flow.field_report.interior_extrema;
   out.boundary_nonmonotone = flow.boundary_nonmonotone;
   out.st_flipped = flow.flipped;

@@ -105,11 +105,12 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
 
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u,
-                                         RimCorrespondence rim) {
+                                         RimCorrespondence rim, double min_cotan_weight) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
-  const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(s);
+  out.min_cotan_weight = min_cotan_weight;
+  const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(s, min_cotan_weight);
   std::vector<char> fixed(n, 0);
   std::vector<double> value(n, 0.0);
   for (int v : annulus.outer_loop) fixed[v] = 1, value[v] = 0.0;

@@ -18,7 +18,8 @@
 namespace gvkit::facemap {
 namespace {
 
-// Half cotangents of the three angles of a triangle: [k] is for the angle at corner k.
+// Half cotangents of the three angles of a triangle: [k] is for the angle at corner k. A
+// degenerate triangle's are 0.
 std::array<double, 3> half_cotangents(const TriSurface& s, const std::array<int, 3>& t) {
   std::array<double, 3> c{};
   for (int k = 0; k < 3; ++k) {
@@ -102,9 +103,9 @@ std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& 
   return std::vector<int>(perm.indices().data(), perm.indices().data() + perm.size());
 }
 
-Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
+Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double min_weight) {
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(surface.triangles.size() * 12);
+  triplets.reserve(surface.triangles.size() * 6);
   for (const auto& t : surface.triangles) {
     const auto c = half_cotangents(surface, t);
     for (int k = 0; k < 3; ++k) {
@@ -112,13 +113,22 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface) {
       const int i = t[(k + 1) % 3], j = t[(k + 2) % 3];
       triplets.emplace_back(i, j, -c[k]);
       triplets.emplace_back(j, i, -c[k]);
-      triplets.emplace_back(i, i, c[k]);
-      triplets.emplace_back(j, j, c[k]);
     }
   }
-  Eigen::SparseMatrix<double> l(surface.n_vertices(), surface.n_vertices());
-  l.setFromTriplets(triplets.begin(), triplets.end());
-  return l;
+  const int n = surface.n_vertices();
+  Eigen::SparseMatrix<double> l(n, n);
+  l.setFromTriplets(triplets.begin(), triplets.end());  // the edge weights, summed, negated
+  // Floor the edge weights, then the diagonal: minus the sum of its column's off-diagonals.
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
+  for (int col = 0; col < n; ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(l, col); it; ++it) {
+      it.valueRef() = std::min(it.value(), -min_weight);
+      diagonal[col] -= it.value();
+    }
+  Eigen::SparseMatrix<double> d(n, n);
+  d.reserve(Eigen::VectorXi::Ones(n));
+  for (int v = 0; v < n; ++v) d.insert(v, v) = diagonal[v];
+  return l + d;
 }
 
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
@@ -272,16 +282,21 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
     }
   }
 
-  // Minimize sum_t sum_edges w (theta_i + J_i - theta_j - J_j)^2 with theta pinned at start.
+  // Minimize sum_edges w (theta_i + J_i - theta_j - J_j)^2 with theta pinned at start, w the
+  // Laplacian's edge weights. J_i - J_j is the same in both triangles of an edge (an edge that
+  // is not a seam edge lies in one sector of the seam's fan at each end), so each triangle adds
+  // its share of the edge's weight (half of an interior edge's, all of a boundary edge's).
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
   for (int k = 0; k < surface.n_triangles(); ++k) {
     const auto& t = surface.triangles[k];
-    const auto c = half_cotangents(surface, t);
     for (int m = 0; m < 3; ++m) {
       const int a = (m + 1) % 3, b = (m + 2) % 3;
       const double dj = jump[3 * k + a] - jump[3 * k + b];
-      rhs[t[a]] -= c[m] * dj;
-      rhs[t[b]] += c[m] * dj;
+      if (dj == 0) continue;
+      const int sharing = edges.count(t[a], t[b]) + edges.count(t[b], t[a]);
+      const double w = -laplacian.coeff(t[a], t[b]) / sharing;
+      rhs[t[a]] -= w * dj;
+      rhs[t[b]] += w * dj;
     }
   }
   std::vector<char> fixed(n, 0);

@@ -35,6 +35,21 @@ TEST(FacemapCli, MapsAnIctSequenceWithBothMethodsAndCompares) {
     }
     EXPECT_EQ((*stats)["options"]["method"], method);
   }
+  // The seed's plain cotangent weights (the reference): recorded, and another map (the ICT mesh
+  // has edges that are not locally Delaunay, whose weights the default floors).
+  r = testing::run_gvkit("facemap map " + faces + " -o " + (dir / "plain").string() +
+                         " --size 64x64 --same-vertices --plain-cotan");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto plain_stats = read_json(dir / "plain" / "stats.json");
+  auto eip_stats = read_json(dir / "eip" / "stats.json");
+  ASSERT_TRUE(plain_stats.is_ok() && eip_stats.is_ok());
+  EXPECT_EQ((*plain_stats)["options"]["plain_cotan"], true);
+  EXPECT_EQ((*eip_stats)["options"]["plain_cotan"], false);
+  EXPECT_EQ((*plain_stats)["summary"]["flipped_total"], 0);
+  auto plain_image = read_geometry_image_exr(dir / "plain" / "frame_000001.exr");
+  auto eip_image = read_geometry_image_exr(dir / "eip" / "frame_000001.exr");
+  ASSERT_TRUE(plain_image.is_ok() && eip_image.is_ok());
+  EXPECT_GT(cv::norm(plain_image->xyz_mm, eip_image->xyz_mm, cv::NORM_INF), 0.0);
   r = testing::run_gvkit("facemap compare " + (dir / "eip").string() + " " + (dir / "hm").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("temporal MSE mean"), std::string::npos) << r.output;

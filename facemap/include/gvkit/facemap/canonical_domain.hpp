@@ -44,9 +44,10 @@ class CanonicalDomain {
   // Rasterizes the holes at size (each hole at least 3 px thick), meshes the domain pixels
   // (one vertex per pixel centre), cuts and solves it. Fails when the size is too small for
   // the holes to stay apart and manifold.
-  // rim: see flow_coordinates(); frames are mapped with the same setting.
+  // rim, min_cotan_weight: see flow_coordinates(); frames are mapped with the same settings.
   static Result<CanonicalDomain> create(const CanonicalDomainSpec& spec, cv::Size size,
-                                        RimCorrespondence rim = RimCorrespondence::kAngle);
+                                        RimCorrespondence rim = RimCorrespondence::kAngle,
+                                        double min_cotan_weight = kDefaultMinCotanWeight);
 
   cv::Size size() const { return size_; }
   const cv::Mat& mask() const { return mask_; }  // CV_8U, 255 inside D

@@ -24,6 +24,15 @@ enum class RimCorrespondence {
   kAngle,      // the angle around the nose tip from the anchor direction, in the frontal plane
 };
 
+// The floor of the edge weights in the Laplacian of f and psi (see cotan_laplacian()): positive,
+// so no weight is negative (the maximum principle holds), and small against the weight 1 of a
+// square grid's sides, so it raises only the edges that are not locally Delaunay, and those
+// little. On reconstructed scans with 1 % camera noise the plain weights left some 850 interior
+// extrema of f per frame and flips after untangling; the floor leaves neither. Floors of 0.001
+// to 0.1 measured alike on faces; larger ones bend the integral curves of regular meshes more
+// (docs/benchmarks.md, "Positive Laplacian weights").
+inline constexpr double kDefaultMinCotanWeight = 0.005;
+
 struct FlowCoordinates {
   std::vector<double> t;  // per surface vertex, in [0, 1]
   // Per triangle corner [3k + j]: s, continuous within each triangle (it may leave [0, 1) by
@@ -33,6 +42,7 @@ struct FlowCoordinates {
   HarmonicFieldReport field_report;
   int boundary_nonmonotone = 0;  // inner-boundary steps where psi did not increase
   RimCorrespondence rim = RimCorrespondence::kFlow;  // what was used
+  double min_cotan_weight = kDefaultMinCotanWeight;  // what was used
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
   // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
   int untangled_vertices = 0;
@@ -65,8 +75,11 @@ int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>
 // like the harmonic map's. Off: s on the rim is wherever the integral curves arrive, which
 // slides by up to 17 mm along the chin when the jaw opens (the capacity of the mouth hole
 // changes the flux distribution of grad f).
+// min_cotan_weight: the floor of the Laplacian's edge weights (cotan_laplacian()); -infinity
+// solves with the plain cotangent weights (the seed's; the reference).
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u = {},
-                                         RimCorrespondence rim = RimCorrespondence::kAngle);
+                                         RimCorrespondence rim = RimCorrespondence::kAngle,
+                                         double min_cotan_weight = kDefaultMinCotanWeight);
 
 }  // namespace gvkit::facemap

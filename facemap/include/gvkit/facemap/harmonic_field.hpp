@@ -3,6 +3,7 @@
 // one boundary, 1 on another: step 5 of the seed's Algorithm 1) and the harmonic conjugate of
 // such an f on an annulus, whose level sets are the integral curves of grad f.
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -13,8 +14,14 @@
 namespace gvkit::facemap {
 
 // Cotangent stiffness matrix L (symmetric positive semi-definite: L_ij = -w_ij, L_ii = sum w_ij,
-// w_ij = (cot alpha + cot beta) / 2).
-Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface);
+// w_ij = (cot alpha + cot beta) / 2, dimensionless). min_cotan_weight: every edge weight is raised
+// to at least this; -infinity keeps the plain weights. A plain weight is negative exactly where
+// the edge is not locally Delaunay (alpha + beta > 180 degrees), so a small positive floor
+// changes only those edges and makes L an M-matrix: a Dirichlet solution has no interior
+// extrema (discrete maximum principle) and every free value is a convex combination of its
+// neighbours' (Tutte), at the price of linear precision on the edges it raises.
+Eigen::SparseMatrix<double> cotan_laplacian(
+    const TriSurface& surface, double min_cotan_weight = -std::numeric_limits<double>::infinity());
 
 // A fill-reducing elimination order of all the vertices of L (AMD on its pattern; order[k] is the
 // vertex eliminated k-th). The systems below are L restricted to their free vertices, and this
@@ -46,7 +53,9 @@ HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
 // per-corner values psi (triangle k, corner j at [3k + j]): psi is harmonic with zero normal
 // derivative on both boundaries and jumps by 1 across a seam from inner_loop[0] to the outer
 // boundary, so it is single-valued per triangle. Its values increase by exactly 1 around inner_loop
-// in loop order. order: as for solve_dirichlet.
+// in loop order. laplacian: any symmetric Laplacian with weights on the surface's edges (e.g.
+// cotan_laplacian with any floor); the seam's jump enters through those same weights. order: as
+// for solve_dirichlet.
 Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
