@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
 #include "directed_edges.hpp"
 
 namespace gvkit::facemap {
@@ -48,54 +51,95 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
   std::vector<std::vector<int>> corners(n);  // per vertex: its corners 3k + j
   for (int k = 0; k < s.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) corners[s.triangles[k][j]].push_back(3 * k + j);
-  std::vector<char> in_region(n, 0);
+  std::vector<int> index(n, -1);  // region vertex -> its unknown
   std::vector<int> region;
   auto add_free_corners_of = [&](int k) {
     for (int j = 0; j < 3; ++j) {
       const int v = s.triangles[k][j];
-      if (fixed[v] != 1 && !in_region[v]) in_region[v] = 1, region.push_back(v);
+      if (fixed[v] != 1 && index[v] < 0) {
+        index[v] = static_cast<int>(region.size());
+        region.push_back(v);
+      }
     }
   };
   for (int k = 0; k < s.n_triangles(); ++k)
     if (is_flipped(k)) add_free_corners_of(k);
   if (region.empty()) return 0;
+  // s is unwrapped per vertex: a corner's s is the vertex's s (its first corner's) plus a whole
+  // number of periods, which the solve keeps.
+  auto periods = [&](int c, int v) {
+    return std::round((*corner_s)[c] - (*corner_s)[corners[v][0]]);
+  };
   for (int round = 0; round < max_rounds; ++round) {
-    // Gauss-Seidel sweeps of the uniform (Tutte) Laplacian over the region, s unwrapped per
-    // vertex: a corner's s is the vertex's s plus a whole number of periods.
-    for (int sweep = 0; sweep < 100; ++sweep)
-      for (int v : region) {
-        const int c0 = corners[v][0];
-        const double sv = (*corner_s)[c0];
-        double sum_s = 0, sum_t = 0;
-        int count = 0;
-        const bool slides = fixed[v] == 2;
-        for (int c : corners[v]) {
-          const int k = c / 3, j = c % 3;
-          const double offset = std::round((*corner_s)[c] - sv);
-          for (int m = 1; m < 3; ++m) {
-            const int w = s.triangles[k][(j + m) % 3];
-            // A sliding vertex moves along its boundary: only its boundary neighbours count.
-            if (slides && fixed[w] != 2) continue;
-            sum_s += (*corner_s)[3 * k + (j + m) % 3] - offset;
-            sum_t += (*t)[w];
-            ++count;
+    // The region's uniform (Tutte) system, solved exactly: every region vertex at the mean of
+    // its neighbours (per triangle corner, so an interior edge counts twice) with the vertices
+    // around the region fixed. A sliding vertex keeps its t and takes the mean s of its
+    // boundary neighbours only.
+    const int m = static_cast<int>(region.size());
+    std::vector<Eigen::Triplet<double>> a_s, a_t;
+    Eigen::VectorXd b_s = Eigen::VectorXd::Zero(m), b_t = Eigen::VectorXd::Zero(m);
+    for (int i = 0; i < m; ++i) {
+      const int v = region[i];
+      const bool slides = fixed[v] == 2;
+      double degree = 0;
+      for (int c : corners[v]) {
+        const int k = c / 3, j = c % 3;
+        const double own = periods(c, v);
+        for (int step = 1; step < 3; ++step) {
+          const int cw = 3 * k + (j + step) % 3, w = s.triangles[k][(j + step) % 3];
+          if (slides && fixed[w] != 2) continue;
+          degree += 1;
+          if (index[w] >= 0) {
+            a_s.emplace_back(i, index[w], -1.0);
+            b_s[i] += periods(cw, w) - own;
+          } else {
+            b_s[i] += (*corner_s)[cw] - own;
           }
+          if (slides) continue;
+          if (index[w] >= 0 && fixed[w] != 2)
+            a_t.emplace_back(i, index[w], -1.0);
+          else
+            b_t[i] += (*t)[w];
         }
-        if (count == 0) continue;
-        const double new_s = sum_s / count;
-        for (int c : corners[v]) (*corner_s)[c] = new_s + std::round((*corner_s)[c] - sv);
-        if (!slides) (*t)[v] = sum_t / count;
       }
+      if (degree == 0) degree = 1, b_s[i] = (*corner_s)[corners[v][0]];  // nothing to follow
+      a_s.emplace_back(i, i, degree);
+      if (slides)
+        a_t.emplace_back(i, i, 1.0), b_t[i] = (*t)[v];
+      else
+        a_t.emplace_back(i, i, degree);
+    }
+    Eigen::SparseMatrix<double> ms(m, m), mt(m, m);
+    ms.setFromTriplets(a_s.begin(), a_s.end());
+    mt.setFromTriplets(a_t.begin(), a_t.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_s(ms), lu_t(mt);
+    if (lu_s.info() != Eigen::Success || lu_t.info() != Eigen::Success) break;
+    const Eigen::VectorXd new_s = lu_s.solve(b_s), new_t = lu_t.solve(b_t);
+    if (!new_s.allFinite() || !new_t.allFinite()) break;
+    for (int i = 0; i < m; ++i) {
+      const int v = region[i];
+      std::vector<double> offsets;
+      for (int c : corners[v]) offsets.push_back(periods(c, v));
+      for (size_t q = 0; q < corners[v].size(); ++q)
+        (*corner_s)[corners[v][q]] = new_s[i] + offsets[q];
+      (*t)[v] = new_t[i];
+    }
     std::vector<int> flipped;
     for (int k = 0; k < s.n_triangles(); ++k)
       if (is_flipped(k)) flipped.push_back(k);
     if (flipped.empty()) break;
-    // Grow the region by two rings around what is still flipped.
-    for (int ring = 0; ring < 2; ++ring) {
+    // Grow the region by two rings around what is still flipped, twice as many every five
+    // rounds: a flip can sit at the region's edge round after round, pushed ahead along a strip
+    // of nearly degenerate triangles, until the region spans the strip.
+    const int rings = 2 << (round / 5);
+    std::vector<char> seen(s.n_triangles(), 0);
+    for (int k : flipped) seen[k] = 1;
+    for (int ring = 0; ring < rings && !flipped.empty(); ++ring) {
       std::vector<int> around;
       for (int k : flipped)
         for (int j = 0; j < 3; ++j)
-          for (int c : corners[s.triangles[k][j]]) around.push_back(c / 3);
+          for (int c : corners[s.triangles[k][j]])
+            if (!seen[c / 3]) seen[c / 3] = 1, around.push_back(c / 3);
       for (int k : around) add_free_corners_of(k);
       flipped = std::move(around);
     }

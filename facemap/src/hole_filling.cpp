@@ -114,6 +114,7 @@ bool triangulate_hole(Mesh* mesh, std::vector<Mesh::VertexHandle> poly, const Po
 // kNotApplicable (nothing added) when the rim repeats a vertex or no valid triangulation exists;
 // kFailed when the mesh refused a face after others were added.
 enum class Triangulation { kDone, kNotApplicable, kFailed };
+constexpr double kDegenerateWeight = 4.0;  // above 1 - cos of any angle
 Triangulation triangulate_hole_min_weight(Mesh* mesh,
                                           const std::vector<Mesh::HalfedgeHandle>& loop) {
   const int n = static_cast<int>(loop.size());
@@ -164,6 +165,11 @@ Triangulation triangulate_hole_min_weight(Mesh* mesh,
         const double twice_area = normal.norm();
         if (twice_area > 0) normal /= twice_area;
         double angle = std::max(left.max_angle, right.max_angle);
+        // A triangle without area (three collinear rim points) has no normal: it weighs more
+        // than any real angle (1 - cos <= 2), so it is taken only where nothing else closes the
+        // hole (it had weight 1, a right angle, and won against steeper real triangles).
+        const double scale = (p[m] - p[i]).sqrnorm() + (p[k] - p[i]).sqrnorm();
+        if (!(twice_area > 1e-9 * scale)) angle = std::max(angle, kDegenerateWeight);
         angle = std::max(angle, 1.0 - (normal | side_normal(i, m)));
         angle = std::max(angle, 1.0 - (normal | side_normal(m, k)));
         if (border) angle = std::max(angle, 1.0 - (normal | outer_normal[n - 1]));

@@ -150,6 +150,34 @@ TEST(HarmonicField, UntanglingRemovesFlipsAcrossTheSeam) {
     for (int j = 1; j < 3; ++j) EXPECT_LT(std::abs(corner_s[3 * k + j] - corner_s[3 * k]), 0.2);
 }
 
+// A whole ray of interior vertices pushed one and a half sectors sideways: a strip of flipped
+// triangles from the inner to the outer boundary, which the untangling removes, keeping the
+// boundaries where they were.
+TEST(HarmonicField, UntanglingRemovesAStripOfFlipsAcrossTheRing) {
+  const FaceAnnulus a = ring(14, 64);
+  auto flow = flow_coordinates(a);
+  ASSERT_TRUE(flow.is_ok()) << flow.status().message();
+  const TriSurface& s = a.surface;
+  std::vector<char> fixed(s.n_vertices(), 0);
+  for (int v : a.inner_loop) fixed[v] = 1;
+  for (int v : a.outer_loop) fixed[v] = 1;
+  std::vector<double> t = flow->t, corner_s = flow->corner_s;
+  const int sector = (a.inner_loop[0] + 20) % 64;
+  for (int ring_index = 1; ring_index + 1 < 14; ++ring_index) {
+    const int v = ring_index * 64 + sector;
+    for (int k = 0; k < s.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j)
+        if (s.triangles[k][j] == v) corner_s[3 * k + j] += 1.5 / 64;
+  }
+  ASSERT_GT(count_flipped(s, t, corner_s), 12);
+  EXPECT_GE(untangle_flow_coordinates(s, fixed, &t, &corner_s), 12);
+  EXPECT_EQ(count_flipped(s, t, corner_s), 0);
+  for (int v = 0; v < s.n_vertices(); ++v)
+    if (fixed[v]) {
+      EXPECT_EQ(t[v], flow->t[v]);
+    }
+}
+
 // A ring whose interior vertices are pushed sideways by up to `jitter` of a sector and up and
 // down by up to `jitter` of a ring spacing (a fixed pseudo-random pattern), every other ring
 // shifted by half a sector: many triangles are obtuse, some strongly, as on a noisy scan.

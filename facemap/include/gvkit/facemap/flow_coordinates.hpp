@@ -54,13 +54,14 @@ int count_flipped(const TriSurface& surface, const std::vector<double>& t,
 
 // Removes flips of the discrete flow coordinates: the vertices of flipped triangles move to the
 // mean of their neighbours in (s, t) (a local Tutte embedding with the region's surroundings
-// fixed), the region growing by one ring per round while flips remain. fixed per vertex: 0 free,
-// 1 fixed, 2 on a boundary of constant t whose s may slide (it moves to the mean s of its
-// boundary neighbours; an edge joining two such vertices must be a boundary edge).
-// The discrete conjugate is not exactly orthogonal to f where triangles are obtuse or slivers,
-// and the conjugate is not monotone along the rim where the flow converges onto it; both flip a
-// few triangles, which this moves by a fraction of a triangle. Returns the number of vertices
-// moved.
+// fixed, solved exactly with a sparse LU), the region growing while flips remain: by two rings
+// around them per round, twice as many every five rounds (a flip pushed along a strip of nearly
+// degenerate triangles stays at the region's edge until the region spans the strip). fixed per
+// vertex: 0 free, 1 fixed, 2 on a boundary of constant t whose s may slide (it moves to the mean
+// s of its boundary neighbours; an edge joining two such vertices must be a boundary edge).
+// The discrete conjugate is not exactly orthogonal to f on slivers, and the blend of s with the
+// rim parameter is not linear in psi; both can flip a few triangles, which this moves by a
+// fraction of a triangle. Returns the number of vertices moved.
 int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>& fixed,
                               std::vector<double>* t, std::vector<double>* corner_s,
                               int max_rounds = 30);
