@@ -105,7 +105,7 @@ std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& 
 
 Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double min_weight) {
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(surface.triangles.size() * 6);
+  triplets.reserve(surface.triangles.size() * 6 + surface.xyz.size());
   for (const auto& t : surface.triangles) {
     const auto c = half_cotangents(surface, t);
     for (int k = 0; k < 3; ++k) {
@@ -116,19 +116,24 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double mi
     }
   }
   const int n = surface.n_vertices();
+  for (int v = 0; v < n; ++v) triplets.emplace_back(v, v, 0.0);  // the diagonal's slot
   Eigen::SparseMatrix<double> l(n, n);
   l.setFromTriplets(triplets.begin(), triplets.end());  // the edge weights, summed, negated
-  // Floor the edge weights, then the diagonal: minus the sum of its column's off-diagonals.
-  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
-  for (int col = 0; col < n; ++col)
+  // Floor the edge weights; the diagonal is minus the sum of its column's off-diagonals.
+  for (int col = 0; col < n; ++col) {
+    double sum = 0;
+    double* diagonal = nullptr;
     for (Eigen::SparseMatrix<double>::InnerIterator it(l, col); it; ++it) {
+      if (it.row() == col) {
+        diagonal = &it.valueRef();
+        continue;
+      }
       it.valueRef() = std::min(it.value(), -min_weight);
-      diagonal[col] -= it.value();
+      sum -= it.value();
     }
-  Eigen::SparseMatrix<double> d(n, n);
-  d.reserve(Eigen::VectorXi::Ones(n));
-  for (int v = 0; v < n; ++v) d.insert(v, v) = diagonal[v];
-  return l + d;
+    *diagonal = sum;
+  }
+  return l;
 }
 
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
