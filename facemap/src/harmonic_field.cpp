@@ -103,7 +103,7 @@ std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& 
   return std::vector<int>(perm.indices().data(), perm.indices().data() + perm.size());
 }
 
-Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double min_weight) {
+Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double min_cotan_weight) {
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(surface.triangles.size() * 6 + surface.xyz.size());
   for (const auto& t : surface.triangles) {
@@ -128,7 +128,7 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double mi
         diagonal = &it.valueRef();
         continue;
       }
-      it.valueRef() = std::min(it.value(), -min_weight);
+      it.valueRef() = std::min(it.value(), -min_cotan_weight);
       sum -= it.value();
     }
     *diagonal = sum;
