@@ -394,8 +394,8 @@ void add_facemap_map_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--plain-cotan", o->plain_cotan,
                 "EIP: solve f and its conjugate with the plain cotangent weights, negative ones "
-                "included (the seed's; default: half cotangents floored at 0.02, no interior "
-                "extrema)");
+                "included (the seed's; default: every edge weight floored at 0.005, so f has no "
+                "interior extrema)");
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--same-vertices", o->same_vertices,
