@@ -118,10 +118,8 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
     if (!new_s.allFinite() || !new_t.allFinite()) break;
     for (int i = 0; i < m; ++i) {
       const int v = region[i];
-      std::vector<double> offsets;
-      for (int c : corners[v]) offsets.push_back(periods(c, v));
-      for (size_t q = 0; q < corners[v].size(); ++q)
-        (*corner_s)[corners[v][q]] = new_s[i] + offsets[q];
+      const double base = (*corner_s)[corners[v][0]];
+      for (int c : corners[v]) (*corner_s)[c] = new_s[i] + std::round((*corner_s)[c] - base);
       (*t)[v] = new_t[i];
     }
     std::vector<int> flipped;

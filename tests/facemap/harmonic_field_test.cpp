@@ -3,10 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
+#include <map>
+#include <random>
+#include <utility>
 
 #include "gvkit/facemap/flow_coordinates.hpp"
 
@@ -183,11 +184,9 @@ TEST(HarmonicField, UntanglingRemovesAStripOfFlipsAcrossTheRing) {
 // shifted by half a sector: many triangles are obtuse, some strongly, as on a noisy scan.
 FaceAnnulus jittered_ring(int rings, int sectors, double jitter) {
   FaceAnnulus a = ring(rings, sectors);
-  uint32_t state = 12345;
-  auto random = [&] {  // uniform in [-1, 1)
-    state = state * 1664525u + 1013904223u;
-    return static_cast<double>(state >> 8) / (1u << 23) - 1.0;
-  };
+  std::mt19937 engine(12345);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto random = [&] { return uniform(engine); };
   for (int i = 1; i + 1 < rings; ++i)
     for (int j = 0; j < sectors; ++j) {
       Eigen::Vector3d& p = a.surface.xyz[i * sectors + j];
@@ -264,20 +263,18 @@ TEST(HarmonicField, ConjugateIsHarmonicForTheLaplacianItIsGiven) {
         if (!seen[v]) seen[v] = 1, value[v] = x;
         if (std::abs(x - value[v]) > 1e-9) on_seam[v] = 1;
       }
-    // Weighted sum of (psi_w - psi_v) over the edges at v, psi_w read in a triangle with v.
+    // Weighted sum of (psi_w - psi_v) over the edges at v, psi_w read in a triangle with v;
+    // each edge is seen from each of its triangles (two for an interior edge, one on a boundary).
+    std::map<std::pair<int, int>, int> triangles_of_edge;
+    for (const auto& t : s.triangles)
+      for (int j = 0; j < 3; ++j) ++triangles_of_edge[std::minmax(t[j], t[(j + 1) % 3])];
     std::vector<double> residual(s.n_vertices(), 0.0);
     for (int k = 0; k < s.n_triangles(); ++k)
       for (int j = 0; j < 3; ++j)
         for (int m = 1; m < 3; ++m) {
           const int v = s.triangles[k][j], w = s.triangles[k][(j + m) % 3];
-          // Each edge is seen from both of its triangles (once from a boundary edge's one).
-          const bool interior_edge =
-              std::count_if(
-                  s.triangles.begin(), s.triangles.end(), [&](const std::array<int, 3>& t) {
-                    return std::count(t.begin(), t.end(), v) && std::count(t.begin(), t.end(), w);
-                  }) == 2;
           residual[v] += -l.coeff(v, w) * ((*psi)[3 * k + (j + m) % 3] - (*psi)[3 * k + j]) /
-                         (interior_edge ? 2.0 : 1.0);
+                         triangles_of_edge.at(std::minmax(v, w));
         }
     int checked = 0;
     for (int v = 0; v < s.n_vertices(); ++v) {

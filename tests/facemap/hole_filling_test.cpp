@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -286,11 +286,9 @@ TEST(HoleFilling, DegenerateNeighbourhoodStillGivesAFiniteFillInsideTheRim) {
 // the fill has no triangle without area, in many such holes.
 TEST(HoleFilling, CollinearRimPointsGiveNoTriangleWithoutArea) {
   const int n = 16;
-  uint32_t state = 7;
-  auto random = [&] {  // uniform in [-1, 1)
-    state = state * 1664525u + 1013904223u;
-    return static_cast<double>(state >> 8) / (1u << 23) - 1.0;
-  };
+  std::mt19937 engine(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto random = [&] { return uniform(engine); };
   int degenerate_total = 0, filled_total = 0;
   for (int trial = 0; trial < 40; ++trial) {
     Mesh mesh;
