@@ -33,7 +33,7 @@ struct EncodeArgs {
   double fps = 30.0;
 };
 
-// `--tune help`: the keys, their values and what they change.
+// `--tune help`: the keys, their values and what they change (to stdout).
 void print_tune_keys() {
   std::printf("gvkit encode --tune key=value (repeatable; for experiments, docs/encoding.md):\n");
   for (const codec::TuneKey& k : codec::tune_keys())
@@ -107,8 +107,6 @@ nlohmann::json bit_accounting(const std::vector<codec::FrameCodingStats>& frames
 }
 
 void run_encode(const EncodeArgs& args) {
-  if (std::find(args.tunes.begin(), args.tunes.end(), "help") != args.tunes.end())
-    return print_tune_keys();
   codec::EncoderOptions options = args.options;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.profile = value_or_throw(codec::parse_profile(args.profile));
@@ -310,7 +308,12 @@ void add_encode_command(CLI::App& app) {
                   "key=value: an encoder tool switch or fine setting, for experiments "
                   "(repeatable; '--tune help' lists the keys, docs/encoding.md explains them)")
       ->take_all()
-      ->allow_extra_args(false);
+      ->allow_extra_args(false)
+      ->each([](const std::string& value) {
+        if (value != "help") return;
+        print_tune_keys();  // and nothing else (no input or output needed)
+        throw CLI::Success();
+      });
   cmd->callback([args] { run_encode(*args); });
 }
 

@@ -31,6 +31,7 @@ def main(argv=None):
         chosen = [f for f in frames if stats["type"][f] == kind]
         if chosen:
             ax.bar(chosen, stats["bits"][chosen] / 1000.0, color=colour, label=f"{kind} frames")
+    ax.set_ylim(0, stats["bits"].max() / 1000.0 * 1.3)  # room for the legend
     ax.set_xlabel("frame (display order)")
     ax.set_ylabel("kbit per frame")
     profile = info["profile"] or "legacy"
@@ -40,9 +41,11 @@ def main(argv=None):
     qp_axis = ax.twinx()
     qp_axis.plot(list(frames), stats["qp"], color="black", marker=".", linewidth=1, label="QP")
     qp_axis.set_ylabel("QP")
+    low, high = int(stats["qp"].min()), int(stats["qp"].max())
+    qp_axis.set_ylim(low - 1, high + 1 + 0.4 * (high - low + 2))  # below the legend
     handles, labels = ax.get_legend_handles_labels()
     more_handles, more_labels = qp_axis.get_legend_handles_labels()
-    ax.legend(handles + more_handles, labels + more_labels, loc="upper right")
+    ax.legend(handles + more_handles, labels + more_labels, loc="upper center", ncol=4)
     fig.tight_layout()
     if args.output:
         fig.savefig(args.output, dpi=100)

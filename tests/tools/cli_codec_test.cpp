@@ -186,7 +186,7 @@ TEST(CliCodec, TuneHelpListsTheKeysAndBadTunesFailNamingThem) {
   TempDir dir;
   write_frames(dir / "in", 1);
   const std::string in = (dir / "in").string(), out = (dir / "v.gvid").string();
-  auto help = run_gvkit("encode " + in + " -o " + out + " --tune help");
+  auto help = run_gvkit("encode --tune help");  // no input or output needed
   ASSERT_EQ(help.exit_code, 0) << help.output;
   for (const char* key : {"merge", "td16", "quadratic-intra", "deblock", "refs", "resolution"})
     EXPECT_TRUE(contains(help.output, std::string("  ") + key + " ")) << key << help.output;
