@@ -275,7 +275,7 @@ TEST(CrossPlane, OptionIsReportedInThePacketOfEveryFrameType) {
 // Cross-plane prediction with several reference frames and 8x8 / 16x16 transforms: the decoder
 // reproduces the encoder's reconstruction bit for bit in lossy fast and slow coding with P and with
 // B frames, and in lossless and near-lossless coding (where the larger transforms do not apply and
-// --refs is set explicitly); every tool is used.
+// refs is set explicitly); every tool is used.
 TEST(CrossPlane, WithMultipleReferencesAndLargerTransformsDecodesBitExactly) {
   const auto frames = testing::make_moving_analytic_video(48, 7);
   const SequenceInfo info = testing::info_for(frames);

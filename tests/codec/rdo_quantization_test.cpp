@@ -185,7 +185,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    o.p_qp_offset = 6;  // (nor the 1.14 P-frame QP offset 4: P frames at QP 18, as measured)
+    o.p_qp_offset = 6;  // P frames at QP 18, as measured
     o.qp = 12;
     o.preset = preset;
     o.intra_period = 4;
