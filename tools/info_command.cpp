@@ -113,8 +113,8 @@ void print_vector(const char* name, const std::vector<double>& v) {
 void describe_calibration(const fs::path& path) {
   const LoadedCalibration loaded = value_or_throw(read_calibration(path));
   const Calibration& c = loaded.calibration;
-  std::printf("%s: calibration (%s format)\n", path.string().c_str(),
-              loaded.format == CalibrationFormat::kSlStudio ? "SLStudio" : "gvkit");
+  std::printf("%s: calibration (%s layout)\n", path.string().c_str(),
+              calibration_format_name(loaded.format));
   std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
   print_matrix("camera K (px)", c.camera_K);
   print_vector("camera distortion", c.camera_dist);

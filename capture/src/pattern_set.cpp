@@ -73,6 +73,22 @@ std::string pattern_set_help() {
          "gray<B>-psp<N> (B Gray-code bits + N-step phase shift with 2^B periods; e.g. gray4-psp4)";
 }
 
+std::vector<std::string> pattern_set_candidates(int images) {
+  std::vector<std::string> out;
+  auto n = [](int v) { return std::to_string(v); };
+  if (images >= 3 && images <= 64) out.push_back("psp" + n(images) + "-f<P>");
+  if (images % 2 == 0 && images / 2 >= 3 && images / 2 <= 64)
+    out.push_back("mf" + n(images / 2) + "-f<P>-f1");
+  if (images % 3 == 0 && images / 3 >= 3 && images / 3 <= 64)
+    out.push_back("mf" + n(images / 3) + "-f<P1>-f<P2>-f1");
+  // Gray code + phase shift: the common splits (3 to 8 bits), most bits first.
+  for (int bits = 8; bits >= 3; --bits)
+    if (images - bits >= 3 && images - bits <= 64)
+      out.push_back("gray" + n(bits) + "-psp" + n(images - bits));
+  if (images == 3) out.push_back("zh-f<P>");
+  return out;
+}
+
 cv::Mat projector_column(const PhaseMap& phase) {
   cv::Mat u;
   phase.phase.convertTo(u, CV_32F, phase.pitch_px / (2 * CV_PI));

@@ -86,6 +86,11 @@ Result<std::unique_ptr<PatternSet>> create_pattern_set(const std::string& name,
 // One line per family with an example, for --help texts.
 std::string pattern_set_help();
 
+// Names (with placeholders such as <P> for free parameters) of the pattern sets that project
+// exactly `images` images per frame, most common first; empty when none does. For the message
+// that asks a user with a plain folder of images to name its pattern set.
+std::vector<std::string> pattern_set_candidates(int images);
+
 // Projector column u (px) from an unwrapped phase map: u = phase / (2*pi) * pitch_px.
 cv::Mat projector_column(const PhaseMap& phase);
 
