@@ -59,8 +59,8 @@ class ZhangHuangPattern : public PatternSet {
 
 }  // namespace
 
-std::unique_ptr<PatternSet> make_zhang_huang(int periods, const PatternSetOptions& o) {
-  return std::make_unique<ZhangHuangPattern>(periods, o);
+std::unique_ptr<PatternSet> make_zhang_huang(const PatternSpec& spec, const PatternSetOptions& o) {
+  return std::make_unique<ZhangHuangPattern>(spec.periods[0], o);
 }
 
 }  // namespace gvkit::capture::detail
