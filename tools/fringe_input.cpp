@@ -44,14 +44,14 @@ Status missing_inputs(const fs::path& dir, const FringeInputArgs& args) {
     if (!one_frame.empty())
       message += ". Pattern sets of " + std::to_string(n) +
                  " images (the folder as one frame): " + joined(one_frame, ", ");
-    std::vector<std::string> divisors;
+    std::string divisors;
     for (int k = 3; k <= n / 2; ++k)
       if (n % k == 0 && !capture::pattern_set_candidates(k).empty())
-        divisors.push_back(std::to_string(k) + " (" + capture::pattern_set_candidates(k).front() +
-                           ", ...)");
+        divisors +=
+            "; k = " + std::to_string(k) + ": " + joined(capture::pattern_set_candidates(k), ", ");
     if (!divisors.empty())
       message +=
-          ". As " + std::to_string(n) + "/k frames of k images: k = " + joined(divisors, ", ");
+          ". Per frame of k images (the folder as " + std::to_string(n) + "/k frames)" + divisors;
     message +=
         ". <P> is the number of fringe periods across the projector width; --sliding "
         "reads a continuous sequence as overlapping windows";

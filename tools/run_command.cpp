@@ -32,7 +32,7 @@ struct RunArgs {
   std::string input, work, pattern;
   std::vector<std::string> calibration;
   // Passed to reconstruct for a plain folder of fringe images ("" / false = not given).
-  std::string projector_size, calibration_unit, images, exclude;
+  std::string projector_size, calibration_unit, images, exclude, ground_truth;
   bool rescale_calibration = false, sliding = false;
   int frames = 30;
   std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
@@ -143,9 +143,10 @@ void run(const RunArgs& a) {
   if (!a.pattern.empty()) reconstruct.insert(reconstruct.end(), {"--pattern", a.pattern});
   for (const std::string& file : a.calibration)
     reconstruct.insert(reconstruct.end(), {"--calibration", file});
-  for (auto [flag, value] : {std::pair{"--projector-size", &a.projector_size},
-                             std::pair{"--calibration-unit", &a.calibration_unit},
-                             std::pair{"--images", &a.images}, std::pair{"--exclude", &a.exclude}})
+  for (auto [flag, value] :
+       {std::pair{"--projector-size", &a.projector_size},
+        std::pair{"--calibration-unit", &a.calibration_unit}, std::pair{"--images", &a.images},
+        std::pair{"--exclude", &a.exclude}, std::pair{"--ground-truth", &a.ground_truth}})
     if (!value->empty()) reconstruct.insert(reconstruct.end(), {flag, *value});
   if (a.rescale_calibration) reconstruct.push_back("--rescale-calibration");
   if (a.sliding) reconstruct.push_back("--sliding");
@@ -289,6 +290,8 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--exclude", a->exclude, "Leave out images matching this glob");
   cmd->add_flag("--sliding", a->sliding,
                 "A continuous sequence read as sliding windows (reconstruct --sliding)");
+  cmd->add_option("--ground-truth", a->ground_truth,
+                  "Reference EXRs to measure the scans against (reconstruct --ground-truth)");
   cmd->add_option("--depth-prior", a->depth_prior_mm,
                   "Expected face depth (mm) for spatially unwrapped pattern sets (reconstruct "
                   "--depth-prior; default: the session's, else 650)");

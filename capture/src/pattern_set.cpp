@@ -93,15 +93,15 @@ std::vector<std::string> pattern_set_candidates(int images) {
   if (images % 3 == 0 && images / 3 >= 3 && images / 3 <= 64)
     out.push_back("het" + n(images / 3) + "-f<P1>-f<P2>-f<P3> (e.g. het" + n(images / 3) +
                   "-f70-f64-f59)");
-  // Gray code + phase shift: the common splits (3 to 8 bits), most bits first; complementary
-  // codes without and with white and black references.
-  for (int bits = 8; bits >= 3; --bits)
-    if (images - bits >= 3 && images - bits <= 64)
+  // Gray code + phase shift: the common splits (3 to 10 bits, 3 to 8 steps), most bits first;
+  // complementary codes without and with white and black references.
+  for (int bits = 10; bits >= 3; --bits)
+    if (images - bits >= 3 && images - bits <= 8)
       out.push_back("gray" + n(bits) + "-psp" + n(images - bits));
   for (int refs = 0; refs <= 2; refs += 2)
-    for (int bits = 8; bits >= 3; --bits) {
+    for (int bits = 10; bits >= 3; --bits) {
       const int steps = images - 2 * bits - refs;
-      if (steps >= 3 && steps <= 64)
+      if (steps >= 3 && steps <= 8)
         out.push_back("cgray" + n(bits) + "-psp" + n(steps) + (refs ? "-owbpg" : ""));
     }
   if (images == 3) out.push_back("zh-f<P>");

@@ -56,7 +56,7 @@ TEST_F(CliPlainFolder, MissingPatternListsTheSetsThatFitAndTheOptions) {
   EXPECT_TRUE(contains(r.output, "cannot be inferred")) << r.output;
   for (const char* candidate : {"psp8-f<P>", "mf4-f<P>-f1", "gray5-psp3", "gray4-psp4"})
     EXPECT_TRUE(contains(r.output, candidate)) << candidate << "\n" << r.output;
-  EXPECT_TRUE(contains(r.output, "k = 4 (psp4-f<P>")) << r.output;
+  EXPECT_TRUE(contains(r.output, "k = 4: psp4-f<P>")) << r.output;
   EXPECT_TRUE(contains(r.output, "SPEC.json")) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 
