@@ -161,4 +161,53 @@ Result<FringeFolderInput> open_fringe_folder(const fs::path& dir, const FringeIn
   return in;
 }
 
+std::vector<fs::path> stereo_subfolders(const fs::path& dir) {
+  std::error_code ec;
+  for (auto [a, b] : {std::pair{"left", "right"}, std::pair{"cam0", "cam1"}})
+    if (fs::is_directory(dir / a, ec) && fs::is_directory(dir / b, ec)) return {dir / a, dir / b};
+  return {};
+}
+
+Result<StereoFolderInput> open_stereo_folder(const fs::path& dir, const FringeInputArgs& args,
+                                             const capture::PatternSetOptions& pattern_options) {
+  const std::vector<fs::path> sides = stereo_subfolders(dir);
+  GVKIT_CHECK(sides.size() == 2);
+  if (args.pattern.empty() || args.calibration.empty()) {
+    Status s = missing_inputs(sides[0], args);
+    return Status(s.code(), dir.string() + " (a camera pair): " + s.message());
+  }
+  StereoFolderInput in;
+  in.layout = sides[0].filename().string() + "/" + sides[1].filename().string();
+  GVKIT_ASSIGN_OR_RETURN(in.patterns, capture::create_pattern_set(args.pattern, pattern_options));
+  GVKIT_ASSIGN_OR_RETURN(
+      in.left, capture::list_fringe_folder(sides[0], in.patterns->image_count(), args.folder));
+  GVKIT_ASSIGN_OR_RETURN(
+      in.right, capture::list_fringe_folder(sides[1], in.patterns->image_count(), args.folder));
+  if (in.left.images.size() != in.right.images.size())
+    return invalid_argument(sides[0].string() + " holds " + std::to_string(in.left.images.size()) +
+                            " images, " + sides[1].string() + " " +
+                            std::to_string(in.right.images.size()) +
+                            ": a camera pair needs one image per pattern in each");
+  GVKIT_ASSIGN_OR_RETURN(cv::Mat first_left, read_image(in.left.images.front(), true));
+  GVKIT_ASSIGN_OR_RETURN(cv::Mat first_right, read_image(in.right.images.front(), true));
+  if (first_left.size() != first_right.size())
+    return invalid_argument(
+        in.right.images.front().string() + " is " + size_text(first_right.size()) + ", but " +
+        in.left.images.front().string() + " is " + size_text(first_left.size()) +
+        ": the two cameras must give images of one size");
+  GVKIT_ASSIGN_OR_RETURN(CalibrationReadOptions read_options, calibration_read_options(args));
+  read_options.camera_size = first_left.size();
+  std::vector<fs::path> paths(args.calibration.begin(), args.calibration.end());
+  std::string names;
+  for (const fs::path& p : paths) names += (names.empty() ? "" : " + ") + p.string();
+  GVKIT_ASSIGN_OR_RETURN(TwoDeviceCalibration devices,
+                         read_two_device_calibration(paths, read_options));
+  Result<capture::StereoCalibration> calibration =
+      capture::stereo_calibration(devices, first_left.size());
+  if (!calibration)
+    return calibration.status().with_context(names + " with " + in.left.images.front().string());
+  in.calibration = *calibration;
+  return in;
+}
+
 }  // namespace gvkit::tools

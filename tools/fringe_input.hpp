@@ -11,6 +11,7 @@
 
 #include "gvkit/capture/fringe_folder.hpp"
 #include "gvkit/capture/pattern_set.hpp"
+#include "gvkit/capture/stereo_reconstructor.hpp"
 #include "gvkit/core/calibration.hpp"
 #include "gvkit/core/calibration_io.hpp"
 
@@ -31,6 +32,25 @@ struct FringeFolderInput {
   Calibration calibration;
   std::string calibration_note;  // how sizes and scale were settled, for the log and stats.json
 };
+
+// A camera pair: the same patterns seen by two cameras, in DIR/left + DIR/right (or DIR/cam0 +
+// DIR/cam1), one image per pattern each, equally many.
+struct StereoFolderInput {
+  std::unique_ptr<capture::PatternSet> patterns;
+  capture::FringeFolder left, right;
+  capture::StereoCalibration calibration;
+  std::string layout;  // "left/right" or "cam0/cam1"
+};
+
+// The pair of subfolders of dir when it holds a camera pair's images, else empty.
+std::vector<std::filesystem::path> stereo_subfolders(const std::filesystem::path& dir);
+
+// Resolves a camera pair: pattern set (absolute ones only), both folders (equal counts, equal
+// image sizes), the stereo calibration (OpenCV stereo_calib layout, or any two-device layout)
+// read for the images' size. Fails naming the folders or files.
+Result<StereoFolderInput> open_stereo_folder(const std::filesystem::path& dir,
+                                             const FringeInputArgs& args,
+                                             const capture::PatternSetOptions& pattern_options);
 
 // The calibration read options of the arguments (projector size, unit). Fails naming the option.
 Result<CalibrationReadOptions> calibration_read_options(const FringeInputArgs& args);

@@ -65,6 +65,7 @@ void run(const ReconstructArgs& args) {
   const fs::path input = args.input, output = args.output;
   std::optional<capture::SessionReader> session;
   std::optional<capture::FringeFolder> folder;
+  std::optional<StereoFolderInput> stereo;
   std::unique_ptr<capture::PatternSet> patterns;
   Calibration calibration;
   std::string calibration_note;
@@ -91,6 +92,12 @@ void run(const ReconstructArgs& args) {
                                           read_options))
               .calibration;
     }
+  } else if (!stereo_subfolders(input).empty()) {
+    stereo = value_or_throw(open_stereo_folder(input, args.in, args.pattern_options));
+    patterns = std::move(stereo->patterns);
+    calibration_note = "camera pair " + stereo->layout;
+    logger().info("reconstruct: a camera pair ({}), {} frames of {} images each", stereo->layout,
+                  stereo->left.frames.size(), patterns->image_count());
   } else {
     FringeFolderInput in = value_or_throw(open_fringe_folder(input, args.in, args.pattern_options));
     patterns = std::move(in.patterns);
@@ -102,11 +109,42 @@ void run(const ReconstructArgs& args) {
   }
   if (!args.ground_truth.empty() && !fs::is_directory(args.ground_truth))
     throw CommandFailed(not_found(args.ground_truth + ": no such folder (--ground-truth)"));
-  const capture::Reconstructor reconstructor =
-      value_or_throw(capture::Reconstructor::create(calibration, reconstruct_options));
+  // One frame's scan: projector-camera triangulation, or matching between a camera pair.
+  std::optional<capture::Reconstructor> reconstructor;
+  std::optional<capture::StereoReconstructor> pair;
+  if (stereo) {
+    capture::StereoOptions stereo_options;
+    stereo_options.min_depth_mm = reconstruct_options.min_depth_mm;
+    stereo_options.max_depth_mm = reconstruct_options.max_depth_mm;
+    if (!args.in.projector_size.empty())
+      stereo_options.projector_width =
+          value_or_throw(calibration_read_options(args.in)).projector_size.width;
+    pair.emplace(
+        value_or_throw(capture::StereoReconstructor::create(stereo->calibration, stereo_options)));
+    if (!patterns->absolute())
+      throw CommandFailed(invalid_argument(
+          "pattern set " + patterns->name() +
+          " is unwrapped spatially: its phase differs between the cameras by unknown whole "
+          "periods; a camera pair needs an absolute pattern set (mf, het, gray, cgray)"));
+  } else {
+    reconstructor.emplace(
+        value_or_throw(capture::Reconstructor::create(calibration, reconstruct_options)));
+  }
+  auto reconstruct_frame = [&](size_t i) -> Result<RangeScan> {
+    if (stereo) {
+      GVKIT_ASSIGN_OR_RETURN(FringeSet left, capture::read_fringe_frame(stereo->left, i));
+      GVKIT_ASSIGN_OR_RETURN(FringeSet right, capture::read_fringe_frame(stereo->right, i));
+      return pair->reconstruct(left, right, *patterns);
+    }
+    GVKIT_ASSIGN_OR_RETURN(FringeSet fringes, session ? session->read_frame(i)
+                                                      : capture::read_fringe_frame(*folder, i));
+    return reconstructor->reconstruct(fringes, *patterns);
+  };
   throw_if_error(ensure_directory(output));
 
-  const size_t count = session ? session->frame_count() : folder->frames.size();
+  const size_t count = session  ? session->frame_count()
+                       : stereo ? stereo->left.frames.size()
+                                : folder->frames.size();
   const nlohmann::json options = {{"pattern", patterns->name()},
                                   {"calibration", args.in.calibration},
                                   {"calibration_note", calibration_note},
@@ -148,12 +186,9 @@ void run(const ReconstructArgs& args) {
         return;
       }
     }
-    Result<FringeSet> fringes =
-        session ? session->read_frame(i) : capture::read_fringe_frame(*folder, i);
-    if (!fringes) return fail(fringes.status());
-    Result<RangeScan> scan = reconstructor.reconstruct(*fringes, *patterns);
+    Result<RangeScan> scan = reconstruct_frame(i);
     if (!scan) return fail(scan.status());
-    const int64_t index = fringes->index;
+    const int64_t index = scan->index;
     Status s = write_range_scan_exr(frame_path(output, index, ".exr"), *scan);
     if (s && args.ply)
       s = write_mesh(frame_path(output, index, ".ply"), capture::range_scan_mesh(*scan));

@@ -71,6 +71,7 @@ class GrayCodePattern : public PatternSet {
 
   std::string name() const override { return spec_.name(); }
   int image_count() const override { return spec_.image_count(); }
+  bool absolute() const override { return true; }
   double pitch_px(int projector_width) const override {
     if (spec_.pitch_px > 0) return spec_.pitch_px;
     if (!spec_.periods.empty()) return static_cast<double>(projector_width) / spec_.periods[0];

@@ -33,6 +33,7 @@ class HeterodynePattern : public PatternSet {
 
   std::string name() const override { return spec_.name(); }
   int image_count() const override { return spec_.image_count(); }
+  bool absolute() const override { return true; }
   double pitch_px(int projector_width) const override {
     return static_cast<double>(projector_width) / spec_.periods.front();
   }

@@ -19,6 +19,7 @@ class MultiFrequencyPattern : public PatternSet {
 
   std::string name() const override { return spec_.name(); }
   int image_count() const override { return steps_ * static_cast<int>(periods_.size()); }
+  bool absolute() const override { return true; }
   double pitch_px(int projector_width) const override {
     return static_cast<double>(projector_width) / periods_.front();
   }

@@ -13,6 +13,7 @@ class PhaseShiftPattern : public PatternSet {
 
   std::string name() const override { return spec_.name(); }
   int image_count() const override { return spec_.steps; }
+  bool absolute() const override { return false; }
   double pitch_px(int projector_width) const override {
     return static_cast<double>(projector_width) / spec_.periods[0];
   }

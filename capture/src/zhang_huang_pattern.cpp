@@ -15,6 +15,7 @@ class ZhangHuangPattern : public PatternSet {
 
   std::string name() const override { return "zh-f" + std::to_string(periods_); }
   int image_count() const override { return 3; }
+  bool absolute() const override { return false; }
   double pitch_px(int projector_width) const override {
     return static_cast<double>(projector_width) / periods_;
   }

@@ -76,6 +76,9 @@ class PatternSet {
   virtual int image_count() const = 0;
   // Projector pixels per period of the finest pattern, for a projector of the given width.
   virtual double pitch_px(int projector_width) const = 0;
+  // Whether decoding gives absolute phase (temporal unwrapping, Gray code), not phase known only
+  // up to whole periods per region (spatial unwrapping).
+  virtual bool absolute() const = 0;
 
   // The projector images for a projector of the given size: CV_32F in [0, 1] (linear intensity;
   // apply a gamma LUT before sending them to a real projector).
