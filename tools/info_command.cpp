@@ -111,14 +111,31 @@ void print_vector(const char* name, const std::vector<double>& v) {
 }
 
 void describe_calibration(const fs::path& path) {
-  const LoadedCalibration loaded = value_or_throw(read_calibration(path));
+  // Layouts without device sizes (procam, stereo_calib) are described all the same: a stand-in
+  // size lets the file be read, and the sizes are reported as not recorded.
+  CalibrationReadOptions stand_in;
+  stand_in.camera_size = stand_in.projector_size = {1, 1};
+  Result<LoadedCalibration> read = read_calibration(path);
+  if (!read) {
+    Result<LoadedCalibration> sizeless = read_calibration(path, stand_in);
+    if (!sizeless || (sizeless->camera_size_from_file && sizeless->projector_size_from_file))
+      throw CommandFailed(read.status());
+    read = sizeless;
+  }
+  const LoadedCalibration& loaded = *read;
   const Calibration& c = loaded.calibration;
-  std::printf("%s: calibration (%s format)\n", path.string().c_str(),
-              loaded.format == CalibrationFormat::kSlStudio ? "SLStudio" : "gvkit");
-  std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
+  std::printf("%s: calibration (%s layout)\n", path.string().c_str(),
+              calibration_format_name(loaded.format));
+  if (loaded.camera_size_from_file)
+    std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
+  else
+    std::printf("  camera      size not recorded (taken from the images)\n");
   print_matrix("camera K (px)", c.camera_K);
   print_vector("camera distortion", c.camera_dist);
-  std::printf("  projector   %dx%d px\n", c.projector_width, c.projector_height);
+  if (loaded.projector_size_from_file)
+    std::printf("  projector   %dx%d px\n", c.projector_width, c.projector_height);
+  else
+    std::printf("  projector   size not recorded (give --projector-size)\n");
   print_matrix("projector K (px)", c.projector_K);
   print_vector("projector distortion", c.projector_dist);
   print_matrix("R cam_from_proj", c.R_cam_from_proj);
