@@ -1028,29 +1028,55 @@ class MacroblockEncoder {
     std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
     int best_mode = order[0];
     if (p_.rdo) {
-      double best_cost = std::numeric_limits<double>::infinity();
       const int shortlist =
           p_.intra_rdo_shortlist > 0 ? std::min(p_.intra_rdo_shortlist, modes) : modes;
+      ModeResidual best;
       for (int k = 0; k < shortlist; ++k) {
         predict_td16(recon_, td_window_, mb_x_, mb_y_, order[k], p_.bit_depth, pred);
         add_cross(16, x0, y0, pred);
-        MacroblockData m = mb;
-        ContextSet scratch = trial;
-        const double cost = code_i16_residual(m, pred, scratch, true);
-        if (cost < best_cost) {
-          best_cost = cost;
+        ModeResidual m{mb, trial};
+        m.cost = code_i16_residual(m.mb, pred, m.contexts, true);
+        if (m.cost < best.cost) {
+          keep_mode_residual(m);
+          best = m;
           best_mode = order[k];
         }
       }
+      mb = best.mb;
+      mb.i16_mode = best_mode;
+      trial = best.contexts;
+      restore_mode_residual();
+      return best.cost + lambda_ * (side_bits - 2);
     }
     mb.i16_mode = best_mode;
     predict_td16(recon_, td_window_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
-    if (p_.rdo) return code_i16_residual(mb, pred, trial, true) + lambda_ * (side_bits - 2);
     const double cost =
         static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
     code_i16_residual(mb, pred, trial, true);
     return cost;
+  }
+
+  // ---- One 16x16 mode's coded residual (I16x16 and TD16 with RDO) ----
+  // A mode's macroblock data and contexts after code_i16_residual; keep_mode_residual saves the
+  // reconstructed samples and coded-block flags it left in the plane, restore_mode_residual puts
+  // the last kept ones back, so the best mode need not be coded a second time.
+  struct ModeResidual {
+    MacroblockData mb;
+    ContextSet contexts;
+    double cost = std::numeric_limits<double>::infinity();
+  };
+  void keep_mode_residual(const ModeResidual&) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) kept_recon_[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+    for (int i = 0; i < 16; ++i) kept_cbf_[i] = st_.cbf_at(mb_x_ * 4 + i % 4, mb_y_ * 4 + i / 4);
+  }
+  void restore_mode_residual() {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(x0 + x, y0 + y) = kept_recon_[y * 16 + x];
+    for (int i = 0; i < 16; ++i) st_.cbf_at(mb_x_ * 4 + i % 4, mb_y_ * 4 + i / 4) = kept_cbf_[i];
   }
 
   double try_i8(MacroblockData& mb, ContextSet& trial) {
@@ -1090,15 +1116,19 @@ class MacroblockEncoder {
       std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
       for (int k = 0; k < p_.intra_rdo_shortlist; ++k) listed[order[k]] = true;
     }
+    ModeResidual best;
     for (int mode = 0; mode < modes; ++mode) {
       if (!listed[mode]) continue;
       predict_i16(recon_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
       add_cross(16, x0, y0, pred);
       double cost;
       if (p_.rdo) {
-        MacroblockData m;
-        ContextSet scratch = trial;
-        cost = code_i16_residual(m, pred, scratch);
+        ModeResidual m{mb, trial};
+        cost = m.cost = code_i16_residual(m.mb, pred, m.contexts);
+        if (cost < best_cost) {
+          keep_mode_residual(m);
+          best = m;
+        }
       } else {
         cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * 2;
       }
@@ -1106,6 +1136,13 @@ class MacroblockEncoder {
         best_cost = cost;
         best_mode = mode;
       }
+    }
+    if (p_.rdo) {  // the best mode as it was coded
+      mb = best.mb;
+      mb.i16_mode = best_mode;
+      trial = best.contexts;
+      restore_mode_residual();
+      return best.cost;
     }
     predict_i16(recon_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
@@ -1351,6 +1388,9 @@ class MacroblockEncoder {
   int skip_mv_x_ = 0, skip_mv_y_ = 0;
   int merge_cand_[kMergeCandidates][2] = {};
   int merge_count_ = 0;
+  // keep_mode_residual's samples and coded-block flags of the current macroblock.
+  std::array<uint16_t, 256> kept_recon_{};
+  std::array<uint8_t, 16> kept_cbf_{};
   int merge_k_ = 0;
   int cur_ref_ = 0;  // reference of the inter candidate (reused by try_td)
   double last_cost_ = 0;
