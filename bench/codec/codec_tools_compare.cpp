@@ -500,6 +500,39 @@ void report_on_off(const Material& m, const EncoderOptions& base, const std::vec
                 fps[k][1] / fps[k][0]);
 }
 
+// Encoder speed decisions (encoder only, the stream syntax unchanged): per preset, the curve
+// with every decision off (the encoder before them), each decision alone and all of them
+// together; mean encode frames per CPU second and the BD-rate against the decisions off.
+struct SpeedVariant {
+  std::string name;
+  void (*set)(EncoderOptions&);
+};
+void report_speed(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                  const std::vector<Preset>& presets, const std::vector<SpeedVariant>& variants) {
+  print_header();
+  for (const Preset preset : presets) {
+    std::vector<std::vector<RdPoint>> curves;
+    std::vector<double> fps(variants.size(), 0.0);
+    for (size_t v = 0; v < variants.size(); ++v) {
+      EncoderOptions o = base;
+      o.preset = preset;
+      variants[v].set(o);
+      curves.push_back(
+          qp_curve(m, o, std::string(preset_name(preset)) + ", " + variants[v].name, qps, &fps[v]));
+    }
+    std::printf(
+        "\n| %s preset | encode fps (CPU, mean over the QPs) | speed | BD-rate "
+        "|\n|---|---|---|---|\n",
+        preset_name(preset));
+    for (size_t v = 0; v < variants.size(); ++v) {
+      const auto bd = bd_rate_percent(curves[0], curves[v]);
+      std::printf("| %s | %.2f | %.2fx | %s |\n", variants[v].name.c_str(), fps[v], fps[v] / fps[0],
+                  bd ? (std::to_string(*bd).substr(0, 6) + " %").c_str() : "no overlap");
+    }
+    std::fflush(stdout);
+  }
+}
+
 // Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
 // presets), lossless and near-lossless; BD-rates on vs off and against x265, and the scales.
 void report_cross_plane(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -879,7 +912,7 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
-       td16_only = false, quadratic_only = false, resolution_only = false;
+       td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -919,6 +952,8 @@ int main(int argc, char** argv) {
       intra_rdo_only = true;
     else if (a == "--temporal-contexts-only")
       temporal_only = true;
+    else if (a == "--speed-only")
+      speed_only = true;
     else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--td16-only")
@@ -959,7 +994,8 @@ int main(int argc, char** argv) {
     else if (a == "--refs-only")
       refs_only = true;
     else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
-              a == "--deblock-preset" || a == "--temporal-contexts-preset") &&
+              a == "--deblock-preset" || a == "--temporal-contexts-preset" ||
+              a == "--speed-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -1071,6 +1107,37 @@ int main(int argc, char** argv) {
                   set);
     return 0;
   };
+  if (speed_only) {
+    const std::vector<SpeedVariant> variants = {
+        {"decisions off",
+         [](EncoderOptions& o) {
+           o.rdo_shortlist = 0;
+           o.transform_early_exit = false;
+         }},
+        {"--rdo-shortlist 3",
+         [](EncoderOptions& o) {
+           o.rdo_shortlist = 3;
+           o.transform_early_exit = false;
+         }},
+        {"--rdo-shortlist 2",
+         [](EncoderOptions& o) {
+           o.rdo_shortlist = 2;
+           o.transform_early_exit = false;
+         }},
+        {"--transform-early-exit",
+         [](EncoderOptions& o) {
+           o.rdo_shortlist = 0;
+           o.transform_early_exit = true;
+         }},
+        {"all",
+         [](EncoderOptions& o) {
+           o.rdo_shortlist = 2;
+           o.transform_early_exit = true;
+         }},
+    };
+    report_speed(m, base, qps, refs_presets, variants);
+    return 0;
+  }
   if (rdoq_only)
     return on_off(refs_presets, "--rdoq", "--no-rdoq",
                   [](EncoderOptions& o, bool on) { o.rdoq = on; });

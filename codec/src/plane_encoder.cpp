@@ -850,11 +850,27 @@ class MacroblockEncoder {
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
-    // RDO on a shortlist (p_.intra_rdo_shortlist > 0, 4x4 blocks): the modes of the lowest
-    // SATD-based costs are coded; the others are not tried.
-    const int shortlist = n == 4 && p_.rdo ? p_.intra_rdo_shortlist : 0;
+    // RDO on a shortlist (p_.intra_rdo_shortlist > 0): the modes of the lowest SATD-based costs
+    // are coded; the others are not tried.
+    const int shortlist = p_.rdo ? p_.intra_rdo_shortlist : 0;
     bool listed[kIntra4x4ModeCount];
     std::fill(listed, listed + kIntra4x4ModeCount, shortlist == 0);
+    if (n == 8 && shortlist > 0 && shortlist < mode_count) {
+      double costs[kIntra4x4ModeCount];
+      int order[kIntra4x4ModeCount];
+      for (int mode = 0; mode < mode_count; ++mode) {
+        predict_intra(8, mode, nb, max_value_, pred);
+        add_cross(8, x0, y0, pred);
+        costs[mode] = static_cast<double>(distortion_estimate(8, pred, x0, y0)) +
+                      lambda_sad_ * mode_bits_estimate(mode, mpm);
+        order[mode] = mode;
+      }
+      std::partial_sort(order, order + shortlist, order + mode_count,
+                        [&](int a, int b) { return costs[a] < costs[b]; });
+      for (int k = 0; k < shortlist; ++k) listed[order[k]] = true;
+    } else if (n == 8) {
+      std::fill(listed, listed + kIntra4x4ModeCount, true);
+    }
     if (n == 4 && (!p_.rdo || shortlist > 0)) {
       // Fast decision: every mode predicted and measured in one pass over the neighbours.
       int32_t preds[kIntra4x4ModeCount][16];
@@ -888,7 +904,7 @@ class MacroblockEncoder {
       }
     }
     for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
-      if (!listed[mode] && n == 4) continue;
+      if (!listed[mode]) continue;
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
@@ -1183,7 +1199,13 @@ class MacroblockEncoder {
     uint8_t best_cbp = 0;
     ContextSet best_ctx;
     std::array<uint16_t, 256> best_recon;
-    for (int size = 4; size <= p_.max_transform; size *= 2) {
+    // Early exit (p_.transform_early_exit): the largest size first; when it leaves no level,
+    // or a smaller size costs more than a larger one, the smaller sizes are not tried.
+    const bool early_exit = p_.transform_early_exit && p_.rdo;
+    double previous_cost = std::numeric_limits<double>::infinity();
+    for (int k = 0, size = early_exit ? p_.max_transform : 4; k < 3;
+         ++k, size = early_exit ? size / 2 : size * 2) {
+      if (size < 4 || size > p_.max_transform) break;
       // Fast preset: 4x4 or the largest size only (8x8 as well would cost ~10 % of its speed).
       if (!p_.rdo && size != 4 && size != p_.max_transform) continue;
       ContextSet t = trial;
@@ -1195,7 +1217,7 @@ class MacroblockEncoder {
         write_transform_size(counter, t, st_, mb_x_, mb_y_, size, mb.cbp, p_.max_transform);
         cost += lambda_ * counter.bits();
       }
-      if (cost < best_cost) {
+      if (early_exit ? cost <= best_cost : cost < best_cost) {
         best_cost = cost;
         best_size = size;
         best_cbp = mb.cbp;
@@ -1203,6 +1225,8 @@ class MacroblockEncoder {
         for (int y = 0; y < 16; ++y)
           for (int x = 0; x < 16; ++x) best_recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
       }
+      if (early_exit && (mb.cbp == 0 || cost > previous_cost)) break;
+      previous_cost = cost;
     }
     // Slow preset with RDO quantization: no residual at all (cbp 0), the prediction as the
     // reconstruction, when that is cheaper than every size's levels (whose cost does not count
