@@ -1101,6 +1101,7 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + (q & 1) * 2, gy = mb_y_ * 4 + (q >> 1) * 2;
       cost += try_block_modes(8, q * 4, kIntra8x8ModeCount, most_probable_mode(st_, gx, gy, true),
                               trial, &mb.modes[q], mb.levels8[q]);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int q = 0; q < 4; ++q)
