@@ -9,7 +9,8 @@
 //   - threads: encode wall time and bytes identical to one thread
 //   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
-// Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
+// Usage: codec_tools_compare [--ict DIR | --gv DIR [--no-texture]] [--size N] [--frames N] [--gop
+// N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
@@ -923,7 +924,8 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
-       td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false;
+       td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false,
+       no_texture = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -947,6 +949,8 @@ int main(int argc, char** argv) {
       ict = argv[++i];
     else if (a == "--gv" && i + 1 < argc)
       gv_dir = argv[++i];
+    else if (a == "--no-texture")
+      no_texture = true;
     else if (a == "--size" && i + 1 < argc)
       vo.size = std::atoi(argv[++i]);
     else if (a == "--frames" && i + 1 < argc)
@@ -1040,7 +1044,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: no frame_NNNNNN.exr files\n", gv_dir.c_str());
       return 1;
     }
-    for (const auto& f : *files) m.frames.push_back(read_geometry_image_exr(f.path).value());
+    for (const auto& f : *files) {
+      m.frames.push_back(read_geometry_image_exr(f.path).value());
+      if (no_texture) m.frames.back().texture = cv::Mat();  // --no-texture: X, Y, Z only
+    }
   } else {
     auto frames = testing::make_ict_face_video(ict, vo);
     if (!frames.is_ok()) {

@@ -48,7 +48,7 @@ const std::map<std::string, std::string> kSamples = {
     {"joint-motion-search", "on"},
     {"skip-check", "yes"},
     {"rdo-shortlist", "2"},
-    {"transform-early-exit", "off"},
+    {"transform-early-exit", "on"},
     {"buffer-seconds", "2.5"},
     {"target-rms-mm", "0.1"},
     {"intra-target-offset", "2"},
