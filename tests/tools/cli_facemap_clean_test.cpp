@@ -30,11 +30,12 @@ TEST(CliFacemapClean, MeshesInFacesOutBadFrameSkipped) {
     ASSERT_TRUE(
         write_face_landmarks(frame_path(in.path(), i, ".landmarks.json"), landmarks).is_ok());
   }
-  // Frame 2: a mesh without its landmarks file.
+  // Frame 2: a mesh without its landmarks file, and detection off (--no-detect).
   ASSERT_TRUE(
       write_mesh(frame_path(in.path(), 2, ".ply"), model->face_mesh(model->neutral_mm())).is_ok());
 
-  auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string());
+  auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string() +
+                     " --no-detect");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("frame_000002.landmarks.json"), std::string::npos) << r.output;
   for (int i = 0; i < 2; ++i) {
