@@ -59,6 +59,14 @@ Status MeshLandmarkOptions::check() const {
     return invalid_argument("mesh landmarks: max gap must be in 0..100 px");
   if (!(max_cavity_depth >= 0.0 && max_cavity_depth <= 1.0))
     return invalid_argument("mesh landmarks: max cavity depth must be in [0, 1]");
+  if (!(face_fill > 0.1 && face_fill <= 1.0))
+    return invalid_argument("mesh landmarks: face fill must be in (0.1, 1]");
+  if (!(min_face_span >= 0.0 && min_face_span <= 1.0))
+    return invalid_argument("mesh landmarks: min face span must be in [0, 1]");
+  if (!(max_oblique_deg >= 0.0 && max_oblique_deg <= 180.0))
+    return invalid_argument("mesh landmarks: max oblique angle must be in [0, 180] degrees");
+  if (!(std::abs(frontal_pitch_deg) <= 45.0))
+    return invalid_argument("mesh landmarks: frontal pitch must be in [-45, 45] degrees");
   return Status::ok();
 }
 
@@ -204,22 +212,45 @@ Status lift_landmarks(const Mesh& mesh, const std::string& name, const MeshLandm
     int py = std::clamp(static_cast<int>(std::lround(p.y)), 0, n - 1);
     int tri = r.triangle.at<int>(py, px);
     // An eye or lip contour point seen through an opening into a cavity (an eye socket, the
-    // mouth of a whole head) lands deep behind the lids or lips: it moves to the nearest pixel of
-    // the front surface around it.
+    // mouth of a whole head) lands deep behind the lids or lips: the surface under it is cut off
+    // from the front surface around it by a depth jump (an occluding edge, not a slope like a
+    // mouth corner's), and it moves to the nearest pixel of that front surface.
     if (tri >= 0 && i >= 36 && options.max_cavity_depth > 0) {
       const int reach = static_cast<int>(std::ceil(options.max_gap_px));
       const int y0 = std::max(0, py - reach), y1 = std::min(n - 1, py + reach);
       const int x0 = std::max(0, px - reach), x1 = std::min(n - 1, px + reach);
+      const int w = x1 - x0 + 1;
+      auto depth = [&](int x, int y) { return r.depth.at<double>(y, x); };
       double front = -std::numeric_limits<double>::infinity();
       for (int yy = y0; yy <= y1; ++yy)
-        for (int xx = x0; xx <= x1; ++xx) front = std::max(front, r.depth.at<double>(yy, xx));
+        for (int xx = x0; xx <= x1; ++xx) front = std::max(front, depth(xx, yy));
       const double step = options.max_cavity_depth * face_mm;
-      if (r.depth.at<double>(py, px) < front - step) {
+      // The pixels reached from the point without crossing a jump: the point's own layer.
+      const double jump = std::max(5.0 * r.pixel_mm, 0.25 * step);
+      std::vector<char> layer(static_cast<size_t>(w) * (y1 - y0 + 1), 0);
+      std::vector<std::pair<int, int>> stack = {{px, py}};
+      layer[(py - y0) * w + (px - x0)] = 1;
+      double layer_front = depth(px, py);
+      while (!stack.empty()) {
+        const auto [x, y] = stack.back();
+        stack.pop_back();
+        layer_front = std::max(layer_front, depth(x, y));
+        const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+        for (int k = 0; k < 4; ++k) {
+          const int xx = x + dx[k], yy = y + dy[k];
+          if (xx < x0 || xx > x1 || yy < y0 || yy > y1 || layer[(yy - y0) * w + (xx - x0)] ||
+              r.triangle.at<int>(yy, xx) < 0 || std::abs(depth(xx, yy) - depth(x, y)) > jump)
+            continue;
+          layer[(yy - y0) * w + (xx - x0)] = 1;
+          stack.emplace_back(xx, yy);
+        }
+      }
+      if (layer_front < front - step) {
         double best = 1e300;
         for (int yy = y0; yy <= y1; ++yy)
           for (int xx = x0; xx <= x1; ++xx) {
             const double d2 = (xx - p.x) * (xx - p.x) + (yy - p.y) * (yy - p.y);
-            if (r.depth.at<double>(yy, xx) >= front - step && d2 < best)
+            if (!layer[(yy - y0) * w + (xx - x0)] && depth(xx, yy) >= front - step && d2 < best)
               best = d2, px = xx, py = yy;
           }
         p = cv::Point2f(static_cast<float>(px), static_cast<float>(py));
@@ -323,23 +354,42 @@ Result<MeshLandmarks> detect_mesh_landmarks(const Mesh& mesh, const LandmarkDete
         ", " + std::to_string(views.size()) + " views x 4 rolls); give its landmarks in a file");
   GVKIT_RETURN_IF_ERROR(lift_landmarks(mesh, name, options, &out));
 
-  // The view found may be oblique (a whole head's mean normal): look again straight at the face
-  // the landmarks span (eyes and mouth upright), framed on it, and keep what is found there.
+  // The view found may show the face small (a whole head) or obliquely: then look again straight
+  // at the face the landmarks span (eyes and mouth upright), framed on it, and keep what is found
+  // there.
   const auto& q = out.landmarks.points_mm;
   cv::Vec3d right(0, 0, 0), left(0, 0, 0), mouth(0, 0, 0);
   for (int i = 36; i < 42; ++i) right += cv::Vec3d(q[i]) / 6.0;
   for (int i = 42; i < 48; ++i) left += cv::Vec3d(q[i]) / 6.0;
   for (int i = 48; i < 68; ++i) mouth += cv::Vec3d(q[i]) / 20.0;
-  const cv::Vec3d up = 0.5 * (right + left) - mouth;
-  const cv::Vec3d facing = (left - right).cross(up);
-  if (cv::norm(facing) > 1e-12 && cv::norm(up) > 1e-12) {
+  const cv::Vec3d eye_axis = (left - right) / std::max(cv::norm(left - right), 1e-12);
+  // The normal of the eyes-mouth plane looks down on a face (the mouth stands out in front of the
+  // eyes); a frontal camera is level: turned down about the eye axis by frontal_pitch_deg.
+  const cv::Vec3d eyes_to_mouth_up = 0.5 * (right + left) - mouth;
+  const cv::Vec3d up = rotated(eyes_to_mouth_up, eye_axis, options.frontal_pitch_deg);
+  const cv::Vec3d facing =
+      rotated((left - right).cross(eyes_to_mouth_up), eye_axis, options.frontal_pitch_deg);
+  cv::Point2f lo(1e30f, 1e30f), hi(-1e30f, -1e30f);
+  for (int i = 17; i < FaceLandmarks::kCount; ++i) {
+    const cv::Point2f& p = out.landmarks.points_px[i];
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+  }
+  const double span = std::max(hi.x - lo.x, hi.y - lo.y) / out.render.image.cols;
+  const double oblique_deg =
+      cv::norm(facing) > 1e-12
+          ? std::acos(std::clamp(out.view.dot(facing / cv::norm(facing)), -1.0, 1.0)) * 180 / CV_PI
+          : 0.0;
+  const bool small = span < options.min_face_span;
+  if ((small || oblique_deg > options.max_oblique_deg) && cv::norm(facing) > 1e-12 &&
+      cv::norm(up) > 1e-12) {
     MeshRenderOptions framed = options.render;
     cv::Vec3d centre(0, 0, 0);
     double extent = 0;
     for (int i = 17; i < 68; ++i) centre += cv::Vec3d(q[i]) / 51.0;
     for (int i = 17; i < 68; ++i) extent = std::max(extent, cv::norm(cv::Vec3d(q[i]) - centre));
     framed.centre_mm = centre;
-    framed.pixel_mm = 2.0 * extent / (0.5 * (framed.size_px - 1));
+    framed.pixel_mm = 2.0 * extent / (options.face_fill * (framed.size_px - 1));
     MeshLandmarks again;
     again.render = render_mesh(mesh, facing / cv::norm(facing), up, framed, texture);
     auto detected = detector.detect(again.render.image);

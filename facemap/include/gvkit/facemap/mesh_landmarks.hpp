@@ -12,9 +12,10 @@
 // (+z, -z, +y, -y, +x, -x) follow, skipping those within 30 degrees of one tried. The in-plane
 // roll is unknown for an arbitrary mesh, so each view is tried upright (model +y up, or +z when
 // looking along y) and rotated by 180, 90 and 270 degrees; the first view and roll where dlib
-// finds a face wins. The landmarks found there give the face's own frame (eyes, mouth): the mesh
-// is rendered once more straight at the face, upright and framed on it, and the landmarks found
-// in that render are kept (those of the first when dlib finds none there).
+// finds a face wins. When that face is small in the render (a whole head) or seen obliquely, the
+// landmarks found there give the face's own frame (eyes, mouth): the mesh is rendered once more
+// straight at the face, upright and framed on it, and the landmarks found in that render are
+// kept (those of the first when dlib finds none there).
 //
 // Landmarks given in a file (landmark_points_io.hpp) find their place on a mesh with
 // landmarks_on_mesh: 3-D points are taken as they are (scaled like the mesh), 2-D points are
@@ -75,10 +76,22 @@ struct MeshLandmarkOptions {
   // A landmark on no triangle of the render (over a hole: an eye or an open mouth) takes the
   // nearest covered pixel up to this far; farther fails.
   double max_gap_px = 12.0;
-  // An eye or lip landmark (36-67) on a surface deeper than this share of the face's width
-  // behind the front-most surface within max_gap_px (seen through an opening into an eye socket
-  // or a whole head's mouth) moves to the nearest pixel of the front surface. 0: off.
+  // An eye or lip landmark (36-67) on a surface cut off by a depth jump from the surface around
+  // it and deeper than this share of the face's width behind the front-most surface within
+  // max_gap_px (seen through an opening into an eye socket or a whole head's mouth) moves to the
+  // nearest pixel of the front surface. 0: off.
   double max_cavity_depth = 0.06;
+  // When the face found spans less than min_face_span of the render (landmarks 17-67; a whole
+  // head shows its face small) or the view is more than max_oblique_deg from the face's own
+  // normal (eyes and mouth), the mesh is rendered again straight at the face, upright, framed so
+  // that the landmarks span face_fill of the image.
+  double min_face_span = 0.4;
+  double max_oblique_deg = 30.0;
+  double face_fill = 0.6;
+  // "Straight at the face": the normal of the plane of the eyes and the mouth turned down about
+  // the eye axis by this (that normal looks down on a face; the ICT model's own frontal
+  // direction lies 14 degrees below it).
+  double frontal_pitch_deg = 15.0;
   Status check() const;
 };
 
