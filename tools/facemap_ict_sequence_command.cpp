@@ -83,8 +83,16 @@ void run(const Options& o) {
   nlohmann::json sequence = {{"ict_dir", o.ict_dir}, {"program", o.program}};
   nlohmann::json per_frame = nlohmann::json::array();
   for (size_t k = 0; k < frames.size(); ++k) {
+    // One triangulation for every frame (the neutral face's quad diagonals: the shorter one of
+    // an expression's quad may be the other), so all frames share one vertex layout.
     const auto positions = model.evaluate(frames[k]);
-    Mesh mesh = model.face_mesh(positions);
+    std::vector<int> original;
+    Mesh mesh = model.triangle_mesh(
+        model.neutral_mm(), [](int v) { return v < IctFaceModel::kFaceVertexCount; }, &original);
+    for (auto v : mesh.vertices()) {
+      const cv::Vec3d& p = positions[original[v.idx()]];
+      mesh.set_point(v, Mesh::Point(p[0], p[1], p[2]));
+    }
     mesh.request_vertex_colors();
     for (auto v : mesh.vertices()) {
       // Shade by depth so the texture channel carries something face-like.

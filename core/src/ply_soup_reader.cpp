@@ -321,7 +321,7 @@ Status read_ply_soup(const fs::path& path, const std::string& bytes, TriangleSou
               static_cast<float>(std::clamp(v / colour_scale(p.type), 0.0, 1.0));
         if (r == kU) point_uv[k][0] = static_cast<float>(v);
         if (r == kV) point_uv[k][1] = static_cast<float>(v);
-        if (r == kTexNumber) texnumber = static_cast<int>(v);
+        if (r == kTexNumber) texnumber = v >= 0 && v < 1e6 ? static_cast<int>(v) : -1;
       }
       if (!is_face) continue;
       ++soup->polygons;
@@ -344,7 +344,7 @@ Status read_ply_soup(const fs::path& path, const std::string& bytes, TriangleSou
                                             : cv::Vec2f(0, 0));
         }
       }
-      if (texture >= static_cast<int>(soup->texture_paths.size())) texture = -1;
+      if (texture < 0 || texture >= static_cast<int>(soup->texture_paths.size())) texture = -1;
       polygons->texture.push_back(texture);
     }
   }

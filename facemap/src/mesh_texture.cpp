@@ -19,6 +19,7 @@ cv::Vec2f texture_uv(const cv::Mat& image, const cv::Point2f& pixel) {
 namespace {
 
 cv::Vec3f sample_bgr(const cv::Mat& image, const cv::Vec2f& uv) {
+  if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) return {0.5f, 0.5f, 0.5f};
   const cv::Vec2d p = texture_pixel(image, uv);
   const double x = std::clamp(p[0], 0.0, image.cols - 1.0),
                y = std::clamp(p[1], 0.0, image.rows - 1.0);
