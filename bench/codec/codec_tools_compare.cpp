@@ -19,7 +19,6 @@
 //                            [--deblock-only [--deblock-preset fast|slow] [--deblock-beta N]
 //                             [--deblock-tc N]] [--intra-rdo-only]
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
-//                            [--compact-segments-only] [--compact-packets-only]
 //                            [--merge-only] [--td16-only] [--quadratic-intra-only]
 //                            [--resolution-only]
 //                            [--qps Q1,Q2,...]
@@ -43,9 +42,8 @@
 // --deblock-beta (quarter quantizer steps) and --deblock-tc (sixteenths; defaults: the
 // encoder's); --intra-rdo-only: the fast preset's RDO in I frames off / on (the slow preset
 // ignores the option); --temporal-contexts-only: format 1.9 temporal contexts off / on in both
-// presets (or the one of --temporal-contexts-preset); --compact-segments-only: format 1.9 compact
-// segment sizes off / on in both presets; --compact-packets-only: format 1.10 compact packets
-// off / on in both presets; --merge-only: format 1.11 merge off / on in both presets;
+// presets (or the one of --temporal-contexts-preset); --merge-only: format 1.11 merge off / on in
+// both presets;
 // --td16-only: format 1.12 TD16 off / on in both presets, and lossless (fast) off / on;
 // --resolution-only: format 1.14 half resolution, --resolution full / auto in both presets;
 // --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets, and lossless
@@ -880,9 +878,8 @@ int main(int argc, char** argv) {
   bool peers = true, rate_only = false, subpel_only = false, bits_only = false, motion_only = false,
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
-       deblock_only = false, intra_rdo_only = false, temporal_only = false, compact_only = false,
-       packets_only = false, merge_only = false, td16_only = false, quadratic_only = false,
-       resolution_only = false;
+       deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
+       td16_only = false, quadratic_only = false, resolution_only = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -922,10 +919,6 @@ int main(int argc, char** argv) {
       intra_rdo_only = true;
     else if (a == "--temporal-contexts-only")
       temporal_only = true;
-    else if (a == "--compact-segments-only")
-      compact_only = true;
-    else if (a == "--compact-packets-only")
-      packets_only = true;
     else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--td16-only")
@@ -987,7 +980,7 @@ int main(int argc, char** argv) {
           "[--partitions-only [--partitions-preset P]] [--rdoq-only [--rdoq-preset P]] "
           "[--deblock-only [--deblock-preset P] [--deblock-beta N] [--deblock-tc N]] "
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
-          "[--compact-segments-only] [--compact-packets-only] [--merge-only] [--td16-only] "
+          "[--merge-only] [--td16-only] "
           "[--quadratic-intra-only] [--resolution-only] "
           "[--write-streams DIR] [--qps Q1,Q2,...]\n");
       return 2;
@@ -1127,12 +1120,6 @@ int main(int argc, char** argv) {
                            [](EncoderOptions& o, bool on) { o.quadratic_intra = on; });
   if (td16_only)
     return on_off_lossless("--td16", "--no-td16", [](EncoderOptions& o, bool on) { o.td16 = on; });
-  if (packets_only)
-    return on_off(refs_presets, "--compact-packets", "--no-compact-packets",
-                  [](EncoderOptions& o, bool on) { o.compact_packets = on; });
-  if (compact_only)
-    return on_off(refs_presets, "--compact-segments", "--no-compact-segments",
-                  [](EncoderOptions& o, bool on) { o.compact_segments = on; });
   if (temporal_only)
     return on_off(refs_presets, "--temporal-contexts", "--no-temporal-contexts",
                   [](EncoderOptions& o, bool on) { o.temporal_contexts = on; });

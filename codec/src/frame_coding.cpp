@@ -193,8 +193,8 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
                            const std::vector<const std::vector<SamplePlane>*>* older,
                            ReferenceInterpolationCache* cache) {
   format::PacketHeader header;
-  header.compact = options.compact_packets;  // format 1.10
-  header.half_resolution = half;             // format 1.14
+  header.compact = true;          // every 2.0 packet
+  header.half_resolution = half;  // packet type bit 4
   // The domain at the coded resolution (value prediction's fit).
   const cv::Mat mask = half ? half_domain_mask(info.domain_mask) : info.domain_mask;
   const bool bidirectional = reference1 != nullptr;
@@ -303,8 +303,8 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;
       p.skip_check = options.skip_check;
-      p.end_of_plane_bin = !options.compact_packets;  // format 1.10
-      if (p.subpel) p.subpel = options.subpel;        // the encoder's refinement precision
+      p.end_of_plane_bin = false;               // compact packets
+      if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;
       // Multiple references: this plane of references 1 .. ref_count - 1 (value prediction
       // maps reference 0 only).
@@ -374,10 +374,10 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
     }
   }
   ByteWriter payload;
-  payload.u8(static_cast<uint8_t>(
-      planes.size() | (options.compact_segments ? format::kPayloadCompactSegments : 0) |
-      (syntax.merge ? format::kPayloadMerge : 0) | (syntax.td16 ? format::kPayloadTd16 : 0) |
-      (syntax.quadratic_intra ? format::kPayloadQuadraticIntra : 0)));
+  payload.u8(static_cast<uint8_t>(planes.size() | format::kPayloadCompactSegments |
+                                  (syntax.merge ? format::kPayloadMerge : 0) |
+                                  (syntax.td16 ? format::kPayloadTd16 : 0) |
+                                  (syntax.quadratic_intra ? format::kPayloadQuadraticIntra : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
@@ -393,9 +393,7 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
-    if (!options.compact_segments)
-      payload.u32(static_cast<uint32_t>(c.bytes.size()));
-    else if (&c != &coded.back())  // format 1.9: the last segment takes the rest
+    if (&c != &coded.back())  // compact sizes: the last segment takes the rest
       payload.varint(c.bytes.size());
     payload.bytes(c.bytes);
     recon.push_back(std::move(c.reconstruction));

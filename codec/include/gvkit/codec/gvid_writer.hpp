@@ -1,5 +1,6 @@
 #pragma once
-// GvidWriter: encodes geometry images into a .gvid file. The stream goes to a temporary file
+// GvidWriter: encodes geometry images into a .gvid file: a format 2.0 stream of the profile
+// options.resolved_profile() names. The stream goes to a temporary file
 // beside the target ("<path>.tmp-<pid>") and is renamed over the target by finish(), so a failed
 // or abandoned encode never leaves a partial .gvid behind. Packets are written in decode order
 // (SequenceEncoder): with B frames a frame's packet is written once the anchor after it is.
@@ -92,13 +93,6 @@ Result<EncodedFrame> encode_sequence_frame(
     QualityController* quality = nullptr,
     const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
     ReferenceInterpolationCache* cache = nullptr);
-
-// The minor version a stream with these options is written as: 10 with compact packet headers
-// (the default), else that of the newest tool the options turn on (docs/bitstream.md 1): 9 with
-// temporal contexts or compact segment sizes, ..., 6 when P frames may use several reference
-// frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a stream
-// without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
-uint8_t stream_minor_version(const EncoderOptions& options);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;
 // frame_stats (optional) receives each frame's bit accounting.
