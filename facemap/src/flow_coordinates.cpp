@@ -8,6 +8,7 @@
 #include <Eigen/SparseLU>
 
 #include "directed_edges.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace gvkit::facemap {
 
@@ -147,23 +148,37 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
 
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u,
-                                         RimCorrespondence rim, double min_cotan_weight) {
+                                         RimCorrespondence rim, double min_cotan_weight,
+                                         HarmonicSolver solver) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
   out.min_cotan_weight = min_cotan_weight;
+  double clock = thread_cpu_ms();
+  auto lap = [&clock](double* ms) {
+    const double now = thread_cpu_ms();
+    *ms += now - clock;
+    clock = now;
+  };
   const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(s, min_cotan_weight);
+  lap(&out.timing.laplacian_ms);
   std::vector<char> fixed(n, 0);
   std::vector<double> value(n, 0.0);
   for (int v : annulus.outer_loop) fixed[v] = 1, value[v] = 0.0;
   for (int v : annulus.inner_loop) fixed[v] = 1, value[v] = 1.0;
-  // f and psi: two systems of the same Laplacian, one elimination order.
-  const std::vector<int> order = laplacian_elimination_order(laplacian);
-  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order));
+  // f and psi: two systems of the same Laplacian, one elimination order (direct solves only).
+  out.solver = resolve_harmonic_solver(solver, n);
+  const std::vector<int> order = out.solver == HarmonicSolver::kDirect
+                                     ? laplacian_elimination_order(laplacian)
+                                     : std::vector<int>{};
+  lap(&out.timing.order_ms);
+  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order, out.solver));
   out.field_report = check_harmonic_field(s, laplacian, fixed, out.t);
+  lap(&out.timing.f_ms);
   GVKIT_ASSIGN_OR_RETURN(
       std::vector<double> psi,
-      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order));
+      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order, out.solver));
+  lap(&out.timing.psi_ms);
 
   // Boundary parameter u along the inner loop (loop order, u(0) at the anchor key).
   const std::vector<int>& loop = annulus.inner_loop;
@@ -362,8 +377,10 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   std::vector<char> on_boundary(n, 0);
   for (int v : annulus.outer_loop) on_boundary[v] = 2;
   for (int v : annulus.inner_loop) on_boundary[v] = 1;
+  lap(&out.timing.correspondence_ms);
   out.untangled_vertices = untangle_flow_coordinates(s, on_boundary, &out.t, &out.corner_s);
   out.flipped = count_flipped(s, out.t, out.corner_s);
+  lap(&out.timing.untangle_ms);
   return out;
 }
 

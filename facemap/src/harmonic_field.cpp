@@ -14,6 +14,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "directed_edges.hpp"
+#include "gvkit/facemap/multigrid_solver.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -74,12 +75,20 @@ Eigen::SparseMatrix<double> reduced_matrix(const Eigen::SparseMatrix<double>& l,
   return a;
 }
 
-// Factorizes a (the reduced system, already in elimination order when `ordered`) and solves.
+// Solves a x = rhs (a: the reduced system, already in elimination order when `ordered`): factorized
+// directly, or by multigrid (which ignores the order).
 Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a,
                                             const Eigen::VectorXd& rhs, bool ordered,
-                                            const std::string& what) {
+                                            HarmonicSolver solver, const std::string& what) {
   Eigen::VectorXd x;
   bool ok = false;
+  if (resolve_harmonic_solver(solver, static_cast<int>(a.rows())) == HarmonicSolver::kMultigrid) {
+    MultigridSolver multigrid;
+    Status status = multigrid.compute(a);
+    if (status.is_ok()) status = multigrid.solve(rhs, &x);
+    if (!status.is_ok()) return failed_precondition(what + ": " + status.message());
+    return x;
+  }
   if (ordered) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
         solver(a);
@@ -96,6 +105,11 @@ Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a
 }
 
 }  // namespace
+
+HarmonicSolver resolve_harmonic_solver(HarmonicSolver solver, int n_free) {
+  if (solver != HarmonicSolver::kAuto) return solver;
+  return n_free >= kMultigridMinVertices ? HarmonicSolver::kMultigrid : HarmonicSolver::kDirect;
+}
 
 std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian) {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
@@ -139,7 +153,7 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double mi
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
                                             const std::vector<double>& value,
-                                            const std::vector<int>& order) {
+                                            const std::vector<int>& order, HarmonicSolver solver) {
   const int n = static_cast<int>(laplacian.rows());
   GVKIT_CHECK(static_cast<int>(fixed.size()) == n && static_cast<int>(value.size()) == n);
   std::vector<int> index;
@@ -158,7 +172,7 @@ Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& l
   }
   const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
   GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
-                         factorize_and_solve(a, rhs, !order.empty(), "harmonic field"));
+                         factorize_and_solve(a, rhs, !order.empty(), solver, "harmonic field"));
   for (int i = 0; i < n; ++i)
     if (!fixed[i]) f[i] = x[index[i]];
   return f;
@@ -197,7 +211,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
                                                const std::vector<int>& outer_loop,
-                                               const std::vector<int>& order) {
+                                               const std::vector<int>& order,
+                                               HarmonicSolver solver) {
   const int n = surface.n_vertices();
   // Seam: shortest path (by length) from inner_loop[0] through interior vertices to the outer
   // boundary.
@@ -313,7 +328,7 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
     if (!fixed[i]) b[index[i]] = rhs[i];
   const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
   GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
-                         factorize_and_solve(a, b, !order.empty(), "harmonic conjugate"));
+                         factorize_and_solve(a, b, !order.empty(), solver, "harmonic conjugate"));
   std::vector<double> psi(surface.n_triangles() * 3);
   for (int k = 0; k < surface.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) {
