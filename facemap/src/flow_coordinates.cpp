@@ -1,6 +1,7 @@
 #include "gvkit/facemap/flow_coordinates.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +32,32 @@ int majority_sign(const TriSurface& s, const std::vector<double>& t,
     positive += a > 0, negative += a < 0;
   }
   return positive >= negative ? 1 : -1;
+}
+
+// out[c] = value(v, psi[c]) for every corner c = 3k + j of vertex v = triangles[k][j], evaluated
+// once per distinct psi of each vertex: a vertex's corners carry its psi, or psi + 1 across the
+// seam, so two evaluations per vertex instead of one per corner, with the same numbers.
+template <class Value>
+void per_corner_values(const TriSurface& s, const std::vector<double>& psi, Value value,
+                       std::vector<double>* out) {
+  const int n = s.n_vertices();
+  std::vector<std::array<double, 2>> x(n), y(n);
+  std::vector<char> known(n, 0);
+  out->resize(psi.size());
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const int c = 3 * k + j, v = s.triangles[k][j];
+      const double p = psi[c];
+      int slot = 0;
+      while (slot < known[v] && x[v][slot] != p) ++slot;
+      if (slot < known[v]) {
+        (*out)[c] = y[v][slot];
+        continue;
+      }
+      const double result = value(v, p);
+      (*out)[c] = result;
+      if (known[v] < 2) x[v][known[v]] = p, y[v][known[v]] = result, ++known[v];
+    }
 }
 
 }  // namespace
@@ -253,8 +280,8 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
     const double w = (y - loop_psi[lo]) / (loop_psi[hi] - loop_psi[lo]);
     return u[lo] + std::clamp(w, 0.0, 1.0) * (u[hi] - u[lo]) + shift;
   };
-  out.corner_s.resize(psi.size());
-  for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
+  per_corner_values(
+      s, psi, [&](int, double x) { return phi(x); }, &out.corner_s);
 
   // The rim's correspondence: arc length from the rim anchor, as a map of psi like phi.
   if (rim != RimCorrespondence::kFlow && annulus.rim_anchor[0] >= 0) {
@@ -354,12 +381,13 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
       mean_diff += (phi(x) - phi_rim(x)) / 64;
     }
     const double periods = std::round(mean_diff);
-    for (int k = 0; k < s.n_triangles(); ++k)
-      for (int j = 0; j < 3; ++j) {
-        const double w = out.t[s.triangles[k][j]];
-        const double x = psi[3 * k + j];
-        out.corner_s[3 * k + j] = (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
-      }
+    per_corner_values(
+        s, psi,
+        [&](int v, double x) {
+          const double w = out.t[v];
+          return (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
+        },
+        &out.corner_s);
     out.rim = rim;
   }
   // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to

@@ -148,6 +148,8 @@ struct MultigridSolver::Hierarchy {
     SparseMatrix a;                    // this level's matrix
     Eigen::VectorXd inverse_diagonal;  // of a
     SparseMatrix p, r;                 // prolongation to this level from the next, and P^T
+    // The V-cycle's work vectors (one solve at a time).
+    mutable Eigen::VectorXd residual, coarse_b, coarse_x;
   };
   std::vector<Level> levels;
   Eigen::SimplicialLDLT<SparseMatrix> coarsest;
@@ -162,12 +164,10 @@ struct MultigridSolver::Hierarchy {
     }
     x->setZero(b.size());
     for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, true);
-    Eigen::VectorXd r;
-    residual_of(level.a, b, *x, &r);
-    const Eigen::VectorXd coarse_b = level.r * r;
-    Eigen::VectorXd coarse_x;
-    cycle(l + 1, coarse_b, &coarse_x);
-    *x += level.p * coarse_x;
+    residual_of(level.a, b, *x, &level.residual);
+    level.coarse_b.noalias() = level.r * level.residual;
+    cycle(l + 1, level.coarse_b, &level.coarse_x);
+    x->noalias() += level.p * level.coarse_x;
     for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, false);
   }
 };
