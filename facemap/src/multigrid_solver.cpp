@@ -9,6 +9,7 @@
 namespace gvkit::facemap {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
+using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 namespace {
 
@@ -100,10 +101,57 @@ int aggregate(const SparseMatrix& a, double threshold, std::vector<int>* aggrega
   return count;
 }
 
+// A sparse matrix in compressed rows built one row at a time; the entries of a row are summed
+// per column (a marker per column) and left in the order they first appeared.
+class RowBuilder {
+ public:
+  RowBuilder(int rows, int cols, size_t reserve) : slot_(cols, -1) {
+    outer_.reserve(rows + 1);
+    outer_.push_back(0);
+    inner_.reserve(reserve);
+    value_.reserve(reserve);
+  }
+  void add(int col, double x) {
+    const int row_start = outer_.back();
+    if (slot_[col] >= row_start) {
+      value_[slot_[col]] += x;
+    } else {
+      slot_[col] = static_cast<int>(inner_.size());
+      inner_.push_back(col);
+      value_.push_back(x);
+    }
+  }
+  void end_row() { outer_.push_back(static_cast<int>(inner_.size())); }
+  // The matrix (rows x cols, row-major); with sort, each row's columns in increasing order.
+  RowMatrix finish(int cols, bool sort) {
+    const int rows = static_cast<int>(outer_.size()) - 1;
+    RowMatrix m(rows, cols);
+    m.resizeNonZeros(static_cast<Eigen::Index>(inner_.size()));
+    std::copy(outer_.begin(), outer_.end(), m.outerIndexPtr());
+    std::vector<std::pair<int, double>> row;
+    for (int r = 0; r < rows; ++r) {
+      if (sort) {
+        row.clear();
+        for (int k = outer_[r]; k < outer_[r + 1]; ++k) row.emplace_back(inner_[k], value_[k]);
+        std::sort(row.begin(), row.end());
+        for (int k = outer_[r]; k < outer_[r + 1]; ++k)
+          inner_[k] = row[k - outer_[r]].first, value_[k] = row[k - outer_[r]].second;
+      }
+    }
+    std::copy(inner_.begin(), inner_.end(), m.innerIndexPtr());
+    std::copy(value_.begin(), value_.end(), m.valuePtr());
+    return m;
+  }
+
+ private:
+  std::vector<int> slot_, outer_, inner_;
+  std::vector<double> value_;
+};
+
 // P = (I - omega D^-1 A) P_tentative, P_tentative(i, aggregate[i]) = 1; omega = 4 / (3 rho) with
-// rho Gershgorin's bound on the spectral radius of D^-1 A.
-SparseMatrix smoothed_prolongation(const SparseMatrix& a, const Eigen::VectorXd& inverse_diagonal,
-                                   const std::vector<int>& aggregate_of, int n_coarse) {
+// rho Gershgorin's bound on the spectral radius of D^-1 A. Rows in compressed form.
+RowMatrix smoothed_prolongation(const SparseMatrix& a, const Eigen::VectorXd& inverse_diagonal,
+                                const std::vector<int>& aggregate_of, int n_coarse) {
   const int n = static_cast<int>(a.cols());
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
@@ -115,30 +163,67 @@ SparseMatrix smoothed_prolongation(const SparseMatrix& a, const Eigen::VectorXd&
     rho = std::max(rho, sum * inverse_diagonal[i]);
   }
   const double omega = rho > 0 ? 4.0 / (3.0 * rho) : 0.0;
-  // Row i of P (row-major build: the rows are what the formula gives).
-  Eigen::SparseMatrix<double, Eigen::RowMajor> p(n, n_coarse);
-  Eigen::VectorXi per_row(n);
-  for (int i = 0; i < n; ++i) per_row[i] = outer[i + 1] - outer[i] + 1;
-  p.reserve(per_row);
-  std::vector<std::pair<int, double>> row;
+  RowBuilder p(n, n_coarse, static_cast<size_t>(a.nonZeros()) / 2 + n);
   for (int i = 0; i < n; ++i) {
-    row.clear();
-    row.emplace_back(aggregate_of[i], 1.0);
+    p.add(aggregate_of[i], 1.0);
     const double scale = omega * inverse_diagonal[i];
-    for (int k = outer[i]; k < outer[i + 1]; ++k)
-      row.emplace_back(aggregate_of[inner[k]], -scale * value[k]);
-    std::sort(row.begin(), row.end());
-    int last = -1;
-    double sum = 0;
-    for (const auto& [col, x] : row) {
-      if (col != last && last >= 0) p.insert(i, last) = sum, sum = 0;
-      last = col;
-      sum += x;
-    }
-    if (last >= 0) p.insert(i, last) = sum;
+    for (int k = outer[i]; k < outer[i + 1]; ++k) p.add(aggregate_of[inner[k]], -scale * value[k]);
+    p.end_row();
   }
-  p.makeCompressed();
-  return SparseMatrix(p);
+  return p.finish(n_coarse, false);
+}
+
+// The Galerkin coarse matrix P^T A P of a symmetric A (column i = row i), by rows: first the
+// rows of A P, then each coarse row I as the sum of the rows of A P at the fine rows where
+// column I of P is not zero. Symmetric; columns stored with sorted rows.
+SparseMatrix galerkin_product(const SparseMatrix& a, const RowMatrix& p) {
+  const int n = static_cast<int>(a.cols()), nc = static_cast<int>(p.cols());
+  const int* a_outer = a.outerIndexPtr();
+  const int* a_inner = a.innerIndexPtr();
+  const double* a_value = a.valuePtr();
+  const int* p_outer = p.outerIndexPtr();
+  const int* p_inner = p.innerIndexPtr();
+  const double* p_value = p.valuePtr();
+  RowBuilder ap_builder(n, nc, static_cast<size_t>(p.nonZeros()) * 3);
+  for (int i = 0; i < n; ++i) {
+    for (int k = a_outer[i]; k < a_outer[i + 1]; ++k) {
+      const int j = a_inner[k];
+      const double x = a_value[k];
+      for (int m = p_outer[j]; m < p_outer[j + 1]; ++m) ap_builder.add(p_inner[m], x * p_value[m]);
+    }
+    ap_builder.end_row();
+  }
+  const RowMatrix ap = ap_builder.finish(nc, false);
+  // P's columns: a counting sort of its entries by column.
+  std::vector<int> col_start(nc + 1, 0);
+  for (Eigen::Index m = 0; m < p.nonZeros(); ++m) ++col_start[p_inner[m] + 1];
+  for (int c = 0; c < nc; ++c) col_start[c + 1] += col_start[c];
+  std::vector<int> col_row(p.nonZeros());
+  std::vector<double> col_value(p.nonZeros());
+  {
+    std::vector<int> fill(col_start.begin(), col_start.end() - 1);
+    for (int i = 0; i < n; ++i)
+      for (int m = p_outer[i]; m < p_outer[i + 1]; ++m) {
+        const int at = fill[p_inner[m]]++;
+        col_row[at] = i, col_value[at] = p_value[m];
+      }
+  }
+  const int* ap_outer = ap.outerIndexPtr();
+  const int* ap_inner = ap.innerIndexPtr();
+  const double* ap_value = ap.valuePtr();
+  RowBuilder ac(nc, nc, static_cast<size_t>(nc) * 20);
+  for (int c = 0; c < nc; ++c) {
+    for (int m = col_start[c]; m < col_start[c + 1]; ++m) {
+      const int i = col_row[m];
+      const double x = col_value[m];
+      for (int q = ap_outer[i]; q < ap_outer[i + 1]; ++q) ac.add(ap_inner[q], x * ap_value[q]);
+    }
+    ac.end_row();
+  }
+  // Symmetric: its rows are its columns.
+  const RowMatrix rows = ac.finish(nc, true);
+  return Eigen::Map<const SparseMatrix>(nc, nc, rows.nonZeros(), rows.outerIndexPtr(),
+                                        rows.innerIndexPtr(), rows.valuePtr());
 }
 
 }  // namespace
@@ -147,7 +232,7 @@ struct MultigridSolver::Hierarchy {
   struct Level {
     SparseMatrix a;                    // this level's matrix
     Eigen::VectorXd inverse_diagonal;  // of a
-    SparseMatrix p, r;                 // prolongation to this level from the next, and P^T
+    RowMatrix p;                       // prolongation to this level from the next
     // The V-cycle's work vectors (one solve at a time).
     mutable Eigen::VectorXd residual, coarse_b, coarse_x;
   };
@@ -165,7 +250,7 @@ struct MultigridSolver::Hierarchy {
     x->setZero(b.size());
     for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, true);
     residual_of(level.a, b, *x, &level.residual);
-    level.coarse_b.noalias() = level.r * level.residual;
+    level.coarse_b.noalias() = level.p.transpose() * level.residual;
     cycle(l + 1, level.coarse_b, &level.coarse_x);
     x->noalias() += level.p * level.coarse_x;
     for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, false);
@@ -207,7 +292,9 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
     const int n = static_cast<int>(level.a.cols());
     level.inverse_diagonal = Eigen::VectorXd::Zero(n);
     for (int i = 0; i < n; ++i) {
-      const double d = level.a.coeff(i, i);
+      double d = 0;
+      for (Eigen::SparseMatrix<double>::InnerIterator it(level.a, i); it; ++it)
+        if (it.row() == i) d = it.value();
       if (!(d > 0))
         return failed_precondition("multigrid: diagonal entry " + std::to_string(i) + " of level " +
                                    std::to_string(depth) + " is not positive");
@@ -226,10 +313,7 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
       break;
     }
     level.p = smoothed_prolongation(level.a, level.inverse_diagonal, aggregate_of, n_coarse);
-    level.r = level.p.transpose();
-    const SparseMatrix ap = level.a * level.p;
-    current = level.r * ap;
-    current.makeCompressed();
+    current = galerkin_product(level.a, level.p);
     h->levels.push_back(std::move(level));
   }
   hierarchy_ = std::move(h);
