@@ -104,6 +104,31 @@ Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a
   return x;
 }
 
+// psi oriented: it must increase by +1 going once around inner_loop in loop order.
+Result<std::vector<double>> oriented_conjugate(const TriSurface& surface,
+                                               const DirectedEdges& edges,
+                                               const std::vector<int>& inner_loop,
+                                               std::vector<double> psi) {
+  double total = 0;
+  const int m = static_cast<int>(inner_loop.size());
+  for (int i = 0; i < m; ++i) {
+    const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
+    const int k = edges.triangle(u, w);
+    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
+    const auto& t = surface.triangles[k];
+    int su = 0, sw = 0;
+    while (t[su] != u) ++su;
+    while (t[sw] != w) ++sw;
+    total += psi[3 * k + sw] - psi[3 * k + su];
+  }
+  if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
+    return failed_precondition("harmonic conjugate: period around the inner boundary is " +
+                               std::to_string(total) + ", not +-1");
+  if (total < 0)
+    for (double& p : psi) p = -p;
+  return psi;
+}
+
 }  // namespace
 
 HarmonicSolver resolve_harmonic_solver(HarmonicSolver solver, int n_free) {
@@ -321,6 +346,23 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   }
   std::vector<char> fixed(n, 0);
   fixed[start] = 1;
+  std::vector<double> psi(surface.n_triangles() * 3);
+  if (resolve_harmonic_solver(solver, n - 1) == HarmonicSolver::kMultigrid) {
+    // The whole Laplacian, singular with the constants as its null space (rhs sums to 0: every
+    // edge adds w dj at one end and takes it at the other), converges in fewer iterations than
+    // the system with start pinned; its solution is that one's plus a constant.
+    MultigridOptions options;
+    options.constant_null_space = true;
+    MultigridSolver multigrid(options);
+    Eigen::VectorXd theta;
+    Status status = multigrid.compute(laplacian);
+    if (status.is_ok()) status = multigrid.solve(rhs, &theta);
+    if (!status.is_ok()) return failed_precondition("harmonic conjugate: " + status.message());
+    theta.array() -= theta[start];
+    for (int k = 0; k < surface.n_triangles(); ++k)
+      for (int j = 0; j < 3; ++j) psi[3 * k + j] = theta[surface.triangles[k][j]] + jump[3 * k + j];
+    return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
+  }
   std::vector<int> index;
   const int n_free = free_indices(fixed, order, &index);
   Eigen::VectorXd b(n_free);
@@ -329,31 +371,12 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
   GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
                          factorize_and_solve(a, b, !order.empty(), solver, "harmonic conjugate"));
-  std::vector<double> psi(surface.n_triangles() * 3);
   for (int k = 0; k < surface.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) {
       const int v = surface.triangles[k][j];
       psi[3 * k + j] = (fixed[v] ? 0.0 : x[index[v]]) + jump[3 * k + j];
     }
-  // Orient: psi must increase by +1 going once around inner_loop in loop order.
-  double total = 0;
-  const int m = static_cast<int>(inner_loop.size());
-  for (int i = 0; i < m; ++i) {
-    const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
-    const int k = edges.triangle(u, w);
-    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
-    const auto& t = surface.triangles[k];
-    int su = 0, sw = 0;
-    while (t[su] != u) ++su;
-    while (t[sw] != w) ++sw;
-    total += psi[3 * k + sw] - psi[3 * k + su];
-  }
-  if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
-    return failed_precondition("harmonic conjugate: period around the inner boundary is " +
-                               std::to_string(total) + ", not +-1");
-  if (total < 0)
-    for (double& p : psi) p = -p;
-  return psi;
+  return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
 }
 
 }  // namespace gvkit::facemap

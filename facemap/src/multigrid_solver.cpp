@@ -238,13 +238,21 @@ struct MultigridSolver::Hierarchy {
   };
   std::vector<Level> levels;
   Eigen::SimplicialLDLT<SparseMatrix> coarsest;
+  bool pinned = false;  // the coarsest level is solved with its last unknown at 0
   int sweeps = 1;
 
   // x = V-cycle(b) on level l, from x = 0.
   void cycle(size_t l, const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
     const Level& level = levels[l];
     if (l + 1 == levels.size()) {
-      *x = coarsest.solve(b);
+      if (pinned) {
+        const Eigen::Index m = b.size() - 1;
+        x->resize(b.size());
+        x->head(m) = coarsest.solve(b.head(m));
+        (*x)[m] = 0;
+      } else {
+        *x = coarsest.solve(b);
+      }
       return;
     }
     x->setZero(b.size());
@@ -305,7 +313,11 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
     const int n_coarse = last ? n : aggregate(level.a, options_.strength_threshold, &aggregate_of);
     // Coarsening that stalls (few strong connections left) ends the hierarchy.
     if (last || n_coarse > options_.max_coarse_fraction * n || n_coarse == 0) {
-      h->coarsest.compute(level.a);
+      h->pinned = options_.constant_null_space && n > 1;
+      if (h->pinned)
+        h->coarsest.compute(level.a.topLeftCorner(n - 1, n - 1));
+      else
+        h->coarsest.compute(level.a);
       if (h->coarsest.info() != Eigen::Success)
         return failed_precondition("multigrid: the coarsest level (" + std::to_string(n) +
                                    " unknowns) could not be factorized");
@@ -337,6 +349,7 @@ Status MultigridSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) cons
   residual_ = r.norm() / b_norm;
   if (residual_ <= options_.tolerance) return Status::ok();
   hierarchy_->cycle(0, r, &z);
+  if (options_.constant_null_space) z.array() -= z.mean();
   p = z;
   double rz = r.dot(z);
   const int* outer = a.outerIndexPtr();
@@ -357,6 +370,7 @@ Status MultigridSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) cons
       return failed_precondition("multigrid: the iteration diverged (not finite)");
     if (residual_ <= options_.tolerance) return Status::ok();
     hierarchy_->cycle(0, r, &z);
+    if (options_.constant_null_space) z.array() -= z.mean();
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;

@@ -26,6 +26,11 @@ struct MultigridOptions {
   // (coarsening has stalled).
   double max_coarse_fraction = 0.5;
   int sweeps = 1;  // Gauss-Seidel sweeps before (forward) and after (backward) the coarse step
+  // The matrix is singular with the constants as its null space (a Laplacian with nothing fixed,
+  // b summing to 0): the coarsest level is solved with its last unknown fixed at 0 and the
+  // constant part of every preconditioned residual is removed; the solution is then one of the
+  // solutions, up to an added constant.
+  bool constant_null_space = false;
   int max_levels = 16;
   // Stop when |b - A x| <= tolerance * |b| (Euclidean norms).
   double tolerance = 1e-10;
@@ -41,7 +46,8 @@ class MultigridSolver {
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
 
   // Builds the hierarchy of a (square, symmetric, both triangles stored, positive diagonal;
-  // positive definite). Fails when the coarsest level cannot be factorized. Keeps a copy of a.
+  // positive definite, or semi-definite with constant_null_space). Fails when the coarsest level
+  // cannot be factorized. Keeps a copy of a.
   Status compute(const Eigen::SparseMatrix<double>& a);
   // Solves a x = b; x holds the initial guess on entry (resized to zero when its size differs).
   // Fails when the tolerance is not reached within max_iterations (x then holds the last
