@@ -164,8 +164,11 @@ BENCHMARK(BM_HarmonicSolves)
     ->ArgNames({"face", "one_order"})
     ->Unit(benchmark::kMillisecond);
 
-// EXPERIMENT: f's reduced system on one solver. range(1): 0 Eigen LDLT (AMD), 1 CHOLMOD
-// supernodal LLT, 2 CHOLMOD simplicial LDLT.
+// f's system (the annulus's Laplacian, floored weights, restricted to the free vertices) on each
+// sparse solver. range(1): 0 = Eigen SimplicialLDLT with its AMD order (what the direct path
+// factorizes), 1 = CHOLMOD supernodal LL' (reference BLAS), 2 = CHOLMOD simplicial LDL',
+// 3 = MultigridSolver (counters: setup and solve wall ms, iterations, levels, max_err = the
+// largest difference to the LDLT solution over its largest value).
 void BM_DirichletSolvers(benchmark::State& state) {
   REQUIRE_FACE(state);
   auto a = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
@@ -179,47 +182,43 @@ void BM_DirichletSolvers(benchmark::State& state) {
   int m = 0;
   for (int v = 0; v < n; ++v)
     if (!fixed[v]) index[v] = m++;
-  const auto laplacian = cotan_laplacian(s, 0.005);
-  std::vector<Eigen::Triplet<double>> tr;
+  const auto laplacian = cotan_laplacian(s, kDefaultMinCotanWeight);
+  std::vector<Eigen::Triplet<double>> entries;
   for (int col = 0; col < n; ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
       if (index[col] >= 0 && index[it.row()] >= 0)
-        tr.emplace_back(index[it.row()], index[col], it.value());
-  Eigen::SparseMatrix<double> A(m, m);
-  A.setFromTriplets(tr.begin(), tr.end());
+        entries.emplace_back(index[it.row()], index[col], it.value());
+  Eigen::SparseMatrix<double> system(m, m);
+  system.setFromTriplets(entries.begin(), entries.end());
   Eigen::VectorXd b = Eigen::VectorXd::Ones(m);
   double nnz = 0;
   Eigen::VectorXd reference;
   if (state.range(1) == 3)
-    reference = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>(A).solve(b);
+    reference = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>(system).solve(b);
   for (auto _ : state) {
     if (state.range(1) == 0) {
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
       benchmark::DoNotOptimize(solver.solve(b));
       nnz = solver.matrixL().nestedExpression().nonZeros();
     } else if (state.range(1) == 1) {
-      Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(A);
+      Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(system);
       benchmark::DoNotOptimize(solver.solve(b));
       nnz = solver.cholmod().lnz;
     } else if (state.range(1) == 2) {
-      Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+      Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
       benchmark::DoNotOptimize(solver.solve(b));
       nnz = solver.cholmod().lnz;
     } else {
-      MultigridOptions mo;
-      if (const char* e = std::getenv("MG_TOL")) mo.tolerance = std::atof(e);
-      if (const char* e = std::getenv("MG_THETA")) mo.strength_threshold = std::atof(e);
-      if (const char* e = std::getenv("MG_SWEEPS")) mo.sweeps = std::atoi(e);
-      MultigridSolver solver(mo);
+      MultigridSolver solver;
       auto t0 = std::chrono::steady_clock::now();
-      if (!solver.compute(A).is_ok()) return state.SkipWithError("mg compute");
+      if (!solver.compute(system).is_ok()) return state.SkipWithError("multigrid setup failed");
       auto t1 = std::chrono::steady_clock::now();
       Eigen::VectorXd x;
-      auto st = solver.solve(b, &x);
+      const Status status = solver.solve(b, &x);
       auto t2 = std::chrono::steady_clock::now();
       state.counters["setup_ms"] = std::chrono::duration<double, std::milli>(t1 - t0).count();
       state.counters["solve_ms"] = std::chrono::duration<double, std::milli>(t2 - t1).count();
-      if (!st.is_ok()) return state.SkipWithError(st.message().c_str());
+      if (!status.is_ok()) return state.SkipWithError(status.message().c_str());
       state.counters["iterations"] = solver.iterations();
       state.counters["levels"] = solver.levels();
       state.counters["max_err"] = (reference - x).cwiseAbs().maxCoeff() / x.cwiseAbs().maxCoeff();
