@@ -199,12 +199,14 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                      ? laplacian_elimination_order(laplacian)
                                      : std::vector<int>{};
   lap(&out.timing.order_ms);
-  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order, out.solver));
+  // The solver as given: under kAuto a multigrid iteration that fails falls back to the
+  // factorization (without the shared order, which is computed for direct solves only).
+  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order, solver));
   out.field_report = check_harmonic_field(s, laplacian, fixed, out.t);
   lap(&out.timing.f_ms);
   GVKIT_ASSIGN_OR_RETURN(
       std::vector<double> psi,
-      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order, out.solver));
+      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order, solver));
   lap(&out.timing.psi_ms);
 
   // Boundary parameter u along the inner loop (loop order, u(0) at the anchor key).

@@ -86,8 +86,10 @@ Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a
     MultigridSolver multigrid;
     Status status = multigrid.compute(a);
     if (status.is_ok()) status = multigrid.solve(rhs, &x);
-    if (!status.is_ok()) return failed_precondition(what + ": " + status.message());
-    return x;
+    if (status.is_ok()) return x;
+    // kAuto falls back to the factorization; a forced multigrid reports why it failed.
+    if (solver == HarmonicSolver::kMultigrid)
+      return failed_precondition(what + ": " + status.message());
   }
   if (ordered) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
@@ -349,19 +351,24 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   std::vector<double> psi(surface.n_triangles() * 3);
   if (resolve_harmonic_solver(solver, n - 1) == HarmonicSolver::kMultigrid) {
     // The whole Laplacian, singular with the constants as its null space (rhs sums to 0: every
-    // edge adds w dj at one end and takes it at the other), converges in fewer iterations than
-    // the system with start pinned; its solution is that one's plus a constant.
+    // edge adds w dj at one end and takes it at the other): no reduced system to build, the same
+    // iterations as the system with start pinned, whose solution is this one's minus a constant.
     MultigridOptions options;
     options.constant_null_space = true;
     MultigridSolver multigrid(options);
     Eigen::VectorXd theta;
     Status status = multigrid.compute(laplacian);
     if (status.is_ok()) status = multigrid.solve(rhs, &theta);
-    if (!status.is_ok()) return failed_precondition("harmonic conjugate: " + status.message());
-    theta.array() -= theta[start];
-    for (int k = 0; k < surface.n_triangles(); ++k)
-      for (int j = 0; j < 3; ++j) psi[3 * k + j] = theta[surface.triangles[k][j]] + jump[3 * k + j];
-    return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
+    if (status.is_ok()) {
+      theta.array() -= theta[start];
+      for (int k = 0; k < surface.n_triangles(); ++k)
+        for (int j = 0; j < 3; ++j)
+          psi[3 * k + j] = theta[surface.triangles[k][j]] + jump[3 * k + j];
+      return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
+    }
+    // kAuto falls back to the factorization below; a forced multigrid reports why it failed.
+    if (solver == HarmonicSolver::kMultigrid)
+      return failed_precondition("harmonic conjugate: " + status.message());
   }
   std::vector<int> index;
   const int n_free = free_indices(fixed, order, &index);

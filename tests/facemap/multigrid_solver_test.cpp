@@ -131,6 +131,18 @@ TEST(MultigridSolver, RejectsBadOptionsAndMatrices) {
   const Status status = solver.compute(a);
   EXPECT_FALSE(status.is_ok());
   EXPECT_NE(status.message().find("diagonal entry 1"), std::string::npos) << status.message();
+  // Through solve_dirichlet: a forced multigrid reports the reason with the system's name (kAuto
+  // would factorize instead).
+  Eigen::SparseMatrix<double> laplacian(3, 3);
+  laplacian.insert(0, 0) = 1, laplacian.insert(0, 2) = -1;
+  laplacian.insert(2, 0) = -1, laplacian.insert(2, 2) = 1;
+  laplacian.insert(1, 1) = 0;  // a free vertex without edges
+  const auto solved =
+      solve_dirichlet(laplacian, {1, 0, 0}, {1.0, 0.0, 0.0}, {}, HarmonicSolver::kMultigrid);
+  ASSERT_FALSE(solved.is_ok());
+  EXPECT_NE(solved.status().message().find("harmonic field: multigrid: diagonal entry"),
+            std::string::npos)
+      << solved.status().message();
 }
 
 }  // namespace

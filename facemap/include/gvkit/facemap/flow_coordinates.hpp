@@ -46,7 +46,9 @@ struct FlowCoordinates {
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
   // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
   int untangled_vertices = 0;
-  HarmonicSolver solver = HarmonicSolver::kDirect;  // what f and psi were solved with
+  // What f and psi were solved with (kAuto resolved on the number of vertices; under kAuto a
+  // multigrid iteration that fails falls back to the factorization, not recorded here).
+  HarmonicSolver solver = HarmonicSolver::kDirect;
   // CPU time of the steps (ms, this thread): the Laplacian, its elimination order, f, psi, the
   // boundary correspondence and s, the untangling.
   struct Timing {
