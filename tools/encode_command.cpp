@@ -15,11 +15,13 @@
 #include "command.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/surface_metrics.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
+#include "surface_error_json.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -131,6 +133,7 @@ void run_encode(const EncodeArgs& args) {
   const double vertices = static_cast<double>(info.domain_pixels());
   nlohmann::json per_frame = nlohmann::json::array();
   codec::GeometryError total;
+  codec::SurfaceError surface_total;
   Progress progress("encoding", static_cast<int64_t>(frames.size()));
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
@@ -141,6 +144,8 @@ void run_encode(const EncodeArgs& args) {
     const size_t i = reported++;
     const codec::GeometryError e = codec::geometry_error(frames[i], recon);
     codec::accumulate(total, e);
+    const codec::SurfaceError surface = codec::surface_error(frames[i], recon);
+    codec::accumulate(surface_total, surface);
     const int64_t bytes = writer->frame_bytes()[i];
     per_frame.push_back({{"frame", i},
                          {"source", files[i].path.filename().string()},
@@ -151,6 +156,7 @@ void run_encode(const EncodeArgs& args) {
                          {"max_mm", e.max_mm},
                          {"qp", writer->frame_qp()[i]},
                          {"type", codec::format::frame_type_name(writer->frame_types()[i])}});
+    per_frame.back().update(surface_error_json(surface));
     if (const auto* q = writer->quality_controller())
       per_frame.back()["encodes"] = q->frame_encodes()[i];
     nlohmann::json syntax_bits;
@@ -241,6 +247,7 @@ void run_encode(const EncodeArgs& args) {
         {"buffer_bits", writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0},
         {"syntax_bits", bit_accounting(writer->frame_stats(), vertices)}}},
       {"frames", per_frame}};
+  stats["summary"].update(surface_error_json(surface_total));
   if (const auto* q = writer->quality_controller()) {
     stats["summary"]["encodes_per_frame"] = q->total_encodes() / n;
     stats["summary"]["frames_missing_target"] = q->frames_missed();
@@ -250,9 +257,12 @@ void run_encode(const EncodeArgs& args) {
   throw_if_error(write_json(args.output + ".stats.json", stats));
   std::printf(
       "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm, "
+      "normal error mean %.2f / p95 %.2f / max %.1f deg, Hausdorff %.4g mm (outline %.4g mm), "
       "%.1f frames/s (%.1f per CPU second)\n",
       args.output.c_str(), frames.size(), info.width, info.height,
-      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, n / seconds, n / cpu_seconds);
+      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, surface_total.normal_mean_deg(),
+      surface_total.normal_p95_deg(), surface_total.normal_max_deg, surface_total.hausdorff_mm,
+      surface_total.outline_hausdorff_mm, n / seconds, n / cpu_seconds);
 }
 
 }  // namespace
