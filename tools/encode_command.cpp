@@ -33,6 +33,7 @@ struct EncodeArgs {
   codec::EncoderOptions options;
   double fps = 30.0;
   bool no_gv_modes = false, no_td = false, no_decimation = false;
+  bool qp_given = false;  // --qp on the command line
 };
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
@@ -103,6 +104,13 @@ nlohmann::json bit_accounting(const std::vector<codec::FrameCodingStats>& frames
 
 void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
+  // The default QP is for 16-bit samples; a bit depth without that QP takes its finest one.
+  const int qp_min = -6 * (options.bit_depth - 8);
+  if (!args.qp_given && options.qp < qp_min) {
+    logger().info("--bit-depth {}: QP {} (the finest at that depth) instead of the default {}",
+                  options.bit_depth, qp_min, options.qp);
+    options.qp = qp_min;
+  }
   options.geometry_modes = !args.no_gv_modes;
   options.td_prediction = !args.no_td;
   options.inter_decimation = !args.no_decimation;
@@ -406,7 +414,10 @@ void add_encode_command(CLI::App& app) {
                   "streams");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
-  cmd->callback([args] { run_encode(*args); });
+  cmd->callback([args, qp] {
+    args->qp_given = qp->count() > 0;
+    run_encode(*args);
+  });
 }
 
 }  // namespace gvkit::tools

@@ -34,7 +34,7 @@ struct RunArgs {
   std::string input, work, pattern, calibration;
   int frames = 30;
   std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
-  int qp = 12;
+  int qp = codec::EncoderOptions().qp;
   double depth_prior_mm = 0;  // 0: reconstruct's default (the session's, else 650 mm)
   bool render = false, restart = false;
 };

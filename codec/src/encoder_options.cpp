@@ -52,7 +52,7 @@ Status EncoderOptions::check() const {
   if (bit_depth < 8 || bit_depth > 16)
     return invalid_argument("bit depth " + std::to_string(bit_depth) + " out of range (8..16)");
   const int qp_min = -6 * (bit_depth - 8);
-  if (!lossless && (qp < qp_min || qp > 51))
+  if (!bypass() && (qp < qp_min || qp > 51))  // lossless and near-lossless frames use no QP
     return invalid_argument("qp " + std::to_string(qp) + " out of range (" +
                             std::to_string(qp_min) + "..51 at " + std::to_string(bit_depth) +
                             " bits)");

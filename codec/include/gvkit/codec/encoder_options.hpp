@@ -42,7 +42,12 @@ const char* resolution_name(Resolution resolution);
 Result<Resolution> parse_resolution(const std::string& name);
 
 struct EncoderOptions {
-  int qp = 12;                 // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8)
+  // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8). -10 by default: the
+  // coarsest QP whose decoded main-job face keeps the 95th-percentile normal error within 2
+  // degrees (surface_metrics.hpp; 1.69 degrees at 2.97 bits/vertex/frame; was 12: 8.4 degrees,
+  // visibly crumpled; docs/benchmarks.md, "Surface metrics"). 8- and 9-bit streams take QP 0 and
+  // -6 at the least (gvkit encode then starts from those); lossless and near-lossless use none.
+  int qp = -10;
   bool lossless = false;       // transform bypass: decoded samples equal the quantized input
   int bit_depth = 16;          // B, 8..16
   bool geometry_modes = true;  // the four geometry 4x4 intra modes
