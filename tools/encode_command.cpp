@@ -232,6 +232,7 @@ void run_encode(const EncodeArgs& args) {
         {"target_rms_mm", options.target_rms_mm},
         {"intra_target_offset_db", options.intra_target_offset_db},
         {"refs", options.reference_frames()},
+        {"outline_weight", options.outline_weight},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -412,6 +413,10 @@ void add_encode_command(CLI::App& app) {
                   "nearest anchors since the last I frame (format 1.6); 1 = one reference (a "
                   "1.4 / 1.5 stream); default 3 in lossy, 1 in lossless and --max-error-mm "
                   "streams");
+  cmd->add_option("--outline-weight", args->options.outline_weight,
+                  "Lossy frames: the outline's samples (the face's border, the rims of its holes) "
+                  "count this many times in the encoder's rate-distortion decisions, 1..64 "
+                  "(encoder only; default 8; 1 = plain SSD)");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
   cmd->callback([args, qp] {

@@ -10,7 +10,8 @@
 //               normal error (quality axis -20 log10(p95 / 1 degree): monotone, and a halving
 //               of the p95 counts as much at 4 degrees as at 1);
 //   --peers     x265 12-bit 4:4:4 (I every --gop frames, IPBPB, ref 5, --peer-preset, tune psnr,
-//               --peer-qps, default -12, -6, .., 24; the quantized planes given as Y, U, V) on the
+//               --peer-qps, default 0, 4, .., 24: libx265 takes no negative QP; and lossless;
+//               the quantized planes given as Y, U, V) on the
 //               same material, the BD-rates of ours against it over PSNR and over normal error, and
 //               the rates of both at --target-p95 (interpolated between the points around it, log
 //               rate over log p95).
@@ -195,6 +196,8 @@ std::vector<Config> all_configs() {
       {"intra", [](EncoderOptions& o) { o.intra_only = true; }},
       {"transform4", [](EncoderOptions& o) { o.max_transform = 4; }},
       {"no-quadratic", [](EncoderOptions& o) { o.quadratic_intra = false; }},
+      {"outline1", [](EncoderOptions& o) { o.outline_weight = 1; }},
+      {"outline32", [](EncoderOptions& o) { o.outline_weight = 32; }},
   };
 }
 
@@ -270,35 +273,50 @@ void report_floor(const Material& m, const EncoderOptions& base) {
   }
 }
 
+// x265 12-bit 4:4:4 at each QP (libx265 takes 0..51: a negative qp crashes it), then lossless
+// (its point goes to *lossless, not into the curve).
 std::vector<Point> run_x265(const Material& m, int gop, const std::string& preset,
-                            const std::vector<int>& qps) {
+                            const std::vector<int>& qps, Point* lossless) {
   std::vector<Point> points;
   print_header("peer");
+  std::fflush(stdout);
   std::vector<std::vector<SamplePlane>> planes;
   SequenceInfo info = m.info;
   info.bit_depth = 12;
   for (const GeometryImage& f : m.frames) planes.push_back(quantize_geometry(f, info));
-  for (int qp : qps) {
+  const std::string name = "x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + preset;
+  const auto run = [&](const std::string& params,
+                       const std::string& label) -> std::optional<Point> {
     PeerConfig c{"libx265", "yuv444p12le", 12, {{"preset", preset}, {"tune", "psnr"}}};
     c.gop = gop;
     c.bframes = 1;
     c.options.push_back({"x265-params", "log-level=error:keyint=" + std::to_string(gop) +
-                                            ":bframes=1:ref=5:qp=" + std::to_string(qp)});
-    auto run = run_peer(planes, info.width, info.height, c);
-    if (!run.is_ok()) {
-      std::fprintf(stderr, "%s\n", run.status().message().c_str());
-      break;
+                                            ":bframes=1:ref=5:" + params});
+    auto r = run_peer(planes, info.width, info.height, c);
+    if (!r.is_ok()) {
+      std::fprintf(stderr, "%s\n", r.status().message().c_str());
+      return std::nullopt;
     }
     std::vector<GeometryImage> decoded;
     double bits = 0;
     for (size_t f = 0; f < m.frames.size(); ++f) {
-      decoded.push_back(dequantize_geometry(run->decoded[f], info, static_cast<int64_t>(f)));
-      bits += 8.0 * static_cast<double>(run->frame_bytes[f]);
+      decoded.push_back(dequantize_geometry(r->decoded[f], info, static_cast<int64_t>(f)));
+      bits += 8.0 * static_cast<double>(r->frame_bytes[f]);
     }
-    points.push_back(measure(m, decoded, bits, "x265_qp" + std::to_string(qp)));
-    print_row("x265 12-bit 4:4:4, I" + std::to_string(gop) + " IPBPB ref 5, " + preset,
-              "qp " + std::to_string(qp), points.back(), m);
+    const Point p = measure(m, decoded, bits, "x265_" + label);
+    print_row(name, label, p, m);
+    return p;
+  };
+  for (int qp : qps) {
+    if (qp < 0) {
+      std::fprintf(stderr, "x265: qp %d skipped (libx265 takes 0..51)\n", qp);
+      continue;
+    }
+    const auto p = run("qp=" + std::to_string(qp), "qp " + std::to_string(qp));
+    if (!p) break;
+    points.push_back(*p);
   }
+  if (const auto p = run("lossless=1", "lossless")) *lossless = *p;
   return points;
 }
 
@@ -319,7 +337,7 @@ std::vector<std::string> parse_names(const std::string& s) {
 
 int run(int argc, char** argv) {
   std::string gv_dir, ict_dir, preset = "slow", peer_preset = "slower";
-  std::vector<int> qps = {0, 6, 12, 18}, peer_qps = {-12, -6, 0, 6, 12, 18, 24};
+  std::vector<int> qps = {0, 6, 12, 18}, peer_qps = {0, 4, 8, 12, 16, 20, 24};
   std::vector<std::string> config_names;
   bool floor = false, peers = false;
   int frames = 0, gop = 30;
@@ -446,7 +464,8 @@ int run(int argc, char** argv) {
     }
   }
   if (peers) {
-    const std::vector<Point> x265 = run_x265(m, gop, peer_preset, peer_qps);
+    Point x265_lossless;
+    const std::vector<Point> x265 = run_x265(m, gop, peer_preset, peer_qps, &x265_lossless);
     std::printf(
         "\n| against x265 12-bit (piecewise cubic) | BD-rate over PSNR | over normal "
         "error | bits/vertex/frame at normal p95 %.2g deg: ours / x265 |\n|---|---|---|---|\n",
@@ -461,6 +480,9 @@ int run(int argc, char** argv) {
                   bd_psnr ? (std::to_string(*bd_psnr).substr(0, 6) + " %").c_str() : "-",
                   bd_normal ? (std::to_string(*bd_normal).substr(0, 6) + " %").c_str() : "-", at);
     }
+    if (x265_lossless.rate > 0)
+      std::printf("\nx265 12-bit lossless: %.4f bits/vertex/frame at normal p95 %.2f deg\n",
+                  x265_lossless.rate, x265_lossless.surface.normal_p95_deg());
   }
   return 0;
 }

@@ -120,6 +120,9 @@ Status EncoderOptions::check() const {
   if (resolution == Resolution::kHalf && bypass())
     return invalid_argument(
         "resolution half: lossless and max-error coding are at full resolution only");
+  if (outline_weight < 1 || outline_weight > 64)
+    return invalid_argument("outline weight " + std::to_string(outline_weight) +
+                            " out of range (1..64)");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

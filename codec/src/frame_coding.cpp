@@ -14,6 +14,7 @@
 #include "gvkit/codec/half_resolution.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/value_prediction.hpp"
+#include "outline_weights.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -282,6 +283,11 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
       syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
     }
+  // Lossy frames: the outline's samples weigh outline_weight times in the SSD of the decisions.
+  const std::vector<uint8_t> weights =
+      bypass || options.outline_weight <= 1
+          ? std::vector<uint8_t>()
+          : outline_weights(mask, planes[0].width, planes[0].height, options.outline_weight);
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;  // 1.7
@@ -299,6 +305,7 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
         p.rdo = true;
         p.intra_rdo_shortlist = kFastIntraRdoShortlist;
       }
+      if (!weights.empty() && i < 3) p.distortion_weights = &weights;
       p.search_range = options.search_range;
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;

@@ -405,7 +405,8 @@ TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
     o.cross_plane = false;           // ... and cross-plane prediction: the 1.4 stream
     o.cross_plane_contexts = false;  // ... and the format 1.7 tools
     o.partitions = false;
-    o.rdoq = false;  // (the streams were written before RDO quantization)
+    o.rdoq = false;        // (the streams were written before RDO quantization)
+    o.outline_weight = 1;  // ... and the outline weight
     auto bytes = encode_gvid(frames, info, o);
     ASSERT_TRUE(bytes.is_ok());
     auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / file);

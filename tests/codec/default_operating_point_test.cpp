@@ -4,7 +4,8 @@
 // 95th-percentile normal error within the threshold the default QP was chosen for (2 degrees at
 // the metric's default 2-pixel scale, docs/benchmarks.md "Surface metrics") and its outline
 // within 0.4 pixel of the input's; the former default QP 12 fails both bounds on the same
-// surface, so the test can fail.
+// surface, so the test can fail. The outline weight (EncoderOptions::outline_weight) is what keeps
+// the outline closer than the interior.
 #include <cmath>
 #include <vector>
 
@@ -69,6 +70,18 @@ TEST(DefaultOperatingPoint, SmoothSurfaceKeepsItsNormalsAndOutline) {
   const SurfaceError coarse = coded_error(former);
   EXPECT_GT(coarse.normal_p95_deg(), kNormalP95Deg);
   EXPECT_GT(coarse.outline_hausdorff_mm, kOutlineMm);
+}
+
+TEST(DefaultOperatingPoint, OutlineWeightKeepsTheOutlineCloser) {
+  EncoderOptions weighted;
+  weighted.qp = 0;
+  EncoderOptions plain = weighted;
+  plain.outline_weight = 1;
+  const SurfaceError w = coded_error(weighted), p = coded_error(plain);
+  EXPECT_LT(w.outline_hausdorff_mm, 0.85 * p.outline_hausdorff_mm);  // 0.22 against 0.30 mm
+  EXPECT_LE(w.normal_p95_deg(), 1.1 * p.normal_p95_deg());
+  plain.outline_weight = 0;
+  EXPECT_NE(plain.check().message().find("outline weight 0"), std::string::npos);
 }
 
 }  // namespace

@@ -93,6 +93,7 @@ void format_tools_before(int minor, codec::EncoderOptions* options) {
   if (minor <= 12) o.td16 = false;
   if (minor <= 13) o.quadratic_intra = false;
   o.resolution = codec::Resolution::kFull;
+  o.outline_weight = 1;  // the plain SSD of every encoder before the outline weight
 }
 
 std::vector<std::pair<std::string, codec::EncoderOptions>> p_frame_cases() {

@@ -78,6 +78,10 @@ struct PlaneCodingParams {
   // instead of the intra rounding and the inter dead zone.
   bool rdoq = false;
   bool rdo = true;  // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  // Encoder only, lossy planes with rdo: each sample's squared error in the SSD of the
+  // rate-distortion decisions counts this many times (row-major over the plane's padded
+  // width x height; null = once each).
+  const std::vector<uint8_t>* distortion_weights = nullptr;
   // Encoder only, with rdo: 4x4 intra blocks and I16x16 macroblocks code only this many modes,
   // those of the lowest SATD-based costs (0 = every mode).
   int intra_rdo_shortlist = 0;
