@@ -19,8 +19,10 @@
 //                                [--preset slow|fast] [--configs NAME,NAME,..] [--floor]
 //                                [--peers] [--peer-preset P] [--peer-qps Q1,..] [--gop N]
 //                                [--target-p95 DEG]
-//                                [--scale PX] [--write-decoded DIR]
-// (--write-decoded: every decoded point as DIR/CONFIG_qpQ/frame_NNNNNN.exr, to render.)
+//                                [--scale PX] [--write-decoded DIR] [--no-texture]
+// (--write-decoded: every decoded point as DIR/CONFIG_qpQ/frame_NNNNNN.exr, to render;
+// --no-texture: the frames' texture left out, so our streams code X, Y, Z only, as the peers do;
+// without it our rate includes the texture plane of frames that have one.)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -339,7 +341,7 @@ int run(int argc, char** argv) {
   std::string gv_dir, ict_dir, preset = "slow", peer_preset = "slower";
   std::vector<int> qps = {0, 6, 12, 18}, peer_qps = {0, 4, 8, 12, 16, 20, 24};
   std::vector<std::string> config_names;
-  bool floor = false, peers = false;
+  bool floor = false, peers = false, no_texture = false;
   int frames = 0, gop = 30;
   double target_p95 = 2.0;
   for (int i = 1; i < argc; ++i) {
@@ -359,6 +361,8 @@ int run(int argc, char** argv) {
       config_names = parse_names(argv[++i]);
     else if (a == "--floor")
       floor = true;
+    else if (a == "--no-texture")
+      no_texture = true;
     else if (a == "--peers")
       peers = true;
     else if (a == "--peer-qps" && more)
@@ -378,8 +382,7 @@ int run(int argc, char** argv) {
                    "usage: surface_quality_compare (--gv DIR | --ict DIR) [--frames N] "
                    "[--qps Q1,Q2,..] [--preset slow|fast] [--configs NAME,..] [--floor] "
                    "[--peers] [--peer-preset P] [--peer-qps Q1,..] [--gop N] [--target-p95 DEG] "
-                   "[--scale PX] "
-                   "[--write-decoded DIR]\n");
+                   "[--scale PX] [--write-decoded DIR] [--no-texture]\n");
       return 2;
     }
   }
@@ -416,6 +419,8 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "give --gv DIR or --ict DIR\n");
     return 2;
   }
+  if (no_texture)  // geometry only, as the peers code it
+    for (GeometryImage& f : m.frames) f.texture = cv::Mat();
   m.info = make_sequence_info(m.frames, 16, 30.0).value();
   m.vertices = static_cast<double>(m.info.domain_pixels());
   m.peak = m.info.box_diagonal_mm();
@@ -424,10 +429,11 @@ int run(int argc, char** argv) {
   base.intra_period = gop;
   std::printf(
       "material: %s, %dx%d, %zu frames, %.0f domain pixels, diagonal %.1f mm; %s preset, I "
-      "frame every %d; normal scale %.2g px, Hausdorff window %d px\n",
+      "frame every %d; normal scale %.2g px, Hausdorff window %d px%s\n",
       gv_dir.empty() ? "ICT face in its UV layout" : gv_dir.c_str(), m.info.width, m.info.height,
       m.frames.size(), m.vertices, m.peak, preset.c_str(), gop, g_metric.normal_scale_px,
-      g_metric.window_px);
+      g_metric.window_px,
+      m.info.has_texture ? "; our rate includes the texture plane" : "; geometry only");
 
   if (floor) report_floor(m, base);
 
