@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "gvkit/codec/encoder_tune.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/surface_metrics.hpp"
@@ -28,13 +29,19 @@ namespace {
 namespace fs = std::filesystem;
 
 struct EncodeArgs {
-  std::string input, output, preset = "slow", value_prediction = "none", resolution = "auto";
-  std::vector<int> plane_qp_offsets;
+  std::string input, output, preset = "slow", profile = "auto";
+  std::vector<std::string> tunes;  // key=value each (encoder_tune.hpp)
   codec::EncoderOptions options;
   double fps = 30.0;
-  bool no_gv_modes = false, no_td = false, no_decimation = false;
   bool qp_given = false;  // --qp on the command line
 };
+
+// `--tune help`: the keys, their values and what they change (to stdout).
+void print_tune_keys() {
+  std::printf("gvkit encode --tune key=value (repeatable; for experiments, docs/encoding.md):\n");
+  for (const codec::TuneKey& k : codec::tune_keys())
+    std::printf("  %-22s %-28s %s\n", k.name, k.values, k.help);
+}
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
 
@@ -111,17 +118,9 @@ void run_encode(const EncodeArgs& args) {
                   options.bit_depth, qp_min, options.qp);
     options.qp = qp_min;
   }
-  options.geometry_modes = !args.no_gv_modes;
-  options.td_prediction = !args.no_td;
-  options.inter_decimation = !args.no_decimation;
   options.preset = value_or_throw(codec::parse_preset(args.preset));
-  options.value_prediction = value_or_throw(codec::parse_value_prediction(args.value_prediction));
-  options.resolution = value_or_throw(codec::parse_resolution(args.resolution));
-  if (!args.plane_qp_offsets.empty()) {
-    if (args.plane_qp_offsets.size() != 3)
-      throw CommandFailed(invalid_argument("--plane-qp-offsets: give three values (X Y Z)"));
-    for (int i = 0; i < 3; ++i) options.plane_qp_offset[i] = args.plane_qp_offsets[i];
-  }
+  options.profile = value_or_throw(codec::parse_profile(args.profile));
+  for (const std::string& tune : args.tunes) throw_if_error(codec::apply_tune(tune, &options));
   throw_if_error(options.check());
   const auto files = value_or_throw(list_frame_files(args.input, ".exr"));
   if (files.empty()) throw CommandFailed(not_found(args.input + ": no frame_NNNNNN.exr files"));
@@ -190,9 +189,13 @@ void run_encode(const EncodeArgs& args) {
   nlohmann::json stats = {
       {"input", args.input},
       {"output", args.output},
+      {"format", std::to_string(codec::format::kMajorVersion) + "." +
+                     std::to_string(codec::format::kMinorVersion)},
+      {"profile", codec::profile_name(options.resolved_profile())},
       {"options",
        {{"qp", options.qp},
         {"lossless", options.lossless},
+        {"profile", codec::profile_name(options.profile)},
         {"bit_depth", options.bit_depth},
         {"geometry_modes", options.geometry_modes},
         {"intra_only", options.intra_only},
@@ -214,8 +217,6 @@ void run_encode(const EncodeArgs& args) {
         {"partitions", options.partitions},
         {"deblocking", options.deblocking},
         {"temporal_contexts", options.temporal_contexts},
-        {"compact_segments", options.compact_segments},
-        {"compact_packets", options.compact_packets},
         {"merge", options.merge},
         {"td16", options.td16},
         {"quadratic_intra", options.quadratic_intra},
@@ -224,6 +225,8 @@ void run_encode(const EncodeArgs& args) {
         {"plane_qp_offsets",
          {options.plane_qp_offset[0], options.plane_qp_offset[1], options.plane_qp_offset[2]}},
         {"p_qp_offset", options.p_qp_offset},
+        {"deblock_beta", options.deblock.beta},
+        {"deblock_tc", options.deblock.tc},
         {"bframes", options.b_frames()},
         {"b_qp_offset", options.b_qp_offset},
         {"bitrate_kbps", options.bitrate_kbps},
@@ -233,6 +236,7 @@ void run_encode(const EncodeArgs& args) {
         {"intra_target_offset_db", options.intra_target_offset_db},
         {"refs", options.reference_frames()},
         {"outline_weight", options.outline_weight},
+        {"texture_qp", options.texture_qp},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -279,146 +283,59 @@ void run_encode(const EncodeArgs& args) {
 void add_encode_command(CLI::App& app) {
   auto args = std::make_shared<EncodeArgs>();
   auto* cmd = app.add_subcommand(
-      "encode", "Compress a folder of geometry-image EXRs (frame_NNNNNN.exr) into a .gvid stream");
+      "encode",
+      "Compress a folder of geometry-image EXRs (frame_NNNNNN.exr) into a .gvid stream (format "
+      "2.0); writes OUT.stats.json beside it");
   cmd->add_option("input", args->input, "Folder of frame_NNNNNN.exr geometry images")->required();
   cmd->add_option("-o,--output", args->output, "Output .gvid file")->required();
-  auto* qp = cmd->add_option("--qp", args->options.qp,
-                             "Quantization parameter, -6(B-8)..51 (lower = finer)");
-  auto* lossless =
-      cmd->add_flag("--lossless", args->options.lossless, "Lossless (transform bypass)");
-  qp->excludes(lossless);
-  cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16");
-  cmd->add_flag("--no-gv-modes", args->no_gv_modes, "Disable the four geometry intra modes");
-  cmd->add_flag("--no-td", args->no_td,
-                "P frames: disable temporal-difference prediction (inter + intra-predicted "
-                "difference)");
-  cmd->add_flag("--intra-only", args->options.intra_only, "Intra frames only (no P frames)");
-  cmd->add_option("--intra-period,--gop", args->options.intra_period,
-                  "Frames from one intra frame to the next (P frames between); default 30");
-  cmd->add_option("--search-range", args->options.search_range,
-                  "Motion search range of P frames in samples, 0..32");
-  cmd->add_option("--subpel", args->options.subpel,
-                  "Motion vector precision of P frames: 0 (whole samples), 2 (half) or 4 "
-                  "(quarter, default; H.264 interpolation)");
-  cmd->add_flag("--shared-motion", args->options.shared_motion,
-                "P frames: let each Y and Z macroblock take over the X plane's vector with one "
-                "flag (format 1.4; pays in lossless coding); without it the Y and Z planes code "
-                "their own motion (1.3 syntax)");
-  cmd->add_option(
-      "--max-transform", args->options.max_transform,
-      "Largest residual transform of inter and I16x16 macroblocks in lossy frames: 4 "
-      "(4x4 only), 8 or 16 (8x8 / 16x16 chosen per macroblock; format 1.6; default 16)");
-  cmd->add_flag("--joint-motion-search", args->options.joint_motion_search,
-                "P frames with shared motion: search the X plane's vectors on the error of all "
-                "three planes (always on in lossless and near-lossless frames)");
-  cmd->add_flag("--no-decimation", args->no_decimation,
-                "P frames: keep sparse +-1 inter residual blocks and the intra rounding (no "
-                "inter dead zone)");
-  cmd->add_flag("--rdoq,!--no-rdoq", args->options.rdoq,
-                "Lossy frames: choose each block's levels by rate-distortion cost "
-                "(rate-distortion optimised quantization; on by default, encoder only); "
-                "--no-rdoq quantizes with fixed rounding offsets");
-  cmd->add_flag("--skip-check", args->options.skip_check,
-                "P frames: try the predicted vector first and take a skip found there at once "
-                "(fast preset: about 2x faster encoding, slightly lower quality)");
-  cmd->add_flag("--cross-plane,!--no-cross-plane", args->options.cross_plane,
-                "Let each Y and Z macroblock add a scaled copy of the X plane's residual to its "
-                "own (cross-plane residual prediction, format 1.6; on by default); "
-                "--no-cross-plane writes the 1.4 / 1.5 stream");
-  cmd->add_flag("--cross-plane-contexts,!--no-cross-plane-contexts",
-                args->options.cross_plane_contexts,
-                "Start the Y and Z planes' CABAC contexts from the states the X plane's reached "
-                "(cross-plane contexts, format 1.7); --no-cross-plane-contexts writes the 1.6 "
-                "stream");
-  cmd->add_flag("--partitions,!--no-partitions", args->options.partitions,
-                "P frames, slow preset: let plain inter macroblocks split into 16x8, 8x16 or 8x8 "
-                "partitions with their own reference and vector (inter partitions, format 1.7; "
-                "on by default; the fast preset codes 16x16 only); --no-partitions writes the 1.6 "
-                "stream");
-  cmd->add_flag("--intra-rdo,!--no-intra-rdo", args->options.intra_rdo,
-                "Fast preset, lossy I frames: decide macroblock types and modes by "
-                "rate-distortion cost on a shortlist of the cheapest modes by SATD (on by "
-                "default; the slow preset decides every frame so); the stream syntax is the same");
-  cmd->add_flag("--deblock,!--no-deblock", args->options.deblocking,
-                "Lossy frames: filter the 8x8 block edges of every reconstructed plane in the "
-                "loop (deblocking filter, format 1.8; on by default); --no-deblock writes the "
-                "1.7 stream");
-  cmd->add_flag("--temporal-contexts,!--no-temporal-contexts", args->options.temporal_contexts,
-                "P and B frames: start every plane's CABAC contexts from the states the same "
-                "plane of the reference frame ended with (temporal contexts, format 1.9; on by "
-                "default); with --no-compact-segments too, --no-temporal-contexts writes the 1.8 "
-                "stream");
-  cmd->add_flag("--compact-segments,!--no-compact-segments", args->options.compact_segments,
-                "Write each plane segment's size as a varint and none for the last segment "
-                "(format 1.9; on by default); --no-compact-segments writes u32 sizes (the 1.8 "
-                "payload)");
-  cmd->add_flag("--compact-packets,!--no-compact-packets", args->options.compact_packets,
-                "Write the compact packet header (13-21 bytes instead of 24) and end every plane "
-                "segment with the fewest bytes (format 1.10; on by default); with the other 1.9 "
-                "options --no-compact-packets writes the 1.9 stream");
-  cmd->add_flag("--merge,!--no-merge", args->options.merge,
-                "P frames: a skip or 16x16 inter macroblock may take one of up to four "
-                "neighbours' vectors, coding which in one to four bins (format 1.11; on by "
-                "default); --no-merge writes the 1.10 stream");
-  cmd->add_flag("--td16,!--no-td16", args->options.td16,
-                "P frames: a temporal-difference macroblock may predict the difference with one "
-                "16x16 mode, its residual then with any transform size (format 1.12; on by "
-                "default); --no-td16 writes the 1.11 stream");
-  cmd->add_flag("--quadratic-intra,!--no-quadratic-intra", args->options.quadratic_intra,
-                "I16x16 macroblocks may predict with a least-squares quadratic surface through "
-                "the two rows above and the two columns left of them (format 1.13; on by "
-                "default); --no-quadratic-intra writes the 1.12 stream");
-  cmd->add_option("--resolution", args->resolution,
-                  "full, half or auto: code lossy frames at half resolution, upsampled 2x by the "
-                  "decoder (format 1.14); auto (default) decides per I frame: half where halving "
-                  "loses less than coding at full resolution; full writes the 1.13 stream");
-  cmd->add_option("--preset", args->preset, "fast (SATD decisions) or slow (RDO)");
-  cmd->add_option("--fps", args->fps, "Frame rate stored in the stream");
+  // The rate mode: one of these (default: --qp -10).
+  auto* quality = cmd->add_option("--quality", args->options.target_psnr_db,
+                                  "Constant quality: each frame at the coarsest QP whose geometry "
+                                  "PSNR (dB, peak = the box diagonal) meets this; 2-4 encodes per "
+                                  "frame");
+  auto* qp = cmd->add_option(
+      "--qp", args->options.qp,
+      "Constant QP, -6(B-8)..51 (lower = finer; default -10: normal error p95 <= 2 deg on "
+      "the main-job face); with "
+      "--quality or --bitrate the starting QP");
+  auto* bitrate = cmd->add_option("--bitrate", args->options.bitrate_kbps,
+                                  "Target bitrate in kbit/s at --fps (rate control)");
   auto* max_error = cmd->add_option(
       "--max-error-mm", args->options.max_error_mm,
-      "Near-lossless: guarantee a point error <= this (mm) on every pixel; 0 = off");
+      "Near-lossless: every point within this error (mm) of the input (profile lossless)");
+  auto* lossless = cmd->add_flag("--lossless", args->options.lossless,
+                                 "Lossless: decoded samples equal the quantized input (profile "
+                                 "lossless)");
+  quality->excludes(bitrate);
+  for (auto* exact : {max_error, lossless}) {
+    exact->excludes(quality);
+    exact->excludes(bitrate);
+    exact->excludes(qp);
+  }
   max_error->excludes(lossless);
-  max_error->excludes(qp);
-  cmd->add_option("--value-prediction", args->value_prediction,
-                  "P frames: none, offset, weighted (per plane) or affine (3D) map of the "
-                  "reference's xyz");
-  cmd->add_option("--plane-qp-offsets", args->plane_qp_offsets,
-                  "QP offsets of the X, Y, Z planes, -12..12 each")
-      ->expected(3);
-  cmd->add_option("--p-qp-offset", args->options.p_qp_offset,
-                  "Added to --qp in P frames, 0..12 (ignored under --bitrate)");
-  cmd->add_option("--bframes", args->options.bframes,
-                  "Consecutive B frames between two anchors (I or P frames), 0..3 (format 1.5; 0 "
-                  "writes a 1.4 stream); default 1 in lossy, 0 in lossless and --max-error-mm "
-                  "streams");
-  cmd->add_option("--b-qp-offset", args->options.b_qp_offset,
-                  "Added to the P frames' QP in B frames, 0..12 (under --bitrate: to the last P "
-                  "frame's)");
-  cmd->add_option("--bitrate", args->options.bitrate_kbps,
-                  "Target bitrate in kbit/s (rate control; --qp is the starting QP); 0 = constant "
-                  "QP");
-  cmd->add_option("--buffer-seconds", args->options.buffer_seconds,
-                  "Rate-control buffer in seconds of the target bitrate, 0.1..100");
-  cmd->add_option("--target-psnr", args->options.target_psnr_db,
-                  "Constant quality: each frame at the coarsest QP whose geometry PSNR (dB) meets "
-                  "this (2-4 encodes per frame; --qp is the starting QP); 0 = off");
-  cmd->add_option("--target-rms-mm", args->options.target_rms_mm,
-                  "Constant quality: each frame at the coarsest QP whose RMS point error (mm) "
-                  "meets this; 0 = off");
-  cmd->add_option("--intra-target-offset", args->options.intra_target_offset_db,
-                  "Constant quality: I frames aim this many dB above the target (a finer "
-                  "reference for the P frames), 0..20");
-  cmd->add_option("--refs", args->options.refs,
-                  "Reference frames of P frames, 1..5: each macroblock predicts from one of the "
-                  "nearest anchors since the last I frame (format 1.6); 1 = one reference (a "
-                  "1.4 / 1.5 stream); default 3 in lossy, 1 in lossless and --max-error-mm "
-                  "streams");
-  cmd->add_option("--outline-weight", args->options.outline_weight,
-                  "Lossy frames: the outline's samples (the face's border, the rims of its holes) "
-                  "count this many times in the encoder's rate-distortion decisions, 1..64 "
-                  "(encoder only; default 8; 1 = plain SSD)");
+  cmd->add_option("--preset", args->preset,
+                  "fast (SATD decisions, several times faster) or slow (rate-distortion "
+                  "optimised, the default)");
+  cmd->add_option("--profile", args->profile,
+                  "auto (default: lossless, intra or main from the options), lossless (every "
+                  "frame lossless, or within --max-error-mm), intra (I frames only) or main");
+  cmd->add_option("--intra-period,--gop", args->options.intra_period,
+                  "Frames from one I frame to the next (P and B frames between); default 30");
+  cmd->add_flag("--intra-only", args->options.intra_only, "I frames only (profile intra)");
+  cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16 (16)");
+  cmd->add_option("--fps", args->fps, "Frame rate stored in the stream (30)");
   cmd->add_option("--threads", args->options.threads,
                   "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
+  cmd->add_option("--tune", args->tunes,
+                  "key=value: an encoder tool switch or fine setting, for experiments "
+                  "(repeatable; '--tune help' lists the keys, docs/encoding.md explains them)")
+      ->take_all()
+      ->allow_extra_args(false)
+      ->each([](const std::string& value) {
+        if (value != "help") return;
+        print_tune_keys();  // and nothing else (no input or output needed)
+        throw CLI::Success();
+      });
   cmd->callback([args, qp] {
     args->qp_given = qp->count() > 0;
     run_encode(*args);

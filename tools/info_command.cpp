@@ -111,14 +111,31 @@ void print_vector(const char* name, const std::vector<double>& v) {
 }
 
 void describe_calibration(const fs::path& path) {
-  const LoadedCalibration loaded = value_or_throw(read_calibration(path));
+  // Layouts without device sizes (procam, stereo_calib) are described all the same: a stand-in
+  // size lets the file be read, and the sizes are reported as not recorded.
+  CalibrationReadOptions stand_in;
+  stand_in.camera_size = stand_in.projector_size = {1, 1};
+  Result<LoadedCalibration> read = read_calibration(path);
+  if (!read) {
+    Result<LoadedCalibration> sizeless = read_calibration(path, stand_in);
+    if (!sizeless || (sizeless->camera_size_from_file && sizeless->projector_size_from_file))
+      throw CommandFailed(read.status());
+    read = sizeless;
+  }
+  const LoadedCalibration& loaded = *read;
   const Calibration& c = loaded.calibration;
-  std::printf("%s: calibration (%s format)\n", path.string().c_str(),
-              loaded.format == CalibrationFormat::kSlStudio ? "SLStudio" : "gvkit");
-  std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
+  std::printf("%s: calibration (%s layout)\n", path.string().c_str(),
+              calibration_format_name(loaded.format));
+  if (loaded.camera_size_from_file)
+    std::printf("  camera      %dx%d px\n", c.camera_width, c.camera_height);
+  else
+    std::printf("  camera      size not recorded (taken from the images)\n");
   print_matrix("camera K (px)", c.camera_K);
   print_vector("camera distortion", c.camera_dist);
-  std::printf("  projector   %dx%d px\n", c.projector_width, c.projector_height);
+  if (loaded.projector_size_from_file)
+    std::printf("  projector   %dx%d px\n", c.projector_width, c.projector_height);
+  else
+    std::printf("  projector   size not recorded (give --projector-size)\n");
   print_matrix("projector K (px)", c.projector_K);
   print_vector("projector distortion", c.projector_dist);
   print_matrix("R cam_from_proj", c.R_cam_from_proj);
@@ -140,6 +157,13 @@ void describe_gvid(const fs::path& path) {
   const codec::SequenceInfo& info = reader->info();
   std::printf("%s: .gvid geometry video, %lld bytes\n", path.string().c_str(),
               static_cast<long long>(reader->file_bytes()));
+  const codec::format::StreamFormat& format = reader->format();
+  if (format.legacy())
+    std::printf("  format          %d.%d (legacy 1.x, read-only: gvkit writes format 2.0)\n",
+                format.major, format.minor);
+  else
+    std::printf("  format          %d.%d, profile %s\n", format.major, format.minor,
+                codec::profile_name(format.profile));
   std::printf("  size            %dx%d, %d-bit xyz%s\n", info.width, info.height, info.bit_depth,
               info.has_texture ? " + 8-bit texture" : "");
   std::printf("  fps             %g\n", info.fps);
@@ -158,7 +182,7 @@ void describe_gvid(const fs::path& path) {
   }
   std::printf("  frame types     %lld I, %lld P, %lld B\n", static_cast<long long>(count[0]),
               static_cast<long long>(count[1]), static_cast<long long>(count[2]));
-  // Frame-level tools of the packet headers' flags2 (format 1.6: larger transforms).
+  // Frames with larger transforms (flags2 bit 2).
   int64_t large_transforms = 0;
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const auto header = reader->packet_header(i);
@@ -166,7 +190,7 @@ void describe_gvid(const fs::path& path) {
       ++large_transforms;
   }
   if (large_transforms > 0)
-    std::printf("  transforms      8x8 / 16x16 in %lld of %lld frames (format 1.6)\n",
+    std::printf("  transforms      8x8 / 16x16 in %lld of %lld frames\n",
                 static_cast<long long>(large_transforms),
                 static_cast<long long>(reader->frame_count()));
   const double vertices = static_cast<double>(std::max<int64_t>(1, info.domain_pixels()));
@@ -174,19 +198,18 @@ void describe_gvid(const fs::path& path) {
   for (int64_t i = 0; i < reader->frame_count(); ++i) {
     const int64_t bits = reader->frame_bits(i);
     total += bits;
-    // Frame-level tools of the packet's flags2 (format 1.4 shared motion, 1.6 cross-plane), and
-    // (format 1.6) how many reference frames a P frame with several has.
+    // Frame-level tools of the packet header (flags2, compact header, half resolution), and how
+    // many reference frames a P frame with several has.
     std::string tools;
     if (auto h = reader->packet_header(i); h.is_ok()) {
       if (h->flags2 & codec::format::kFrame2SharedMotion) tools += "  shared-motion";
       if (h->flags2 & codec::format::kFrame2CrossPlane) tools += "  cross-plane";
       if (h->flags2 & codec::format::kFrame2CrossPlaneContexts) tools += "  cross-plane-contexts";
-      if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";  // format 1.7
-      if (h->flags2 & codec::format::kFrame2Deblocking) tools += "  deblocking";  // format 1.8
-      if (h->flags2 & codec::format::kFrame2TemporalContexts)
-        tools += "  temporal-contexts";                      // 1.9
-      if (h->compact) tools += "  compact-packet";           // 1.10
-      if (h->half_resolution) tools += "  half-resolution";  // 1.14
+      if (h->flags2 & codec::format::kFrame2Partitions) tools += "  partitions";
+      if (h->flags2 & codec::format::kFrame2Deblocking) tools += "  deblocking";
+      if (h->flags2 & codec::format::kFrame2TemporalContexts) tools += "  temporal-contexts";
+      if (!h->compact) tools += "  full-packet-header";  // legacy 1.x streams only
+      if (h->half_resolution) tools += "  half-resolution";
     }
     const int refs = reader->frame_type(i) == codec::format::FrameType::kPredicted
                          ? reader->frame_references(i)

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "fringe_input.hpp"
 #include "gvkit/capture/fringe_folder.hpp"
 #include "gvkit/capture/ground_truth.hpp"
 #include "gvkit/capture/pattern_set.hpp"
@@ -35,7 +36,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ReconstructArgs {
-  std::string input, output, pattern, calibration;
+  std::string input, output, ground_truth;
+  FringeInputArgs in;  // --pattern, --calibration and how a plain folder is read
   bool ply = false, quiet = false, resume = false;
   bool depth_prior_given = false;  // --depth-prior on the command line (else the session's)
   capture::ReconstructOptions options;
@@ -63,38 +65,93 @@ void run(const ReconstructArgs& args) {
   const fs::path input = args.input, output = args.output;
   std::optional<capture::SessionReader> session;
   std::optional<capture::FringeFolder> folder;
+  std::optional<StereoFolderInput> stereo;
+  std::unique_ptr<capture::PatternSet> patterns;
   Calibration calibration;
-  std::string pattern_name = args.pattern;
+  std::string calibration_note;
   capture::ReconstructOptions reconstruct_options = args.options;
   std::string depth_prior_from = args.depth_prior_given ? "--depth-prior" : "default";
+  // Everything is read and checked before the output folder is touched: a bad input leaves an
+  // earlier run's outputs as they were.
   if (fs::exists(input / "session.json")) {
     session = value_or_throw(capture::SessionReader::open(input));
     calibration = session->calibration();
-    if (pattern_name.empty()) pattern_name = session->info().pattern;
+    const std::string pattern_name =
+        args.in.pattern.empty() ? session->info().pattern : args.in.pattern;
+    patterns = value_or_throw(capture::create_pattern_set(pattern_name, args.pattern_options));
     if (!args.depth_prior_given && session->info().depth_prior_mm > 0) {
       reconstruct_options.depth_prior_mm = session->info().depth_prior_mm;
       depth_prior_from = "session";
     }
-    if (!args.calibration.empty())
-      calibration = value_or_throw(read_calibration(args.calibration)).calibration;
+    if (!args.in.calibration.empty()) {
+      CalibrationReadOptions read_options = value_or_throw(calibration_read_options(args.in));
+      read_options.camera_size = {calibration.camera_width, calibration.camera_height};
+      calibration =
+          value_or_throw(read_calibration(std::vector<fs::path>(args.in.calibration.begin(),
+                                                                args.in.calibration.end()),
+                                          read_options))
+              .calibration;
+    }
+  } else if (!stereo_subfolders(input).empty()) {
+    stereo = value_or_throw(open_stereo_folder(input, args.in, args.pattern_options));
+    patterns = std::move(stereo->patterns);
+    calibration_note = "camera pair " + stereo->layout;
+    logger().info("reconstruct: a camera pair ({}), {} frames of {} images each", stereo->layout,
+                  stereo->left.frames.size(), patterns->image_count());
   } else {
-    if (pattern_name.empty() || args.calibration.empty())
-      throw CommandFailed(
-          invalid_argument(input.string() +
-                           ": not a session (no session.json); a folder of fringe images needs "
-                           "--pattern and --calibration"));
-    calibration = value_or_throw(read_calibration(args.calibration)).calibration;
+    FringeFolderInput in = value_or_throw(open_fringe_folder(input, args.in, args.pattern_options));
+    patterns = std::move(in.patterns);
+    folder = std::move(in.folder);
+    calibration = in.calibration;
+    calibration_note = in.calibration_note;
+    logger().info("reconstruct: {} frames of {} images in {}; calibration: {}",
+                  folder->frames.size(), patterns->image_count(), input.string(), calibration_note);
   }
-  auto patterns = value_or_throw(capture::create_pattern_set(pattern_name, args.pattern_options));
-  if (!session)
-    folder = value_or_throw(capture::list_fringe_folder(input, patterns->image_count()));
-  const capture::Reconstructor reconstructor =
-      value_or_throw(capture::Reconstructor::create(calibration, reconstruct_options));
+  if (!args.ground_truth.empty() && !fs::is_directory(args.ground_truth))
+    throw CommandFailed(not_found(args.ground_truth + ": no such folder (--ground-truth)"));
+  // One frame's scan: projector-camera triangulation, or matching between a camera pair.
+  std::optional<capture::Reconstructor> reconstructor;
+  std::optional<capture::StereoReconstructor> pair;
+  if (stereo) {
+    capture::StereoOptions stereo_options;
+    stereo_options.min_depth_mm = reconstruct_options.min_depth_mm;
+    stereo_options.max_depth_mm = reconstruct_options.max_depth_mm;
+    if (!args.in.projector_size.empty())
+      stereo_options.projector_width =
+          value_or_throw(calibration_read_options(args.in)).projector_size.width;
+    pair.emplace(
+        value_or_throw(capture::StereoReconstructor::create(stereo->calibration, stereo_options)));
+    if (!patterns->absolute())
+      throw CommandFailed(invalid_argument(
+          "pattern set " + patterns->name() +
+          " is unwrapped spatially: its phase differs between the cameras by unknown whole "
+          "periods; a camera pair needs an absolute pattern set (mf, het, gray, cgray)"));
+  } else {
+    reconstructor.emplace(
+        value_or_throw(capture::Reconstructor::create(calibration, reconstruct_options)));
+  }
+  auto reconstruct_frame = [&](size_t i) -> Result<RangeScan> {
+    if (stereo) {
+      GVKIT_ASSIGN_OR_RETURN(FringeSet left, capture::read_fringe_frame(stereo->left, i));
+      GVKIT_ASSIGN_OR_RETURN(FringeSet right, capture::read_fringe_frame(stereo->right, i));
+      return pair->reconstruct(left, right, *patterns);
+    }
+    GVKIT_ASSIGN_OR_RETURN(FringeSet fringes, session ? session->read_frame(i)
+                                                      : capture::read_fringe_frame(*folder, i));
+    return reconstructor->reconstruct(fringes, *patterns);
+  };
   throw_if_error(ensure_directory(output));
 
-  const size_t count = session ? session->frame_count() : folder->frames.size();
+  const size_t count = session  ? session->frame_count()
+                       : stereo ? stereo->left.frames.size()
+                                : folder->frames.size();
   const nlohmann::json options = {{"pattern", patterns->name()},
-                                  {"calibration", args.calibration},
+                                  {"calibration", args.in.calibration},
+                                  {"calibration_note", calibration_note},
+                                  {"images", args.in.folder.include},
+                                  {"exclude", args.in.folder.exclude},
+                                  {"sliding", args.in.folder.sliding},
+                                  {"ground_truth", args.ground_truth},
                                   {"depth_prior_mm", reconstruct_options.depth_prior_mm},
                                   {"depth_prior_from", depth_prior_from},
                                   {"min_modulation", args.pattern_options.min_modulation},
@@ -129,23 +186,25 @@ void run(const ReconstructArgs& args) {
         return;
       }
     }
-    Result<FringeSet> fringes =
-        session ? session->read_frame(i) : capture::read_fringe_frame(*folder, i);
-    if (!fringes) return fail(fringes.status());
-    Result<RangeScan> scan = reconstructor.reconstruct(*fringes, *patterns);
+    Result<RangeScan> scan = reconstruct_frame(i);
     if (!scan) return fail(scan.status());
-    const int64_t index = fringes->index;
+    const int64_t index = scan->index;
     Status s = write_range_scan_exr(frame_path(output, index, ".exr"), *scan);
     if (s && args.ply)
       s = write_mesh(frame_path(output, index, ".ply"), capture::range_scan_mesh(*scan));
     if (!s) return fail(s);
     std::optional<capture::ScanAccuracy> accuracy;
-    if (session) {
-      if (auto gt_path = session->ground_truth_path(index)) {
-        Result<capture::GroundTruth> gt = capture::read_ground_truth_exr(*gt_path);
-        if (!gt) return fail(gt.status());
-        accuracy = capture::scan_accuracy(*scan, *gt);
-      }
+    std::optional<fs::path> gt_path;
+    if (!args.ground_truth.empty())
+      gt_path = frame_path(args.ground_truth, index, ".exr");
+    else if (session)
+      gt_path = session->ground_truth_path(index);
+    if (gt_path) {
+      Result<capture::GroundTruth> gt = capture::read_ground_truth_exr(*gt_path);
+      if (!gt) return fail(gt.status());
+      if (gt->xyz_mm.size() != scan->xyz_mm.size())
+        return fail(invalid_argument(gt_path->string() + ": ground truth of another image size"));
+      accuracy = capture::scan_accuracy(*scan, *gt);
     }
     entries[i] = frame_entry(index, *scan, accuracy);
     if (Status r = stats_file.record(index, entries[i]); !r) return fail(r);
@@ -202,10 +261,32 @@ void add_reconstruct_command(CLI::App& app) {
   auto args = std::make_shared<ReconstructArgs>();
   cmd->add_option("input", args->input, "Session folder, or a folder of fringe images")->required();
   cmd->add_option("-o,--output", args->output, "Output folder for the scans")->required();
-  cmd->add_option("--pattern", args->pattern,
-                  "Pattern set (default: the session's): " + capture::pattern_set_help());
-  cmd->add_option("--calibration", args->calibration,
-                  "Calibration file (gvkit YAML/JSON/XML or SLStudio calibration.xml)");
+  cmd->add_option("--pattern", args->in.pattern,
+                  "Pattern set (default: the session's), a name or a SPEC.json file: " +
+                      capture::pattern_set_help());
+  cmd->add_option("--calibration", args->in.calibration,
+                  "Calibration file(s), YAML/XML/JSON in the gvkit, SLStudio, procam "
+                  "(scan3d-capture), OpenCV stereo_calib (intrinsics.yml,extrinsics.yml) or OpenCV "
+                  "camera-sample layout")
+      ->delimiter(',');
+  cmd->add_option("--projector-size", args->in.projector_size,
+                  "Projector resolution WxH, for calibration layouts that do not record it");
+  cmd->add_option("--calibration-unit", args->in.calibration_unit,
+                  "Length unit of the calibration's translation: mm, cm or m")
+      ->capture_default_str();
+  cmd->add_flag("--rescale-calibration", args->in.rescale_calibration,
+                "Scale the camera intrinsics to the images when they have another resolution "
+                "than the calibration but the same aspect ratio (binned or resized images)");
+  cmd->add_option("--images", args->in.folder.include,
+                  "Plain folder: only image files whose names match this glob (e.g. 'cam0_*')");
+  cmd->add_option("--exclude", args->in.folder.exclude,
+                  "Plain folder: leave out image files whose names match this glob");
+  cmd->add_flag("--sliding", args->in.folder.sliding,
+                "Plain folder: a continuous sequence; frame i is images i..i+N-1 (a sliding "
+                "window, image j filling pattern slot j mod N)");
+  cmd->add_option("--ground-truth", args->ground_truth,
+                  "Folder of ground-truth EXRs (frame_NNNNNN.exr, as gvkit synth writes in gt/) "
+                  "to measure depth errors against");
   cmd->add_flag("--ply", args->ply, "Also write frame_NNNNNN.ply meshes with texture");
   cmd->add_option("--depth-prior", args->options.depth_prior_mm,
                   "Expected depth (mm) resolving spatially unwrapped regions (default: the "

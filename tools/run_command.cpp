@@ -31,7 +31,11 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-  std::string input, work, pattern, calibration;
+  std::string input, work, pattern;
+  std::vector<std::string> calibration;
+  // Passed to reconstruct for a plain folder of fringe images ("" / false = not given).
+  std::string projector_size, calibration_unit, images, exclude, ground_truth;
+  bool rescale_calibration = false, sliding = false;
   int frames = 30;
   std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
   int qp = codec::EncoderOptions().qp;
@@ -139,8 +143,15 @@ void run(const RunArgs& a) {
   std::vector<std::string> reconstruct = {"reconstruct", session.string(), "-o",
                                           (work / "scans").string(), "--resume"};
   if (!a.pattern.empty()) reconstruct.insert(reconstruct.end(), {"--pattern", a.pattern});
-  if (!a.calibration.empty())
-    reconstruct.insert(reconstruct.end(), {"--calibration", a.calibration});
+  for (const std::string& file : a.calibration)
+    reconstruct.insert(reconstruct.end(), {"--calibration", file});
+  for (auto [flag, value] :
+       {std::pair{"--projector-size", &a.projector_size},
+        std::pair{"--calibration-unit", &a.calibration_unit}, std::pair{"--images", &a.images},
+        std::pair{"--exclude", &a.exclude}, std::pair{"--ground-truth", &a.ground_truth}})
+    if (!value->empty()) reconstruct.insert(reconstruct.end(), {flag, *value});
+  if (a.rescale_calibration) reconstruct.push_back("--rescale-calibration");
+  if (a.sliding) reconstruct.push_back("--sliding");
   if (a.depth_prior_mm > 0) {
     char text[32];
     std::snprintf(text, sizeof text, "%.10g", a.depth_prior_mm);
@@ -270,8 +281,25 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--expressions", a->expressions,
                   "Expression track of the synthetic source (synth --expressions)")
       ->capture_default_str();
-  cmd->add_option("--pattern", a->pattern, "Pattern set of a folder of fringe images");
-  cmd->add_option("--calibration", a->calibration, "Calibration of a folder of fringe images");
+  cmd->add_option("--pattern", a->pattern,
+                  "Pattern set of a folder of fringe images: a name or a SPEC.json (reconstruct "
+                  "--pattern)");
+  cmd->add_option("--calibration", a->calibration,
+                  "Calibration file(s) of a folder of fringe images (reconstruct --calibration)")
+      ->delimiter(',');
+  cmd->add_option("--projector-size", a->projector_size,
+                  "Projector WxH where the calibration lacks it (reconstruct --projector-size)");
+  cmd->add_option("--calibration-unit", a->calibration_unit,
+                  "Calibration length unit mm, cm or m (reconstruct --calibration-unit)");
+  cmd->add_flag("--rescale-calibration", a->rescale_calibration,
+                "Fit the camera intrinsics to images of another resolution, same aspect "
+                "(reconstruct --rescale-calibration)");
+  cmd->add_option("--images", a->images, "Only images matching this glob (reconstruct --images)");
+  cmd->add_option("--exclude", a->exclude, "Leave out images matching this glob");
+  cmd->add_flag("--sliding", a->sliding,
+                "A continuous sequence read as sliding windows (reconstruct --sliding)");
+  cmd->add_option("--ground-truth", a->ground_truth,
+                  "Reference EXRs to measure the scans against (reconstruct --ground-truth)");
   cmd->add_option("--depth-prior", a->depth_prior_mm,
                   "Expected face depth (mm) for spatially unwrapped pattern sets (reconstruct "
                   "--depth-prior; default: the session's, else 650)");

@@ -2,6 +2,7 @@
 // embedded default source) with ground truth.
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <regex>
 #include <string>
@@ -64,14 +65,47 @@ void add_synth_command(CLI::App& app) {
   cmd->add_option("--ambient", options->render.ambient, "Ambient light relative to the projector")
       ->capture_default_str();
   cmd->add_option("--ict", *ict, "ICT-FaceKit folder")->capture_default_str();
+  auto projector = std::make_shared<std::string>();
+  cmd->add_option("--projector-size", *projector,
+                  "Projector WxH (default 912x570); its focal length scales with the width, so "
+                  "the field of view stays");
+  cmd->add_flag("--plain-folder", options->plain_folder,
+                "Write a plain folder (img_1.png, img_2.png, ... + calibration.yml + gt/) instead "
+                "of a session: another rig's data as gvkit meets it");
+  cmd->add_option("--image-format", options->image_format, "Plain folder: png or bmp")
+      ->capture_default_str();
+  auto layout = std::make_shared<std::string>("procam");
+  cmd->add_option("--calibration-layout", *layout,
+                  "Plain folder: calibration.yml layout: gvkit, slstudio, procam or stereo")
+      ->capture_default_str();
   cmd->add_flag("--no-progress", *quiet, "Do not show progress");
-  cmd->callback([options, output, size, ict, quiet] {
+  cmd->callback([options, output, size, ict, quiet, projector, layout] {
     std::smatch m;
     if (!std::regex_match(*size, m, std::regex(R"((\d+)x(\d+))")))
       throw CommandFailed(
           invalid_argument("--size must be WxH, e.g. 512x512, not '" + *size + "'"));
     options->rig.camera_width = std::stoi(m[1]);
     options->rig.camera_height = std::stoi(m[2]);
+    if (!projector->empty()) {
+      if (!std::regex_match(*projector, m, std::regex(R"((\d+)x(\d+))")))
+        throw CommandFailed(invalid_argument("--projector-size must be WxH, e.g. 1280x800, not '" +
+                                             *projector + "'"));
+      const int width = std::stoi(m[1]);
+      options->rig.projector_focal_px *= static_cast<double>(width) / options->rig.projector_width;
+      options->rig.projector_width = width;
+      options->rig.projector_height = std::stoi(m[2]);
+    }
+    const std::map<std::string, CalibrationFormat> layouts = {
+        {"gvkit", CalibrationFormat::kGvkit},
+        {"slstudio", CalibrationFormat::kSlStudio},
+        {"procam", CalibrationFormat::kProcam},
+        {"stereo", CalibrationFormat::kStereo}};
+    if (!layouts.count(*layout))
+      throw CommandFailed(
+          invalid_argument("--calibration-layout must be gvkit, slstudio, procam "
+                           "or stereo, not '" +
+                           *layout + "'"));
+    options->calibration_layout = layouts.at(*layout);
     options->ict_dir = *ict;
     options->progress = !*quiet;
     throw_if_error(capture::write_synthetic_session(*output, *options));

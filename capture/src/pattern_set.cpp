@@ -2,7 +2,8 @@
 
 #include <cmath>
 #include <limits>
-#include <regex>
+
+#include <opencv2/imgproc.hpp>
 
 #include "gvkit/capture/phase_unwrapping.hpp"
 #include "pattern_families.hpp"
@@ -27,50 +28,84 @@ Status PatternSetOptions::check() const {
 Result<std::unique_ptr<PatternSet>> create_pattern_set(const std::string& name,
                                                        const PatternSetOptions& options) {
   GVKIT_RETURN_IF_ERROR(options.check());
-  const std::string where = "pattern set '" + name + "'";
-  std::smatch m;
-  auto bad = [&](const std::string& why) -> Status { return invalid_argument(where + ": " + why); };
-  if (std::regex_match(name, m, std::regex(R"(psp(\d+)-f(\d+))"))) {
-    const int steps = std::stoi(m[1]), periods = std::stoi(m[2]);
-    if (steps < 3 || steps > 64) return bad("needs 3..64 steps");
-    if (periods < 1 || periods > 4096) return bad("needs 1..4096 periods");
-    return detail::make_phase_shift(steps, periods, options);
+  PatternSpec spec;
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
+    GVKIT_ASSIGN_OR_RETURN(spec, read_pattern_spec(name));
+  } else {
+    Result<PatternSpec> parsed = parse_pattern_name(name);
+    if (!parsed) {
+      std::string message = parsed.status().message();
+      if (message.find("unknown name") != std::string::npos)
+        message += "; known: " + pattern_set_help() + "; or a SPEC.json file";
+      return invalid_argument(message);
+    }
+    spec = *parsed;
   }
-  if (std::regex_match(name, m, std::regex(R"(mf(\d+)((-f\d+){2,3}))"))) {
-    const int steps = std::stoi(m[1]);
-    if (steps < 3 || steps > 64) return bad("needs 3..64 steps");
-    std::vector<int> periods;
-    const std::string list = m[2];
-    std::regex f(R"(-f(\d+))");
-    for (auto it = std::sregex_iterator(list.begin(), list.end(), f); it != std::sregex_iterator();
-         ++it)
-      periods.push_back(std::stoi((*it)[1]));
-    if (periods.back() != 1) return bad("the last (coarsest) frequency must be f1");
-    for (size_t i = 0; i + 1 < periods.size(); ++i)
-      if (periods[i] <= periods[i + 1] || periods[i] > 4096)
-        return bad("frequencies must decrease from finest to f1 (at most 4096 periods)");
-    return detail::make_multi_frequency(steps, periods, options);
+  return create_pattern_set(spec, options);
+}
+
+Result<std::unique_ptr<PatternSet>> create_pattern_set(const PatternSpec& spec,
+                                                       const PatternSetOptions& options) {
+  GVKIT_RETURN_IF_ERROR(options.check());
+  Status ok = spec.check();
+  if (!ok) return ok.with_context("pattern set '" + spec.name() + "'");
+  switch (spec.family) {
+    case PatternSpec::Family::kPhaseShift:
+      return detail::make_phase_shift(spec, options);
+    case PatternSpec::Family::kMultiFrequency:
+      return detail::make_multi_frequency(spec, options);
+    case PatternSpec::Family::kHeterodyne:
+      return detail::make_heterodyne(spec, options);
+    case PatternSpec::Family::kZhangHuang:
+      return detail::make_zhang_huang(spec, options);
+    case PatternSpec::Family::kGrayCode:
+      return detail::make_gray_code(spec, options);
   }
-  if (std::regex_match(name, m, std::regex(R"(zh-f(\d+))"))) {
-    const int periods = std::stoi(m[1]);
-    if (periods < 1 || periods > 4096) return bad("needs 1..4096 periods");
-    return detail::make_zhang_huang(periods, options);
-  }
-  if (std::regex_match(name, m, std::regex(R"(gray(\d+)-psp(\d+))"))) {
-    const int bits = std::stoi(m[1]), steps = std::stoi(m[2]);
-    if (bits < 1 || bits > 12) return bad("needs 1..12 Gray-code bits");
-    if (steps < 3 || steps > 64) return bad("needs 3..64 steps");
-    return detail::make_gray_code(bits, steps, options);
-  }
-  return bad("unknown name; known: " + pattern_set_help());
+  return invalid_argument("pattern set '" + spec.name() + "': unknown family");
 }
 
 std::string pattern_set_help() {
   return "psp<N>-f<P> (N-step phase shift, P periods, spatial unwrapping; e.g. psp3-f16), "
          "mf<N>-f<P1>-f<P2>[-f<P3>] (multi-frequency temporal unwrapping, finest first, last f1; "
          "e.g. mf3-f16-f1 = the 2x3 skull scheme, mf4-f16-f1, mf3-f64-f8-f1), "
+         "het<N>-f<P1>-f<P2>[-f<P3>] (multi-frequency heterodyne: beats unwrap, the beat of the "
+         "beats is one period; e.g. het4-f70-f64-f59, het3-f16-f15), "
          "zh-f<P> (Zhang-Huang 2+1; e.g. zh-f16), "
-         "gray<B>-psp<N> (B Gray-code bits + N-step phase shift with 2^B periods; e.g. gray4-psp4)";
+         "gray<B>-psp<N> (B Gray-code bits + N-step phase shift with 2^B periods; e.g. "
+         "gray4-psp4), "
+         "cgray<B>-psp<N> (complementary Gray code: each bit and its inverse; e.g. cgray5-psp4); "
+         "Gray codes take -f<P> (P periods) or -p<PX> (pitch in projector px), -o<ORDER> "
+         "(projection order of p phase, g gray, w white, b black; default pg; e.g. -owbgp) and "
+         "-ia (all inverses after the bits); every family but zh takes -pos (image k shifted by "
+         "+2 pi k/N) and -ph<DEG> (phase of image 0)";
+}
+
+std::vector<std::string> pattern_set_candidates(int images) {
+  std::vector<std::string> out;
+  auto n = [](int v) { return std::to_string(v); };
+  if (images >= 3 && images <= 64) out.push_back("psp" + n(images) + "-f<P>");
+  if (images % 2 == 0 && images / 2 >= 3 && images / 2 <= 64)
+    out.push_back("mf" + n(images / 2) + "-f<P>-f1");
+  if (images % 3 == 0 && images / 3 >= 3 && images / 3 <= 64)
+    out.push_back("mf" + n(images / 3) + "-f<P1>-f<P2>-f1");
+  if (images % 2 == 0 && images / 2 >= 3 && images / 2 <= 64)
+    out.push_back("het" + n(images / 2) + "-f<P>-f<P-1>");
+  if (images % 3 == 0 && images / 3 >= 3 && images / 3 <= 64)
+    out.push_back("het" + n(images / 3) + "-f<P1>-f<P2>-f<P3> (e.g. het" + n(images / 3) +
+                  "-f70-f64-f59)");
+  // Gray code + phase shift: the common splits (3 to 10 bits, 3 to 8 steps), most bits first;
+  // complementary codes without and with white and black references.
+  for (int bits = 10; bits >= 3; --bits)
+    if (images - bits >= 3 && images - bits <= 8)
+      out.push_back("gray" + n(bits) + "-psp" + n(images - bits));
+  for (int refs = 0; refs <= 2; refs += 2)
+    for (int bits = 10; bits >= 3; --bits) {
+      const int steps = images - 2 * bits - refs;
+      if (steps >= 3 && steps <= 8)
+        out.push_back("cgray" + n(bits) + "-psp" + n(steps) + (refs ? "-owbpg" : ""));
+    }
+  if (images == 3) out.push_back("zh-f<P>");
+  return out;
 }
 
 cv::Mat projector_column(const PhaseMap& phase) {
@@ -93,6 +128,50 @@ Status check_fringes(const FringeSet& fringes, int count, const std::string& pat
       return invalid_argument("frame " + std::to_string(fringes.index) + ": image " +
                               std::to_string(i) + " has a different bit depth than image 0");
   return Status::ok();
+}
+
+std::vector<cv::Mat> phase_shift_images(cv::Size size, double pitch_px, int steps,
+                                        const FringeConvention& c) {
+  std::vector<cv::Mat> images;
+  for (int k = 0; k < steps; ++k)
+    images.push_back(cosine_image(size, pitch_px, -c.offset_rad - c.sign * 2 * CV_PI * k / steps));
+  return images;
+}
+
+void apply_convention(WrappedPhase& w, const FringeConvention& c) {
+  if (c.is_default()) return;
+  // The kernel reads psi with images cos(psi - 2 pi k / N); here psi = -sign * (phi + offset).
+  const float sign = static_cast<float>(-c.sign), offset = static_cast<float>(c.offset_rad);
+  for (int y = 0; y < w.phase.rows; ++y) {
+    float* phase = w.phase.ptr<float>(y);
+    for (int x = 0; x < w.phase.cols; ++x)
+      if (std::isfinite(phase[x])) phase[x] = wrap_pi(sign * phase[x] - offset);
+  }
+}
+
+cv::Mat smoothed_single_period(const cv::Mat& absolute, const cv::Mat& valid) {
+  cv::Mat c(absolute.size(), CV_32F), s(absolute.size(), CV_32F);
+  for (int y = 0; y < absolute.rows; ++y)
+    for (int x = 0; x < absolute.cols; ++x) {
+      const bool ok = valid.at<uint8_t>(y, x) != 0;
+      const float phi = absolute.at<float>(y, x);
+      c.at<float>(y, x) = ok ? std::cos(phi) : 0.0f;
+      s.at<float>(y, x) = ok ? std::sin(phi) : 0.0f;
+    }
+  cv::GaussianBlur(c, c, cv::Size(7, 7), 1.5);
+  cv::GaussianBlur(s, s, cv::Size(7, 7), 1.5);
+  cv::Mat out(absolute.size(), CV_32F);
+  const float two_pi = static_cast<float>(2 * CV_PI);
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x) {
+      if (!valid.at<uint8_t>(y, x)) {
+        out.at<float>(y, x) = std::numeric_limits<float>::quiet_NaN();
+        continue;
+      }
+      const float phi = std::atan2(s.at<float>(y, x), c.at<float>(y, x));
+      out.at<float>(y, x) = phi < 0 ? phi + two_pi : phi;
+    }
+  return out;
 }
 
 cv::Mat cosine_image(cv::Size size, double pitch_px, double shift_rad) {

@@ -8,38 +8,36 @@ namespace {
 
 class PhaseShiftPattern : public PatternSet {
  public:
-  PhaseShiftPattern(int steps, int periods, const PatternSetOptions& o)
-      : PatternSet(o), steps_(steps), periods_(periods) {}
+  PhaseShiftPattern(const PatternSpec& spec, const PatternSetOptions& o)
+      : PatternSet(o), spec_(spec), convention_(FringeConvention::of(spec)) {}
 
-  std::string name() const override {
-    return "psp" + std::to_string(steps_) + "-f" + std::to_string(periods_);
-  }
-  int image_count() const override { return steps_; }
+  std::string name() const override { return spec_.name(); }
+  int image_count() const override { return spec_.steps; }
+  bool absolute() const override { return false; }
   double pitch_px(int projector_width) const override {
-    return static_cast<double>(projector_width) / periods_;
+    return static_cast<double>(projector_width) / spec_.periods[0];
   }
 
   std::vector<cv::Mat> generate(cv::Size size) const override {
-    std::vector<cv::Mat> images;
-    for (int k = 0; k < steps_; ++k)
-      images.push_back(cosine_image(size, pitch_px(size.width), 2 * CV_PI * k / steps_));
-    return images;
+    return phase_shift_images(size, pitch_px(size.width), spec_.steps, convention_);
   }
 
   Result<PhaseMap> decode(const FringeSet& fringes, int projector_width) const override {
-    GVKIT_RETURN_IF_ERROR(check_fringes(fringes, steps_, name()));
-    const WrappedPhase w = decode_steps(fringes.images, 0, steps_, options_);
+    GVKIT_RETURN_IF_ERROR(check_fringes(fringes, spec_.steps, name()));
+    WrappedPhase w = decode_steps(fringes.images, 0, spec_.steps, options_);
+    apply_convention(w, convention_);
     return spatially_unwrapped(w, pitch_px(projector_width), valid_from(w, options_), options_);
   }
 
  private:
-  int steps_, periods_;
+  PatternSpec spec_;
+  FringeConvention convention_;
 };
 
 }  // namespace
 
-std::unique_ptr<PatternSet> make_phase_shift(int steps, int periods, const PatternSetOptions& o) {
-  return std::make_unique<PhaseShiftPattern>(steps, periods, o);
+std::unique_ptr<PatternSet> make_phase_shift(const PatternSpec& spec, const PatternSetOptions& o) {
+  return std::make_unique<PhaseShiftPattern>(spec, o);
 }
 
 }  // namespace gvkit::capture::detail

@@ -14,6 +14,7 @@
 #include "gvkit/capture/session_writer.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/frame_files.hpp"
+#include "gvkit/core/image_io.hpp"
 #include "gvkit/core/progress.hpp"
 
 namespace gvkit::capture {
@@ -25,6 +26,16 @@ Status SyntheticSessionOptions::check() const {
     return invalid_argument("gamma compensation must be 0 (off) or in [0.2, 5]");
   GVKIT_RETURN_IF_ERROR(rig.check());
   GVKIT_RETURN_IF_ERROR(render.check());
+  if (plain_folder) {
+    if (image_format != "png" && image_format != "bmp")
+      return invalid_argument("plain-folder image format must be png or bmp, is '" + image_format +
+                              "'");
+    if (image_format == "bmp" && render.bit_depth != 8)
+      return invalid_argument("BMP images hold 8 bits; the camera renders " +
+                              std::to_string(render.bit_depth));
+    if (calibration_layout == CalibrationFormat::kCameraFiles)
+      return invalid_argument("the one-file-per-device calibration layout is not written");
+  }
   return Status::ok();
 }
 
@@ -67,7 +78,17 @@ Status write_synthetic_session(const std::filesystem::path& dir,
   info.ground_truth_dir = "gt";
   info.depth_prior_mm = options.face_distance_mm;
   info.source = options.to_json();
-  GVKIT_ASSIGN_OR_RETURN(auto writer, SessionWriter::create(dir, info, calibration));
+  std::unique_ptr<SessionWriter> writer;
+  if (options.plain_folder) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir / "gt", ec);
+    if (ec) return io_error(dir.string() + ": cannot create: " + ec.message());
+    GVKIT_RETURN_IF_ERROR(
+        write_calibration(dir / "calibration.yml", calibration, options.calibration_layout));
+  } else {
+    GVKIT_ASSIGN_OR_RETURN(writer, SessionWriter::create(dir, info, calibration));
+  }
+  const int n = patterns->image_count();
 
   const SyntheticRenderer renderer(calibration, options.render);
   Progress progress("synth", options.frames, options.progress);
@@ -82,7 +103,14 @@ Status write_synthetic_session(const std::filesystem::path& dir,
     set.images = frame.images;
     set.index = i;
     set.timestamp = Timestamp(static_cast<int64_t>(std::llround(t * 1e9)));
-    Status s = writer->append(set);
+    Status s;
+    if (writer) {
+      s = writer->append(set);
+    } else {
+      for (int k = 0; k < n && s; ++k)
+        s = write_image(dir / ("img_" + std::to_string(i * n + k + 1) + "." + options.image_format),
+                        set.images[k]);
+    }
     if (s)
       s = write_ground_truth_exr(frame_path(dir / "gt", i, ".exr"),
                                  ground_truth_of(frame.truth, scene));

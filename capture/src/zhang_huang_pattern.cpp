@@ -15,6 +15,7 @@ class ZhangHuangPattern : public PatternSet {
 
   std::string name() const override { return "zh-f" + std::to_string(periods_); }
   int image_count() const override { return 3; }
+  bool absolute() const override { return false; }
   double pitch_px(int projector_width) const override {
     return static_cast<double>(projector_width) / periods_;
   }
@@ -59,8 +60,8 @@ class ZhangHuangPattern : public PatternSet {
 
 }  // namespace
 
-std::unique_ptr<PatternSet> make_zhang_huang(int periods, const PatternSetOptions& o) {
-  return std::make_unique<ZhangHuangPattern>(periods, o);
+std::unique_ptr<PatternSet> make_zhang_huang(const PatternSpec& spec, const PatternSetOptions& o) {
+  return std::make_unique<ZhangHuangPattern>(spec.periods[0], o);
 }
 
 }  // namespace gvkit::capture::detail

@@ -48,7 +48,23 @@ Result<Resolution> parse_resolution(const std::string& name) {
   return invalid_argument("resolution '" + name + "' unknown (full, half or auto)");
 }
 
+Profile EncoderOptions::resolved_profile() const {
+  if (profile != Profile::kAuto) return profile;
+  if (bypass()) return Profile::kLossless;
+  if (all_intra()) return Profile::kIntra;
+  return Profile::kMain;
+}
+
 Status EncoderOptions::check() const {
+  if (static_cast<int>(profile) > static_cast<int>(Profile::kMain))
+    return invalid_argument("profile " + std::to_string(static_cast<int>(profile)) + " unknown");
+  // What the profile forbids beyond what it implies (bypass(), all_intra()).
+  if (profile == Profile::kIntra && bframes > 0)
+    return invalid_argument("profile intra: I frames only, no B frames (bframes " +
+                            std::to_string(bframes) + "; profile main has them)");
+  if (profile == Profile::kIntra && refs > 1)
+    return invalid_argument("profile intra: I frames only, no reference frames (refs " +
+                            std::to_string(refs) + "; profile main has them)");
   if (bit_depth < 8 || bit_depth > 16)
     return invalid_argument("bit depth " + std::to_string(bit_depth) + " out of range (8..16)");
   const int qp_min = -6 * (bit_depth - 8);
@@ -74,6 +90,12 @@ Status EncoderOptions::check() const {
     if (plane_qp_offset[i] < -12 || plane_qp_offset[i] > 12)
       return invalid_argument("plane QP offset " + std::to_string(plane_qp_offset[i]) +
                               " out of range (-12..12)");
+  if (rdo_shortlist < 0 || rdo_shortlist > 13)
+    return invalid_argument("RDO shortlist " + std::to_string(rdo_shortlist) +
+                            " out of range (0 = every mode, else 1..13)");
+  if (texture_qp < -1 || texture_qp > 51)
+    return invalid_argument("texture QP " + std::to_string(texture_qp) +
+                            " out of range (0..51, or -1 = the frame QP)");
   if (p_qp_offset < 0 || p_qp_offset > 12)
     return invalid_argument("P-frame QP offset " + std::to_string(p_qp_offset) +
                             " out of range (0..12)");
@@ -87,7 +109,8 @@ Status EncoderOptions::check() const {
     return invalid_argument("bitrate " + std::to_string(bitrate_kbps) +
                             " kbit/s out of range (0 = constant QP)");
   if (bitrate_kbps > 0 && bypass())
-    return invalid_argument("bitrate: rate control needs lossy coding (not lossless or max error)");
+    return invalid_argument(
+        "bitrate: rate control needs lossy coding (not lossless, max error or profile lossless)");
   if (!(buffer_seconds >= 0.1) || buffer_seconds > 100)
     return invalid_argument("buffer " + std::to_string(buffer_seconds) +
                             " s out of range (0.1..100)");
@@ -106,8 +129,10 @@ Status EncoderOptions::check() const {
     return invalid_argument(std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
                             ": constant quality and a bitrate exclude each other");
   if (constant_quality() && bypass())
-    return invalid_argument(std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
-                            ": constant quality needs lossy coding (not lossless or max error)");
+    return invalid_argument(
+        std::string(target_psnr_db > 0 ? "target PSNR" : "target RMS") +
+        ": constant quality needs lossy coding (not lossless, max error or profile "
+        "lossless)");
   if (refs < -1 || refs == 0 || refs > 5)
     return invalid_argument("refs " + std::to_string(refs) +
                             " out of range (1..5 reference frames, -1 automatic)");
@@ -119,7 +144,8 @@ Status EncoderOptions::check() const {
                             std::to_string(deblock.tc) + " out of range (1..255 each)");
   if (resolution == Resolution::kHalf && bypass())
     return invalid_argument(
-        "resolution half: lossless and max-error coding are at full resolution only");
+        "resolution half: lossless and max-error coding (profile lossless) are at full "
+        "resolution only");
   if (outline_weight < 1 || outline_weight > 64)
     return invalid_argument("outline weight " + std::to_string(outline_weight) +
                             " out of range (1..64)");

@@ -31,11 +31,11 @@ constexpr int kFastIntraRdoShortlist = 2;
 struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
-  int plane_qp_offset[3] = {0, 0, 0};
-  int ref_count = 1;        // format 1.6: P frames with flags2 bit 1, 2..5
-  int max_transform = 4;    // format 1.6 (flags2 bit 2): 8 or 16
-  bool partitions = false;  // format 1.7: P frames with flags2 bit 5
-  bool deblocking = false;  // format 1.8: flags2 bit 6
+  int plane_qp_offset[4] = {0, 0, 0, 0};  // X, Y, Z and the texture plane T
+  int ref_count = 1;                      // format 1.6: P frames with flags2 bit 1, 2..5
+  int max_transform = 4;                  // format 1.6 (flags2 bit 2): 8 or 16
+  bool partitions = false;                // format 1.7: P frames with flags2 bit 5
+  bool deblocking = false;                // format 1.8: flags2 bit 6
   DeblockingParams deblock;
   bool merge = false;            // format 1.11: the payload's first byte, bit 5
   bool td16 = false;             // format 1.12: the payload's first byte, bit 6
@@ -91,10 +91,8 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.merge = syntax.merge;                      // format 1.11
   p.td16 = syntax.td16;                        // format 1.12
   p.quadratic_intra = syntax.quadratic_intra;  // format 1.13
-  if (plane < 3) {
-    p.near_lossless = syntax.near_lossless;
-    qp += syntax.plane_qp_offset[plane];
-  }
+  if (plane < 3) p.near_lossless = syntax.near_lossless;
+  qp += syntax.plane_qp_offset[std::min(plane, 3)];
   p.qp_prime = std::clamp(qp + 6 * (p.bit_depth - 8), 0, 51 + 6 * (p.bit_depth - 8));
   return p;
 }
@@ -194,8 +192,8 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
                            const std::vector<const std::vector<SamplePlane>*>* older,
                            ReferenceInterpolationCache* cache) {
   format::PacketHeader header;
-  header.compact = options.compact_packets;  // format 1.10
-  header.half_resolution = half;             // format 1.14
+  header.compact = true;          // every 2.0 packet
+  header.half_resolution = half;  // packet type bit 4
   // The domain at the coded resolution (value prediction's fit).
   const cv::Mat mask = half ? half_domain_mask(info.domain_mask) : info.domain_mask;
   const bool bidirectional = reference1 != nullptr;
@@ -278,11 +276,15 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
       }
     }
   }
-  if (!bypass)
-    for (int i = 0; i < 3; ++i) {
-      syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
+  if (!bypass) {
+    for (int i = 0; i < 3; ++i) syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
+    // The texture plane at options.texture_qp in I frames (the frame QP's offsets for P and B
+    // frames and half resolution apply to it as to the geometry).
+    if (planes.size() == 4 && options.texture_qp >= 0)
+      syntax.plane_qp_offset[3] = options.texture_qp - options.qp;
+    for (int i = 0; i < 4; ++i)
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
-    }
+  }
   // Lossy frames: the outline's samples weigh outline_weight times in the SSD of the decisions.
   const std::vector<uint8_t> weights =
       bypass || options.outline_weight <= 1
@@ -306,12 +308,16 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
         p.intra_rdo_shortlist = kFastIntraRdoShortlist;
       }
       if (!weights.empty() && i < 3) p.distortion_weights = &weights;
+      if (options.preset == Preset::kSlow && !bypass) {
+        p.intra_rdo_shortlist = options.rdo_shortlist;
+        p.transform_early_exit = options.transform_early_exit;
+      }
       p.search_range = options.search_range;
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;
       p.skip_check = options.skip_check;
-      p.end_of_plane_bin = !options.compact_packets;  // format 1.10
-      if (p.subpel) p.subpel = options.subpel;        // the encoder's refinement precision
+      p.end_of_plane_bin = false;               // compact packets
+      if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;
       // Multiple references: this plane of references 1 .. ref_count - 1 (value prediction
       // maps reference 0 only).
@@ -381,15 +387,16 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
     }
   }
   ByteWriter payload;
-  payload.u8(static_cast<uint8_t>(
-      planes.size() | (options.compact_segments ? format::kPayloadCompactSegments : 0) |
-      (syntax.merge ? format::kPayloadMerge : 0) | (syntax.td16 ? format::kPayloadTd16 : 0) |
-      (syntax.quadratic_intra ? format::kPayloadQuadraticIntra : 0)));
+  payload.u8(static_cast<uint8_t>(planes.size() | format::kPayloadCompactSegments |
+                                  (syntax.merge ? format::kPayloadMerge : 0) |
+                                  (syntax.td16 ? format::kPayloadTd16 : 0) |
+                                  (syntax.quadratic_intra ? format::kPayloadQuadraticIntra : 0)));
   if (header.flags & format::kFrameNearLossless) payload.u16(static_cast<uint16_t>(delta));
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
   if (header.flags & format::kFramePlaneQp)
-    for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
+    for (size_t i = 0; i < planes.size(); ++i)
+      payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
   if (header.flags2 & format::kFrame2MultiRef) payload.u8(static_cast<uint8_t>(syntax.ref_count));
   if (header.flags2 & format::kFrame2LargeTransforms)
     payload.u8(static_cast<uint8_t>(syntax.max_transform));
@@ -400,9 +407,7 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
   std::vector<SamplePlane> recon;
   EncodedFrame out;
   for (auto& c : coded) {
-    if (!options.compact_segments)
-      payload.u32(static_cast<uint32_t>(c.bytes.size()));
-    else if (&c != &coded.back())  // format 1.9: the last segment takes the rest
+    if (&c != &coded.back())  // compact sizes: the last segment takes the rest
       payload.varint(c.bytes.size());
     payload.bytes(c.bytes);
     recon.push_back(std::move(c.reconstruction));
@@ -489,11 +494,13 @@ Result<int> packet_reference_count(std::string_view packet) {
   return ref_count;
 }
 
-Result<GeometryImage> decode_frame_packet(
-    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
-    const std::vector<SamplePlane>* reference, std::vector<SamplePlane>* planes_out,
-    const std::vector<SamplePlane>* reference1,
-    const std::vector<const std::vector<SamplePlane>*>* older) {
+Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
+                                          int64_t frame_number,
+                                          const std::vector<SamplePlane>* reference,
+                                          std::vector<SamplePlane>* planes_out,
+                                          const std::vector<SamplePlane>* reference1,
+                                          const std::vector<const std::vector<SamplePlane>*>* older,
+                                          bool texture_qp_offset) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
   if (packet.size() - header.header_size < header.payload_size)
     return corrupt_data("payload truncated");
@@ -605,12 +612,18 @@ Result<GeometryImage> decode_frame_packet(
     transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
     prediction_ref = &transformed;
   }
-  if (header.flags & format::kFramePlaneQp)
+  if (header.flags & format::kFramePlaneQp) {
     for (int i = 0; i < 3; ++i) {
       syntax.plane_qp_offset[i] = static_cast<int8_t>(r.u8());
       if (!r.ok() || syntax.plane_qp_offset[i] < -12 || syntax.plane_qp_offset[i] > 12)
         return corrupt_data("plane QP offset missing or out of range (-12..12)");
     }
+    if (plane_count == 4 && texture_qp_offset) {  // format 2.0: the texture plane's
+      syntax.plane_qp_offset[3] = static_cast<int8_t>(r.u8());
+      if (!r.ok() || syntax.plane_qp_offset[3] < -51 || syntax.plane_qp_offset[3] > 99)
+        return corrupt_data("texture QP offset missing or out of range (-51..99)");
+    }
+  }
   // Multiple reference frames (format 1.6): ref_count 2..5, each an anchor the caller holds.
   std::vector<std::vector<const SamplePlane*>> more(plane_count);
   if (multi_ref) {

@@ -30,13 +30,21 @@ const char* frame_type_name(FrameType type) {
   return "?";
 }
 
-std::string write_file_header(const SequenceInfo& info, uint8_t minor_version) {
+std::string StreamFormat::description() const {
+  std::string version = std::to_string(major) + "." + std::to_string(minor);
+  if (legacy()) return version + " (legacy, read-only)";
+  return version + ", profile " + profile_name(profile);
+}
+
+std::string write_file_header(const SequenceInfo& info, Profile profile) {
+  GVKIT_CHECK(profile != Profile::kAuto, "a stream's profile is resolved before it is written");
   const std::string mask = encode_mask(info.domain_mask);
   ByteWriter w;
   w.bytes(std::string_view(kFileMagic, 4));
   w.u8(kMajorVersion);
-  w.u8(minor_version);
-  w.u16(0);
+  w.u8(kMinorVersion);
+  w.u8(static_cast<uint8_t>(profile));  // profile_idc
+  w.u8(0);
   w.u32(static_cast<uint32_t>(kFixedHeaderSize + mask.size() + 4));
   w.u32(static_cast<uint32_t>(info.width));
   w.u32(static_cast<uint32_t>(info.height));
@@ -52,20 +60,36 @@ std::string write_file_header(const SequenceInfo& info, uint8_t minor_version) {
   return w.take();
 }
 
-Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_size) {
+Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_size,
+                                      StreamFormat* format) {
   if (bytes.size() < 12 || !magic_is(bytes, kFileMagic))
     return corrupt_data("header: not a .gvid stream (magic 'GVID' missing)");
   ByteReader r(bytes.substr(4));
-  const uint8_t major = r.u8(), minor = r.u8();
-  r.u16();
+  StreamFormat f;
+  f.major = r.u8();
+  f.minor = r.u8();
+  const uint8_t profile_idc = r.u8(), reserved = r.u8();
   const uint32_t size = r.u32();
-  if (major != kMajorVersion)
-    return unsupported("header: version " + std::to_string(major) + "." + std::to_string(minor) +
-                       " (this build reads " + std::to_string(kMajorVersion) + ".x)");
+  const bool current = f.major == kMajorVersion && f.minor == kMinorVersion;
+  if (!current && !(f.legacy() && f.minor <= kLegacyMaxMinorVersion))
+    return unsupported("header: version " + std::to_string(f.major) + "." +
+                       std::to_string(f.minor) + " (this build reads " +
+                       std::to_string(kMajorVersion) + "." + std::to_string(kMinorVersion) +
+                       " and the legacy 1.0 to 1." + std::to_string(kLegacyMaxMinorVersion) + ")");
   if (size < kFixedHeaderSize + 4 || size > bytes.size())
     return corrupt_data("header: header size " + std::to_string(size) + " out of range");
   const uint32_t stored_crc = ByteReader(bytes.substr(size - 4)).u32();
   if (crc32(bytes.data(), size - 4) != stored_crc) return corrupt_data("header: CRC mismatch");
+  if (f.legacy()) {
+    f.profile = Profile::kAuto;  // bytes 6-7 reserved in 1.x
+  } else {
+    auto profile = profile_from_idc(profile_idc);
+    if (!profile.is_ok()) return profile.status().with_context("header");
+    f.profile = *profile;
+    if (reserved != 0)
+      return unsupported("header: byte 7 is " + std::to_string(reserved) +
+                         " (reserved in format 2.0: 0)");
+  }
   SequenceInfo info;
   info.width = static_cast<int>(std::min<uint32_t>(r.u32(), 1u << 30));
   info.height = static_cast<int>(std::min<uint32_t>(r.u32(), 1u << 30));
@@ -92,7 +116,25 @@ Result<SequenceInfo> read_file_header(std::string_view bytes, size_t* header_siz
   info.domain_mask = std::move(mask).value();
   GVKIT_RETURN_IF_ERROR(info.check().with_context("header"));
   *header_size = size;
+  if (format) *format = f;
   return info;
+}
+
+Status check_packet_conformance(const StreamFormat& format, const PacketHeader& header,
+                                std::string_view payload) {
+  if (format.legacy()) return Status::ok();
+  if (!header.compact)
+    return corrupt_data("full packet header ('GVFR') in a format 2.0 stream (compact 'gv' only)");
+  if (!payload.empty() && !(static_cast<uint8_t>(payload[0]) & kPayloadCompactSegments))
+    return corrupt_data(
+        "payload flags: u32 segment sizes in a format 2.0 stream (bit 4, compact sizes, is "
+        "required)");
+  const std::string profile = std::string("profile ") + profile_name(format.profile);
+  if (format.profile == Profile::kIntra && header.type != FrameType::kIntra)
+    return corrupt_data(profile + ": a " + frame_type_name(header.type) + " frame (I frames only)");
+  if (format.profile == Profile::kLossless && !(header.flags & kFrameLossless))
+    return corrupt_data(profile + ": a lossy frame (flags bit 0, transform bypass, is required)");
+  return Status::ok();
 }
 
 std::string write_packet_header(const PacketHeader& h) {
@@ -106,7 +148,7 @@ std::string write_packet_header(const PacketHeader& h) {
     w.u8(static_cast<uint8_t>(static_cast<int8_t>(h.qp)));
     w.u8(h.flags2);
   };
-  if (h.compact) {  // format 1.10
+  if (h.compact) {
     start(std::string_view(kCompactPacketMagic, 2));
     w.varint(h.frame_number);
     w.varint(h.payload_size);
@@ -128,7 +170,7 @@ bool starts_with_packet_magic(std::string_view bytes) {
 }
 
 namespace {
-// The type byte: the frame type and (format 1.14) the half-resolution bit.
+// The type byte: the frame type and the half-resolution bit.
 void read_type(PacketHeader& h, uint8_t byte) {
   h.half_resolution = (byte & kPacketTypeHalfResolution) != 0;
   h.type = static_cast<FrameType>(byte & ~kPacketTypeHalfResolution);
@@ -138,7 +180,7 @@ void read_type(PacketHeader& h, uint8_t byte) {
 Result<PacketHeader> read_packet_header(std::string_view bytes) {
   PacketHeader h;
   if (bytes.size() >= 2 && std::memcmp(bytes.data(), kCompactPacketMagic, 2) == 0) {
-    // Format 1.10, the compact header: varints of at most 5 bytes (values below 2^32).
+    // The compact header: varints of at most 5 bytes (values below 2^32).
     const std::string_view fields = bytes.substr(2, kCompactPacketHeaderMaxSize - 2);
     ByteReader r(fields);
     h.compact = true;
@@ -184,7 +226,7 @@ std::string write_index(const std::vector<IndexEntry>& entries, uint64_t index_o
     w.u32(e.frame_number);
     w.u32(e.payload_size);
     w.u8(static_cast<uint8_t>(e.type));
-    // Format 1.10: the packet header's size when it is not the full header's 24 (else 0).
+    // The packet header's size when it is not the full header's 24 (else 0).
     w.u8(e.header_size == kPacketHeaderSize ? 0 : e.header_size);
     w.u16(0);
   }

@@ -18,7 +18,7 @@ Result<std::unique_ptr<GvidReader>> GvidReader::open_memory(std::string bytes, s
   std::unique_ptr<GvidReader> r(new GvidReader());
   r->bytes_ = std::move(bytes);
   r->name_ = std::move(name);
-  auto info = format::read_file_header(r->bytes_, &r->header_size_);
+  auto info = format::read_file_header(r->bytes_, &r->header_size_, &r->format_);
   if (!info.is_ok()) return info.status().with_context(r->name_);
   r->info_ = std::move(info).value();
   if (static_cast<int64_t>(r->info_.width) * r->info_.height > limits.max_pixels)
@@ -119,9 +119,20 @@ Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* re
   const format::IndexEntry& e = entry(index);
   const std::string_view packet = std::string_view(bytes_).substr(
       e.offset, std::min<uint64_t>(e.packet_size(), bytes_.size() - e.offset));
+  // The rules of a 2.0 stream's format and profile; damage is decode_frame_packet's to report
+  // (the payload's flags are checked once its CRC matches).
+  if (auto header = format::read_packet_header(packet); header.is_ok()) {
+    std::string_view payload = packet.substr(std::min<size_t>(header->header_size, packet.size()));
+    if (payload.size() < header->payload_size ||
+        crc32(payload.data(), header->payload_size) != header->payload_crc)
+      payload = {};
+    else
+      payload = payload.substr(0, header->payload_size);
+    GVKIT_RETURN_IF_ERROR(format::check_packet_conformance(format_, *header, payload));
+  }
   return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
                              ref1 ? &ref1->planes : nullptr,
-                             older_planes.empty() ? nullptr : &older_planes);
+                             older_planes.empty() ? nullptr : &older_planes, format_.major >= 2);
 }
 
 Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(

@@ -47,7 +47,7 @@ Result<std::unique_ptr<GvidWriter>> GvidWriter::create(const fs::path& path,
   GVKIT_ASSIGN_OR_RETURN(w->encoder_, SequenceEncoder::create(info, options));
   w->out_.open(w->temp_path_, std::ios::binary | std::ios::trunc);
   if (!w->out_) return io_error(path.string() + ": cannot create " + w->temp_path_.string());
-  const std::string header = format::write_file_header(info, stream_minor_version(options));
+  const std::string header = format::write_file_header(info, options.resolved_profile());
   w->out_.write(header.data(), static_cast<std::streamsize>(header.size()));
   w->offset_ = header.size();
   w->header_bytes_ = static_cast<int64_t>(header.size());
@@ -83,10 +83,11 @@ Result<std::vector<GeometryImage>> GvidWriter::append(std::vector<SequenceFrame>
     frame_stats_[n] = std::move(f.stats);
     frame_types_[n] = f.type;
   }
-  // Display order: the coded frames are the next ones after those returned before.
-  std::sort(coded.begin(), coded.end(),
-            [](const SequenceFrame& a, const SequenceFrame& b) { return a.number < b.number; });
-  for (SequenceFrame& f : coded) done.push_back(std::move(f.reconstruction));
+  // Display order: each reconstruction once every frame before it has been coded.
+  for (SequenceFrame& f : coded) held_.emplace(f.number, std::move(f.reconstruction));
+  for (auto it = held_.begin(); it != held_.end() && it->first == next_display_;
+       it = held_.erase(it), ++next_display_)
+    done.push_back(std::move(it->second));
   return done;
 }
 
@@ -159,7 +160,7 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
                                 std::vector<FrameCodingStats>* frame_stats) {
   GVKIT_RETURN_IF_ERROR(options.check());
   GVKIT_RETURN_IF_ERROR(info.check());
-  std::string out = format::write_file_header(info, stream_minor_version(options));
+  std::string out = format::write_file_header(info, options.resolved_profile());
   std::vector<format::IndexEntry> index;
   GVKIT_ASSIGN_OR_RETURN(std::unique_ptr<SequenceEncoder> encoder,
                          SequenceEncoder::create(info, options));
@@ -179,30 +180,6 @@ Result<std::string> encode_gvid(const std::vector<GeometryImage>& frames, const 
   append(std::move(rest));
   out += format::write_index(index, out.size());
   return out;
-}
-
-uint8_t stream_minor_version(const EncoderOptions& options) {
-  if (options.half_resolution_allowed()) return format::kMinorVersionHalfResolution;  // 1.14
-  if (options.quadratic_intra) return format::kMinorVersionQuadraticIntra;  // 1.13: every stream
-  if (options.td16 && options.td_prediction && !options.intra_only && options.intra_period >= 2)
-    return format::kMinorVersionTd16;  // 1.12: P frames with TD prediction
-  if (options.merge && !options.intra_only && options.intra_period >= 2)
-    return format::kMinorVersionMerge;                                      // 1.11: P frames
-  if (options.compact_packets) return format::kMinorVersionCompactPackets;  // 1.10
-  if (options.temporal_contexts && !options.intra_only && options.intra_period >= 2)
-    return format::kMinorVersionTemporalContexts;  // 1.9: P and B frames inherit contexts
-  if (options.compact_segments) return format::kMinorVersionCompactSegments;            // 1.9
-  if (options.deblocking && !options.bypass()) return format::kMinorVersionDeblocking;  // 1.8
-  if (options.cross_plane_contexts) return format::kMinorVersionCrossPlaneContexts;     // 1.7
-  if (options.use_partitions() && !options.intra_only && options.intra_period >= 2)
-    return format::kMinorVersionPartitions;  // format 1.7: P frames with partitions
-  if (options.reference_frames() > 1 && !options.intra_only && options.intra_period >= 3)
-    return format::kMinorVersionMultiRef;
-  if (options.large_transforms()) return format::kMinorVersionLargeTransforms;
-  if (options.cross_plane) return format::kMinorVersionCrossPlane;
-  return options.b_frames() > 0 && !options.intra_only && options.intra_period >= 2
-             ? format::kMinorVersion
-             : format::kMinorVersionWithoutBFrames;
 }
 
 }  // namespace gvkit::codec

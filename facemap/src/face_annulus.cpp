@@ -667,7 +667,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
   // in the frontal (x, y) plane (the farthest crossing of the rim along the line).
   {
     const cv::Vec3f& q30 = landmarks.points_mm[30];
-    const cv::Vec3f& q8 = landmarks.points_mm[8];
+    const cv::Vec3f& q8 = landmarks.chin_or_lower_lip_mm();
     const Eigen::Vector2d o(q30[0], q30[1]);
     const Eigen::Vector2d dir = Eigen::Vector2d(q8[0] - q30[0], q8[1] - q30[1]).normalized();
     a.rim_centre = o;

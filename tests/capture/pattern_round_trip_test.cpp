@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include <opencv2/core.hpp>
 
 #include "gvkit/capture/pattern_set.hpp"
 #include "gvkit/capture/phase_shift.hpp"
+#include "support/test_support.hpp"
 
 namespace gvkit::capture {
 namespace {
@@ -103,9 +105,12 @@ TEST_P(RoundTrip, EightBitWithNoiseStaysUnwrapped) {
 // now and then a bit flips, and a flipped bit moves the phase by whole periods. Such pixels are
 // uncertain and take their neighbours' period order. What is left are pixels where the phase
 // noise itself crosses a period edge (measured before uncertain bits were settled: 0.086 % and
-// 0.039 % of the pixels a period off; after: 0.022 % and 0.009 %).
+// 0.039 % of the pixels a period off; after: 0.022 % and 0.009 %). Complementary pairs swing
+// twice as far against sqrt(2) times the noise, so they are flagged uncertain less often, and
+// fewer pixels at code edges are settled from their neighbours: 0.032 % (cgray4-psp4) and
+// 0.009 % (cgray5-psp3 with references) are left.
 TEST(GrayCode, NoisyDarkSurfaceKeepsThePeriodOrder) {
-  for (const char* name : {"gray4-psp4", "gray5-psp3"}) {
+  for (const char* name : {"gray4-psp4", "gray5-psp3", "cgray4-psp4", "cgray5-psp3-owbgp"}) {
     double period_errors = 0, valid = 0;
     for (uint64_t seed = 1; seed <= 3; ++seed) {
       auto set = create_pattern_set(name);
@@ -118,22 +123,44 @@ TEST(GrayCode, NoisyDarkSurfaceKeepsThePeriodOrder) {
       valid += e.valid_share / 3;
     }
     EXPECT_GT(valid, 0.99) << name;
-    EXPECT_LT(period_errors, 0.0003) << name;
+    EXPECT_LT(period_errors, name[0] == 'c' ? 0.0004 : 0.0003) << name;
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Families, RoundTrip,
                          ::testing::Values("psp3-f16", "psp4-f16", "psp8-f32", "mf3-f16-f1",
                                            "mf4-f16-f1", "mf3-f64-f8-f1", "zh-f16", "gray4-psp4",
-                                           "gray5-psp3"));
+                                           "gray5-psp3", "het4-f70-f64-f59", "het3-f16-f15",
+                                           "het4-f32-f27-f23", "cgray4-psp4", "cgray5-psp4-p40",
+                                           "cgray5-psp3-f24-owbgp-ia", "gray5-psp4-p35-owbpg",
+                                           "psp4-f16-pos", "mf3-f16-f1-ph90",
+                                           "cgray4-psp4-ogp-pos-ph90"));
 
 TEST(PatternSet, NamesAndBadNames) {
   auto skull = create_pattern_set("mf3-f16-f1");
   ASSERT_TRUE(skull);
   EXPECT_EQ((*skull)->image_count(), 6);
   EXPECT_DOUBLE_EQ((*skull)->pitch_px(1824), 114.0);  // the SLStudio skull's fine pitch
-  for (const char* bad :
-       {"psp2-f16", "psp3", "mf3-f16-f2", "mf3-f1-f16", "zh-f0", "gray0-psp3", "nonsense", ""}) {
+  for (const char* bad : {"psp2-f16",
+                          "psp3",
+                          "mf3-f16-f2",
+                          "mf3-f1-f16",
+                          "zh-f0",
+                          "gray0-psp3",
+                          "nonsense",
+                          "",
+                          "het4-f70-f64-f60",
+                          "het3-f16-f14",
+                          "het3-f16",
+                          "gray4-psp4-ia",
+                          "cgray4-psp4-oxg",
+                          "cgray4-psp4-owgp",
+                          "psp4-f16-p40",
+                          "zh-f16-pos",
+                          "cgray3-psp4-f16",
+                          "psp4-f16-ph400",
+                          "cgray4-psp4-p40-f16",
+                          "mf3-f16-f1-zz"}) {
     auto r = create_pattern_set(bad);
     EXPECT_FALSE(r) << bad;
     if (!r) {
@@ -143,6 +170,81 @@ TEST(PatternSet, NamesAndBadNames) {
   PatternSetOptions o;
   o.min_modulation = 2;
   EXPECT_FALSE(create_pattern_set("psp3-f16", o));
+}
+
+TEST(PatternSet, SpecsAndNamesRoundTrip) {
+  for (const char* name : {"psp3-f16", "het4-f70-f64-f59", "cgray5-psp4-p40-owbgp-ia-pos-ph90",
+                           "gray4-psp4", "gray5-psp3-f24", "mf4-f16-f1-pos", "zh-f8"}) {
+    auto spec = parse_pattern_name(name);
+    ASSERT_TRUE(spec) << name << ": " << spec.status().message();
+    EXPECT_EQ(spec->name(), name);
+  }
+  auto spec = parse_pattern_name("cgray5-psp4-p40-owbgp");
+  ASSERT_TRUE(spec);
+  EXPECT_EQ(spec->image_count(), 2 + 10 + 4);
+  EXPECT_TRUE(spec->has_references());
+  auto unknown = create_pattern_set("cgray5-psp4-p40-foo");
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.status().message().find("unknown part 'foo'"), std::string::npos)
+      << unknown.status().message();
+}
+
+TEST(PatternSet, JsonSpecNamesTheSameSet) {
+  testing::TempDir dir;
+  const auto path = dir / "patterns.json";
+  std::ofstream(path) << R"({"family": "gray-code", "gray_bits": 5, "complementary": true,
+    "steps": 4, "pitch_px": 40, "order": ["white", "black", "gray", "phase"],
+    "inverses": "after", "shift_sign": 1, "phase_offset_deg": 90,
+    "comment": "our rig, 2024"})";
+  auto set = create_pattern_set(path.string());
+  ASSERT_TRUE(set) << set.status().message();
+  EXPECT_EQ((*set)->name(), "cgray5-psp4-p40-owbgp-ia-pos-ph90");
+  EXPECT_EQ((*set)->image_count(), 16);
+  auto het = dir / "het.json";
+  std::ofstream(het) << R"({"family": "heterodyne", "steps": 4, "periods": [70, 64, 59]})";
+  auto h = create_pattern_set(het.string());
+  ASSERT_TRUE(h) << h.status().message();
+  EXPECT_EQ((*h)->name(), "het4-f70-f64-f59");
+  // Mistakes name the file and the key.
+  auto typo = dir / "typo.json";
+  std::ofstream(typo) << R"({"family": "gray-code", "gray_bits": 5, "step": 4})";
+  auto t = create_pattern_set(typo.string());
+  ASSERT_FALSE(t);
+  EXPECT_NE(t.status().message().find("typo.json: unknown key 'step'"), std::string::npos)
+      << t.status().message();
+  auto family = dir / "family.json";
+  std::ofstream(family) << R"({"family": "moire"})";
+  auto f = create_pattern_set(family.string());
+  ASSERT_FALSE(f);
+  EXPECT_NE(f.status().message().find("family 'moire'"), std::string::npos);
+  EXPECT_FALSE(create_pattern_set((dir / "absent.json").string()));
+}
+
+// Gray images taken at 40 % of the phase images' brightness (the exposure or the projector's
+// mode changed between the blocks): a plain bit read against the phase-shift mean is 0 everywhere,
+// a complementary pair still compares like with like.
+TEST(PatternSet, ComplementaryCodeNeedsNoThreshold) {
+  ColumnError plain, complementary;
+  for (const char* name : {"gray5-psp4", "cgray5-psp4"}) {
+    auto set = create_pattern_set(name);
+    ASSERT_TRUE(set);
+    const std::vector<cv::Mat> patterns = (*set)->generate({kWidth, kRows});
+    FringeSet f;
+    for (size_t k = 0; k < patterns.size(); ++k) {
+      const double gain = k < 4 ? 1.0 : 0.4;  // phase images first
+      cv::Mat image;
+      cv::Mat(gain * (0.05 + 0.9 * patterns[k])).convertTo(image, CV_16U, 65535.0);
+      f.images.push_back(image);
+    }
+    auto map = (*set)->decode(f, kWidth);
+    ASSERT_TRUE(map) << map.status().message();
+    (std::string(name) == "cgray5-psp4" ? complementary : plain) = column_error(*map);
+  }
+  EXPECT_GT(complementary.valid_share, 0.99);
+  EXPECT_EQ(complementary.period_error_share, 0.0);
+  EXPECT_LT(complementary.rms, 0.01);
+  EXPECT_TRUE(plain.valid_share < 0.5 || plain.period_error_share > 0.1)
+      << plain.valid_share << " " << plain.period_error_share;
 }
 
 TEST(PatternSet, SkullConventionShiftsByMinusTwoPiKOverThree) {

@@ -1,8 +1,8 @@
-// B frames (format 1.5): the encoder's reconstruction equals the decoder's output bit for bit
+// B frames (frame type 2): the encoder's reconstruction equals the decoder's output bit for bit
 // (lossy and lossless, both presets, 1..3 B frames), lossless B frames are exact, random access
 // in any order gives the sequential frames, trailing B-frame candidates become P frames, a
 // damaged anchor fails the frames that depend on it (naming it) while the rest decode, bad B
-// syntax is rejected with a message, and --bframes 0 writes the format 1.4 stream byte for byte.
+// syntax is rejected with a message, and bframes 0 (or intra only) writes no B frame.
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -98,8 +98,6 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
   double p_worst[2] = {0, 0};
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    testing::format_tools_before(8, &o);  // a 1.7 stream
-    o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
     o.qp = 4;
     o.preset = preset;
     auto reader = open_bytes(encode_gvid(frames, info, o).value());
@@ -114,14 +112,10 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         SCOPED_TRACE("bframes " + std::to_string(bframes) + (lossless ? " lossless " : " qp 4 ") +
                      preset_name(preset));
         EncoderOptions o;
-        testing::format_tools_before(8, &o);  // a 1.7 stream
-        o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
         o.bframes = bframes;
         o.lossless = lossless;
         o.qp = 4;
         o.preset = preset;
-        o.cross_plane = false;           // version 1.5 (cross_plane_test covers B frames with 1.6)
-        o.cross_plane_contexts = false;  // format 1.7 off
         const auto path = dir / "b.gvid";
         std::vector<GeometryImage> recon;
         {
@@ -140,12 +134,6 @@ TEST(BFrames, EncoderReconstructionEqualsDecoderOutputBitExactly) {
         ASSERT_EQ(recon.size(), frames.size());
         auto bytes = read_file(path);
         ASSERT_TRUE(bytes.is_ok());
-        // Version 1.5, or 1.6 with the larger transforms or the automatic three references
-        // of lossy streams, or 1.7 with the slow preset's inter partitions.
-        EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]),
-                  o.use_partitions() && !o.intra_only && o.intra_period >= 2
-                      ? 7
-                      : (o.large_transforms() || o.reference_frames() > 1 ? 6 : 5));
         // The same stream from encode_gvid.
         auto in_memory = encode_gvid(frames, info, o);
         ASSERT_TRUE(in_memory.is_ok());
@@ -379,53 +367,24 @@ TEST(BFrames, BadBSyntaxIsRejectedWithAMessage) {
   EXPECT_GT(failures, 0);
 }
 
-TEST(BFrames, ZeroBFramesWritesTheFormat14StreamByteForByte) {
-  // tests/golden/encoder_v1_4_*.gvid: written by the format 1.4 encoder (main before B frames)
-  // from this video and these options.
+TEST(BFrames, ZeroBFramesOrIntraOnlyWriteNoBFrame) {
   const auto frames = moving_video(48, 4);
   const SequenceInfo info = info_for(frames);
-  EncoderOptions fast, slow;
-  testing::format_tools_before(8, &fast);  // a 1.7 stream
-  fast.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
-  fast.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  testing::format_tools_before(8, &slow);  // a 1.7 stream
-  slow.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
-  slow.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  fast.qp = 0;
-  fast.preset = Preset::kFast;
-  fast.intra_period = 3;
-  slow.qp = 6;
-  slow.preset = Preset::kSlow;
-  const std::pair<const char*, EncoderOptions> cases[] = {
-      {"encoder_v1_4_fast_qp0_ippi_48.gvid", fast}, {"encoder_v1_4_slow_qp6_ippp_48.gvid", slow}};
-  for (auto [file, o] : cases) {
-    o.bframes = 0;
-    o.refs = 1;
-    o.max_transform = 4;             // without the format 1.6 larger transforms
-    o.cross_plane = false;           // ... and cross-plane prediction: the 1.4 stream
-    o.cross_plane_contexts = false;  // ... and the format 1.7 tools
-    o.partitions = false;
-    o.rdoq = false;        // (the streams were written before RDO quantization)
-    o.outline_weight = 1;  // ... and the outline weight
-    auto bytes = encode_gvid(frames, info, o);
-    ASSERT_TRUE(bytes.is_ok());
-    auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / file);
-    ASSERT_TRUE(golden.is_ok()) << golden.status().message();
-    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 4);  // version 1.4
-    EXPECT_TRUE(*bytes == *golden) << file << ": bframes 0 differs from the 1.4 encoder's stream";
-  }
-  // B frames asked for but every frame an anchor (intra only): no B frame, version 1.4 too.
-  EncoderOptions intra = fast;
-  intra.intra_only = true;
-  intra.bframes = 2;
-  intra.refs = 3;  // references asked for too: intra only still writes 1.4
-  intra.max_transform = 4;
-  intra.cross_plane = false;
-  intra.cross_plane_contexts = false;  // format 1.7 off
-  intra.partitions = false;
-  auto intra_bytes = encode_gvid(frames, info, intra);
-  ASSERT_TRUE(intra_bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*intra_bytes)[5]), 4);
+  EncoderOptions o;
+  o.preset = Preset::kFast;
+  o.qp = 6;
+  o.bframes = 0;
+  auto reader = open_bytes(encode_gvid(frames, info, o).value());
+  ASSERT_TRUE(reader);
+  for (int f = 0; f < 4; ++f)
+    EXPECT_EQ(reader->frame_type(f), f == 0 ? FrameType::kIntra : FrameType::kPredicted) << f;
+  // B frames asked for but every frame an anchor (intra only): no B frame, profile intra.
+  o.intra_only = true;
+  o.bframes = 2;
+  reader = open_bytes(encode_gvid(frames, info, o).value());
+  ASSERT_TRUE(reader);
+  EXPECT_EQ(reader->format().profile, Profile::kIntra);
+  for (int f = 0; f < 4; ++f) EXPECT_EQ(reader->frame_type(f), FrameType::kIntra) << f;
 }
 
 TEST(BFrames, RateControlSetsBFramesAboveTheirAnchorAndMeetsTheRate) {

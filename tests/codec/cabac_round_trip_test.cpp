@@ -33,7 +33,7 @@ std::vector<Bin> random_bins(uint32_t seed, int count, double p_one) {
 }
 
 // The bins coded with fresh contexts, then the terminating 1 and finish(), or without it
-// finish_unterminated() (format 1.10).
+// finish_unterminated() (the segments of every 2.0 packet).
 std::string encode_bins(const std::vector<Bin>& bins, bool terminated) {
   CabacEncoder enc;
   CabacContext ctx[8];
@@ -70,7 +70,7 @@ TEST(CabacRoundTrip, RandomBinsDecodeToWhatWasEncoded) {
   }
 }
 
-// finish_unterminated (format 1.10): the same bins decode from fewer bytes than with the
+// finish_unterminated (2.0 segments): the same bins decode from fewer bytes than with the
 // terminating bin and finish() (never more), with the decoder inside its allowance past the end,
 // for sequences of every length down to none.
 TEST(CabacRoundTrip, UnterminatedFlushDecodesFromFewerBytes) {

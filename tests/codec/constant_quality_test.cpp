@@ -1,4 +1,4 @@
-// Constant-quality rate control (--target-psnr / --target-rms-mm): every decoded frame meets the
+// Constant-quality rate control (--quality / --tune target-rms-mm): every decoded frame meets the
 // target, in fewer bits than the constant QP that meets it on its worst frame; the options and
 // unreachable targets are rejected with messages that name the option.
 #include <algorithm>

@@ -1,7 +1,7 @@
-// The tools of format 1.2 end to end: near-lossless coding with a guaranteed point error (on the
-// ICT face when the shared data is present, and on the analytic surface), value-domain prediction
-// of rigidly moving geometry, per-plane QP offsets, rate control with a bounded buffer, and
-// multithreaded encoding that writes the same bytes as one thread.
+// The P-frame and bounded-error tools end to end: near-lossless coding with a guaranteed point
+// error (on the ICT face when the shared data is present, and on the analytic surface),
+// value-domain prediction of rigidly moving geometry, per-plane QP offsets, rate control with a
+// bounded buffer, and multithreaded encoding that writes the same bytes as one thread.
 #include <cmath>
 #include <string>
 

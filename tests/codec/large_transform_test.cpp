@@ -1,19 +1,20 @@
-// Larger transforms (format 1.6, docs/bitstream.md 4.8): the 16x16 matrix is HEVC's (within
+// Larger transforms (flags2 bit 2, docs/bitstream.md 4.8): the 16x16 matrix is HEVC's (within
 // rounding of 64 sqrt(2) cos), the butterfly transforms equal the matrix products bit for bit,
 // the forward transform is 2^8 x the orthonormal DCT, quantization has the 4x4 path's step
 // (reconstruction errors match statistically; flat and gradient blocks round-trip within a
 // step); planes and streams coded with 8x8 / 16x16 residuals decode to the encoder's
 // reconstruction bit for bit (I, P and B, both presets), smooth planes take the larger
 // transforms and get cheaper, and bad frame syntax is rejected with a message.
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
-
-#include <filesystem>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "codec_round_trip.hpp"
+#include "forward_transform16x16_simd.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -67,6 +68,43 @@ TEST(Transform16x16, ButterfliesEqualTheMatrixProducts) {
     inverse_transform16x16_reference(d, x_ref);
     ASSERT_EQ(std::memcmp(x, x_ref, sizeof x), 0) << "inverse, trial " << t;
   }
+}
+
+// The 32-bit forward transform (portable and AVX2) against the reference, up to the largest
+// input it takes: random blocks, and the sign patterns that drive every basis function's sum to
+// its extreme (|r| = the bound, signs following a row and a column of the matrix).
+TEST(Transform16x16, The32BitForwardPathsEqualTheReferenceUpToTheirBound) {
+  constexpr int32_t kMax = detail::kForward16x16MaxInput32;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> u(-kMax, kMax);
+  std::vector<std::array<int32_t, 256>> blocks;
+  for (int t = 0; t < 40; ++t) {
+    std::array<int32_t, 256> r;
+    for (int32_t& v : r) v = u(rng);
+    blocks.push_back(r);
+  }
+  for (int k = 0; k < 16; ++k)
+    for (int l = 0; l < 16; ++l) {
+      std::array<int32_t, 256> r;
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+          r[y * 16 + x] = (kTransform16[k][x] < 0) == (kTransform16[l][y] < 0) ? kMax : -kMax;
+      blocks.push_back(r);
+    }
+  for (const auto& r : blocks) {
+    ASSERT_TRUE(detail::forward_transform16x16_fits_32(r.data()));
+    int32_t c_ref[256], c32[256], c_avx2[256], c[256];
+    forward_transform16x16_reference(r.data(), c_ref);
+    detail::forward_transform16x16_32(r.data(), c32);
+    detail::forward_transform16x16_32_avx2(r.data(), c_avx2);
+    forward_transform16x16(r.data(), c);
+    ASSERT_EQ(std::memcmp(c32, c_ref, sizeof c), 0);
+    ASSERT_EQ(std::memcmp(c_avx2, c_ref, sizeof c), 0);
+    ASSERT_EQ(std::memcmp(c, c_ref, sizeof c), 0);
+  }
+  std::array<int32_t, 256> over{};
+  over[37] = kMax + 1;
+  EXPECT_FALSE(detail::forward_transform16x16_fits_32(over.data()));
 }
 
 TEST(Transform16x16, ForwardIsTwoToTheEightTimesTheOrthonormalDct) {
@@ -277,7 +315,7 @@ TEST(LargeTransforms, PlanesDecodeToTheEncodersReconstructionAndTakeTheLargerSiz
     }
 }
 
-TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
+TEST(LargeTransforms, StreamsRoundTripAndSignalTheToolOnlyWhenOn) {
   testing::GeometryVideoOptions vo;
   vo.size = 48;
   vo.frames = 4;
@@ -288,22 +326,19 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
     for (const int max_transform : {4, 8, 16}) {
       SCOPED_TRACE(std::string(preset_name(preset)) + " max " + std::to_string(max_transform));
       EncoderOptions o;
-      testing::format_tools_before(8, &o);  // a 1.7 stream
-      o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
       o.qp = 6;
       o.preset = preset;
       o.intra_period = 3;
       o.max_transform = max_transform;
-      o.refs = 1;  // without the other 1.6 tools
-      o.cross_plane = false;
-      o.cross_plane_contexts = false;  // format 1.7 off
-      o.partitions = false;            // ... and the 1.7 inter partitions
+      o.resolution = Resolution::kFull;
       std::vector<FrameCodingStats> stats;
       auto bytes = encode_gvid(frames, *info, o, &stats);
       ASSERT_TRUE(bytes.is_ok()) << bytes.status().message();
-      EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), max_transform > 4 ? 6 : 5);
       auto reader = GvidReader::open_memory(*bytes, "t.gvid");
       ASSERT_TRUE(reader.is_ok()) << reader.status().message();
+      for (int64_t f = 0; f < (*reader)->frame_count(); ++f)
+        EXPECT_EQ(((*reader)->packet_header(f)->flags2 & format::kFrame2LargeTransforms) != 0,
+                  max_transform > 4);
       // The writer's reconstruction equals the decoder's output.
       std::vector<GeometryImage> recon;
       {
@@ -329,53 +364,19 @@ TEST(LargeTransforms, StreamsRoundTripAndAreVersion16OnlyWithTheTool) {
                     0)
               << "frame " << f;
       }
-      // Lossless: the tool does not apply; the stream stays 1.4 / 1.5.
+      // Lossless: the tool does not apply, whatever the option says.
       EncoderOptions lossless = o;
       lossless.lossless = true;
       auto exact = encode_gvid(frames, *info, lossless);
       ASSERT_TRUE(exact.is_ok());
-      EXPECT_LT(static_cast<uint8_t>((*exact)[5]), 6);
+      auto exact_reader = GvidReader::open_memory(*exact, "l.gvid").value();
+      for (int64_t f = 0; f < exact_reader->frame_count(); ++f)
+        EXPECT_EQ(exact_reader->packet_header(f)->flags2 & format::kFrame2LargeTransforms, 0);
+      if (max_transform == 4) {
+        lossless.max_transform = 16;
+        EXPECT_TRUE(encode_gvid(frames, *info, lossless).value() == *exact);
+      }
     }
-}
-
-TEST(LargeTransforms, OffWritesTheEarlierStreamByteForByte) {
-  // tests/golden/encoder_v1_4_*.gvid: written by the format 1.4 encoder from the analytic
-  // surface moving by (0.75, 0.375) pixels per frame (see bframe_test.cpp); --max-transform 4
-  // (the default) and a lossless stream with --max-transform 16 (the tool does not apply) keep
-  // the earlier syntax.
-  testing::GeometryVideoOptions vo;
-  vo.size = 48;
-  vo.frames = 4;
-  auto frames = testing::make_analytic_video(vo);
-  testing::move_in_picture(&frames, 0.75);
-  auto info = make_sequence_info(frames, 16, 30.0);
-  ASSERT_TRUE(info.is_ok());
-  EncoderOptions o;
-  testing::format_tools_before(8, &o);  // a 1.7 stream
-  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
-  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  o.qp = 6;
-  o.preset = Preset::kSlow;
-  o.bframes = 0;
-  o.max_transform = 4;
-  o.refs = 1;             // the golden stream was written with one reference frame (format 1.4)
-  o.cross_plane = false;  // ... and without cross-plane prediction
-  o.cross_plane_contexts = false;  // format 1.7 off
-  o.partitions = false;            // ... and inter partitions (format 1.7)
-  o.rdoq = false;                  // ... and RDO quantization
-  auto bytes = encode_gvid(frames, *info, o);
-  ASSERT_TRUE(bytes.is_ok());
-  auto golden =
-      read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) / "encoder_v1_4_slow_qp6_ippp_48.gvid");
-  ASSERT_TRUE(golden.is_ok()) << golden.status().message();
-  EXPECT_TRUE(*bytes == *golden);
-  EncoderOptions lossless = o;
-  lossless.lossless = true;
-  auto exact4 = encode_gvid(frames, *info, lossless);
-  lossless.max_transform = 16;
-  auto exact16 = encode_gvid(frames, *info, lossless);
-  ASSERT_TRUE(exact4.is_ok() && exact16.is_ok());
-  EXPECT_TRUE(*exact4 == *exact16);
 }
 
 TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
@@ -386,13 +387,13 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto info = make_sequence_info(frames, 16, 30.0);
   ASSERT_TRUE(info.is_ok());
   EncoderOptions o;
-  testing::format_tools_before(8, &o);  // a 1.7 stream
-  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
   o.qp = 6;
   o.preset = Preset::kFast;
   o.max_transform = 16;
-  o.cross_plane = false;           // flags2 then holds the larger-transforms bit alone
-  o.cross_plane_contexts = false;  // format 1.7 off
+  o.resolution = Resolution::kFull;
+  o.deblocking = false;
+  o.cross_plane_contexts = false;
+  o.cross_plane = false;  // flags2 then holds the larger-transforms bit alone
   auto frame = encode_frame(frames[0], *info, o, 0);
   ASSERT_TRUE(frame.is_ok()) << frame.status().message();
   const std::string& packet = frame->packet;
@@ -431,7 +432,7 @@ TEST(LargeTransforms, BadFrameSyntaxIsRejectedWithAMessage) {
   auto unflagged = decode_frame_packet(
       with_payload(payload, h->flags, h->flags2 & ~format::kFrame2LargeTransforms), *info, 0);
   EXPECT_FALSE(unflagged.is_ok());
-  // Flags2 bit 7 (format 1.9, temporal contexts) in this intra frame is rejected.
+  // Flags2 bit 7 (temporal contexts) in this intra frame is rejected.
   auto temporal = decode_frame_packet(with_payload(payload, h->flags, h->flags2 | 128), *info, 0);
   ASSERT_FALSE(temporal.is_ok());
   EXPECT_NE(temporal.status().message().find("temporal contexts in an intra frame"),

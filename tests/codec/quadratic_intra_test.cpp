@@ -1,8 +1,7 @@
-// Quadratic intra (format 1.13, the payload's first byte bit 7, docs/bitstream.md 6.1): the mode
-// predicts a quadratic surface exactly and a plane like H.264's plane mode, the decoder
-// reproduces the encoder in every configuration (presets, I / P / B frames, lossless,
-// near-lossless), the mode is coded and makes the ICT face's stream cheaper, and off writes an
-// older version.
+// Quadratic intra (the payload's first byte bit 7, docs/bitstream.md 6.1): the mode predicts a
+// quadratic surface exactly and a plane like H.264's plane mode, the decoder reproduces the
+// encoder in every configuration (presets, I / P / B frames, lossless, near-lossless), the mode
+// is coded and makes the ICT face's stream cheaper, and off no packet has the flag.
 #include <cmath>
 #include <string>
 #include <utility>
@@ -18,6 +17,7 @@
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
 #include "gvkit/codec/quadratic_intra.hpp"
+#include "packet_surgery.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit::codec {
@@ -101,9 +101,8 @@ TEST(QuadraticIntra, DecoderReproducesTheEncoderInEveryConfiguration) {
     ASSERT_TRUE(o.quadratic_intra);  // on by default
     std::vector<FrameCodingStats> stats;
     const std::string stream = testing::writer_round_trip(frames, info, o, &stats);
-    EXPECT_EQ(static_cast<uint8_t>(stream[5]), o.half_resolution_allowed()
-                                                   ? format::kMinorVersionHalfResolution
-                                                   : format::kMinorVersionQuadraticIntra);
+    for (const auto& [type, flags] : testing::payload_flags(stream))
+      EXPECT_TRUE(flags & format::kPayloadQuadraticIntra);
     for (const FrameCodingStats& f : stats)
       for (const PlaneCodingStats& p : f.planes) total += p.quadratic_mbs;
   }
@@ -111,7 +110,7 @@ TEST(QuadraticIntra, DecoderReproducesTheEncoderInEveryConfiguration) {
 }
 
 // The ICT face (when the shared data is present), intra only at a low rate: the stream with the
-// mode is smaller and its geometry PSNR no more than 0.05 dB lower; off writes an older version.
+// mode is smaller and its geometry PSNR no more than 0.05 dB lower; off, no packet has the flag.
 TEST(QuadraticIntra, MakesTheIctFaceCheaper) {
   GVKIT_REQUIRE_SHARED_DATA(data);
   testing::GeometryVideoOptions vo;
@@ -132,8 +131,8 @@ TEST(QuadraticIntra, MakesTheIctFaceCheaper) {
   EXPECT_LT(a.size(), b.size());
   EXPECT_GT(testing::stream_psnr_db(*frames, info, a),
             testing::stream_psnr_db(*frames, info, b) - 0.05);
-  EXPECT_EQ(static_cast<uint8_t>(b[5]), stream_minor_version(off));
-  EXPECT_LT(static_cast<uint8_t>(b[5]), format::kMinorVersionQuadraticIntra);
+  for (const auto& [type, flags] : testing::payload_flags(b))
+    EXPECT_EQ(flags & format::kPayloadQuadraticIntra, 0);
 }
 
 }  // namespace

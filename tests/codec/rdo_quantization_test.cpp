@@ -185,9 +185,7 @@ TEST(RdoQuantization, StreamsRoundTripAndCostLess) {
   const double step_mm2 = info.step_mm() * info.step_mm();
   for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
     EncoderOptions o;
-    testing::format_tools_before(8, &o);  // a 1.7 stream
-    o.p_qp_offset = 6;    // (nor the 1.14 P-frame QP offset 4: P frames at QP 18, as measured)
-    o.intra_rdo = false;  // (nor the fast preset's RDO in I frames)
+    o.p_qp_offset = 6;  // P frames at QP 18, as measured
     o.qp = 12;
     o.preset = preset;
     o.intra_period = 4;

@@ -1,14 +1,15 @@
-// Format 1.4: shared motion (the Y and Z planes take over the X plane's vector per macroblock
+// Shared motion (flags2 bit 0: the Y and Z planes take over the X plane's vector per macroblock
 // with one flag) and inter decimation (encoder only). The decoder reproduces the encoder's
 // reconstruction exactly in every configuration; threads do not change the bytes; the Y and Z
 // planes spend fewer motion bits than X; packets with unknown or misplaced flags2 bits, or
-// truncated, are rejected with a message; 1.3 syntax is still written on request.
+// truncated, are rejected with a message; off, no packet has the flag.
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
+#include "gvkit/codec/byte_io.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_format.hpp"
@@ -87,8 +88,7 @@ TEST(SharedMotion, DecoderReproducesTheEncoderInEveryConfiguration) {
       for (bool shared : {false, true})
         for (bool decimation : {false, true}) {
           EncoderOptions o;
-          o.cross_plane = false;           // the format 1.4 syntax alone
-          o.cross_plane_contexts = false;  // format 1.7 off
+          o.cross_plane = false;  // shared motion's syntax alone
           o.preset = preset;
           o.qp = 0;
           o.intra_period = 4;
@@ -117,16 +117,13 @@ TEST(SharedMotion, ThreadsWriteTheSameBytesAndYZSpendFewerMotionBits) {
   const auto frames = video(64, 3);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  testing::format_tools_before(8, &o);  // a 1.7 stream
-  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;                // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;       // format 1.7 off
+  o.cross_plane = false;  // shared motion's syntax alone
   o.preset = Preset::kFast;
   o.qp = -6;
   o.shared_motion = true;
   o.bframes = 0;  // shared motion is a P-frame tool
   o.refs = 1;     // one reference: the motion bits are vectors only (no ref_idx)
-  // The fixed rounding offsets of the 1.4 encoder: with RDO quantization the Z plane of this
+  // Fixed rounding offsets: with RDO quantization the Z plane of this
   // small video takes its own vector a little more often (motion bits 172 against X's 170).
   o.rdoq = false;
   std::string one;
@@ -153,14 +150,16 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  testing::format_tools_before(8, &o);  // a 1.7 stream
-  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;                // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;       // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = true;
-  o.max_transform = 4;  // flags2 = shared motion only (no format 1.6 payload byte)
+  // flags2 = shared motion only, no payload field before the segments.
+  o.max_transform = 4;
+  o.cross_plane = false;
+  o.cross_plane_contexts = false;
+  o.temporal_contexts = false;
+  o.deblocking = false;
+  o.resolution = Resolution::kFull;
   const Coded c = encode(frames, info, o);
   auto header = format::read_packet_header(c.packets[1]);
   ASSERT_TRUE(header.is_ok());
@@ -171,7 +170,7 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
     ASSERT_FALSE(r.is_ok()) << message;
     EXPECT_NE(r.status().message().find(message), std::string::npos) << r.status().message();
   };
-  // Flags2 bit 7 (format 1.9, temporal contexts) in the intra frame.
+  // Flags2 bit 7 (temporal contexts) in the intra frame.
   auto temporal = format::read_packet_header(c.packets[0]);
   ASSERT_TRUE(temporal.is_ok());
   temporal->flags2 = format::kFrame2TemporalContexts;
@@ -184,16 +183,22 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   // Truncated payload: the header's size no longer fits.
   expect_error(c.packets[1].substr(0, c.packets[1].size() - 5), &c.recon[0], "truncated");
   // A truncated segment with a consistent header: the CABAC data ends early or is inconsistent.
+  // The payload: its first byte, then X's size (varint) and segment, Y's likewise, then Z.
   std::string payload = c.packets[1].substr(format::read_packet_header(c.packets[1])->header_size);
-  const uint32_t x_size = static_cast<uint8_t>(payload[1]) | static_cast<uint8_t>(payload[2]) << 8 |
-                          static_cast<uint8_t>(payload[3]) << 16;
-  const size_t y_at = 1 + 4 + x_size;  // the Y segment's size field
-  const uint32_t y_size =
-      static_cast<uint8_t>(payload[y_at]) | static_cast<uint8_t>(payload[y_at + 1]) << 8;
-  ASSERT_GT(y_size, 4u);
-  std::string cut = payload;
-  cut.erase(y_at + 4 + y_size / 2, y_size - y_size / 2);
-  for (int b = 0; b < 4; ++b) cut[y_at + b] = static_cast<char>(((y_size / 2) >> (8 * b)) & 0xff);
+  ByteReader in(std::string_view(payload).substr(1));
+  const std::string_view x = in.bytes(in.varint());
+  const std::string_view y = in.bytes(in.varint());
+  const std::string_view z = in.bytes(in.remaining());
+  ASSERT_TRUE(in.ok());
+  ASSERT_GT(y.size(), 4u);
+  ByteWriter out;
+  out.u8(static_cast<uint8_t>(payload[0]));
+  out.varint(x.size());
+  out.bytes(x);
+  out.varint(y.size() / 2);
+  out.bytes(y.substr(0, y.size() / 2));
+  out.bytes(z);
+  const std::string cut = out.take();
   format::PacketHeader h = *header;
   h.payload_size = static_cast<uint32_t>(cut.size());
   h.payload_crc = crc32(cut);
@@ -202,21 +207,17 @@ TEST(SharedMotion, BadFlagsAndTruncatedPacketsAreRejected) {
   EXPECT_NE(r.status().message().find("plane Y"), std::string::npos) << r.status().message();
 }
 
-TEST(SharedMotion, OffWritesTheOlderSyntax) {
+TEST(SharedMotion, OffCodesNoSharedMotionFlag) {
   const auto frames = video(48, 2);
   const SequenceInfo info = info_for(frames);
   EncoderOptions o;
-  testing::format_tools_before(8, &o);  // a 1.7 stream
-  o.intra_rdo = false;                  // (nor the fast preset's RDO in I frames)
-  o.cross_plane = false;                // the format 1.4 syntax alone
-  o.cross_plane_contexts = false;       // format 1.7 off
   o.preset = Preset::kFast;
   o.qp = 0;
   o.shared_motion = false;
   o.inter_decimation = false;
-  o.max_transform = 4;  // no format 1.6 larger transforms either
   const Coded c = encode(frames, info, o);
-  for (const std::string& packet : c.packets) EXPECT_EQ(packet[7], 0);
+  for (const std::string& packet : c.packets)
+    EXPECT_EQ(format::read_packet_header(packet)->flags2 & format::kFrame2SharedMotion, 0);
   EncoderOptions d = o;
   d.inter_decimation = true;
   const Coded dc = encode(frames, info, d);

@@ -1,11 +1,9 @@
-// Temporal contexts (format 1.9, flags2 bit 7, docs/bitstream.md 4.13): the decoder reproduces
-// the encoder bit for bit in every configuration, through GvidReader in any order of access;
-// every P and B packet carries the bit and no I packet does; P and B frames spend fewer bits on
-// macroblock types; off writes the 1.8 golden stream byte for byte; and packets that ask for the
-// tool in an intra frame, next to cross-plane contexts, or from a reference without context states
-// are rejected.
+// Temporal contexts (flags2 bit 7, docs/bitstream.md 4.13): the decoder reproduces the encoder
+// bit for bit in every configuration, through GvidReader in any order of access; every P and B
+// packet carries the bit and no I packet does; P and B frames spend fewer bits on macroblock
+// types; and packets that ask for the tool in an intra frame, next to cross-plane contexts, or
+// from a reference without context states are rejected.
 #include <algorithm>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -17,19 +15,13 @@
 #include "gvkit/codec/frame_coding.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
-#include "gvkit/core/atomic_file.hpp"
 #include "packet_surgery.hpp"
 
 namespace gvkit::codec {
 namespace {
 
-// Whether each packet (display order) has flags2 bit 7, and the stream's minor version is that
-// of the options (1.14 with the default options, 1.13 lossless: compact packets, merge, TD16
-// and quadratic intra too).
-void expect_temporal_in_inter_frames(const std::string& stream, const EncoderOptions& options) {
-  EXPECT_EQ(static_cast<uint8_t>(stream[5]), options.half_resolution_allowed()
-                                                 ? format::kMinorVersionHalfResolution
-                                                 : format::kMinorVersionQuadraticIntra);
+// Whether each packet (display order) has flags2 bit 7.
+void expect_temporal_in_inter_frames(const std::string& stream) {
   auto reader = GvidReader::open_memory(stream, "x.gvid").value();
   int inter = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -75,7 +67,7 @@ TEST(TemporalContexts, DecoderReproducesTheEncoderInEveryConfiguration) {
   cases.push_back({"one reference, affine value prediction", one_ref});
   for (const auto& [name, o] : cases) {
     SCOPED_TRACE(name);
-    expect_temporal_in_inter_frames(testing::writer_round_trip(frames, info, o), o);
+    expect_temporal_in_inter_frames(testing::writer_round_trip(frames, info, o));
   }
 }
 
@@ -111,15 +103,15 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EncoderOptions on;
       on.qp = qp;
       on.preset = preset;
-      testing::format_tools_before(10, &on);  // a 1.9 stream
+      // Plain SSD decisions: the outline weight moves which macroblocks skip at this small
+      // video's outline, which its few hundred type bits at QP 12 are sensitive to.
+      on.outline_weight = 1;
       EncoderOptions off = on;
       off.temporal_contexts = false;
-      off.compact_segments = false;  // the 1.8 payload too
       double type_bits[2] = {0, 0}, inter_planes[2] = {0, 0};
       for (const bool temporal : {false, true}) {
         std::vector<FrameCodingStats> stats;
         const std::string stream = encode_gvid(frames, info, temporal ? on : off, &stats).value();
-        EXPECT_EQ(static_cast<uint8_t>(stream[5]), temporal ? 9 : 8);
         for (const FrameCodingStats& f : stats)
           if (!f.intra)
             for (const PlaneCodingStats& p : f.planes) {
@@ -130,28 +122,6 @@ TEST(TemporalContexts, InterFramesSpendFewerBitsOnMacroblockTypes) {
       EXPECT_EQ(inter_planes[0], inter_planes[1]);
       EXPECT_LT(type_bits[1], 0.97 * type_bits[0]);  // 4-21 % less on this video
     }
-}
-
-TEST(TemporalContexts, OffWritesThe18GoldenStreamByteForByte) {
-  // tests/golden/analytic_deblock_qp12_ibpbp_v1_8_48.gvid: the 1.8 encoder, fast QP 12, I P B.
-  testing::GeometryVideoOptions vo;
-  vo.size = 48;
-  vo.frames = 5;
-  auto frames = testing::make_analytic_video(vo);
-  testing::move_in_picture(&frames, 0.75);
-  const SequenceInfo info = testing::info_for(frames);
-  EncoderOptions o;
-  o.qp = 12;
-  o.preset = Preset::kFast;
-  o.bframes = 1;
-  o.intra_rdo = false;                  // (the fast preset's I frames were decided by SATD then)
-  testing::format_tools_before(9, &o);  // a 1.8 stream
-  o.p_qp_offset = 6;                    // (nor the 1.14 P-frame QP offset 4)
-  const std::string stream = encode_gvid(frames, info, o).value();
-  auto golden = read_file(std::filesystem::path(GVKIT_GOLDEN_DIR) /
-                          "analytic_deblock_qp12_ibpbp_v1_8_48.gvid");
-  ASSERT_TRUE(golden.is_ok()) << golden.status().message();
-  EXPECT_TRUE(stream == *golden);
 }
 
 TEST(TemporalContexts, RejectsTheFlagWhereItCannotApply) {

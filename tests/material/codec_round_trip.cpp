@@ -80,22 +80,6 @@ double stream_psnr_db(const std::vector<GeometryImage>& frames, const codec::Seq
   return total.psnr_db(info.box_diagonal_mm());
 }
 
-void format_tools_before(int minor, codec::EncoderOptions* options) {
-  GVKIT_CHECK(minor >= 8 && minor <= 14);
-  codec::EncoderOptions& o = *options;
-  if (minor <= 8) o.deblocking = false;
-  if (minor <= 9) {
-    o.temporal_contexts = false;
-    o.compact_segments = false;
-  }
-  if (minor <= 10) o.compact_packets = false;
-  if (minor <= 11) o.merge = false;
-  if (minor <= 12) o.td16 = false;
-  if (minor <= 13) o.quadratic_intra = false;
-  o.resolution = codec::Resolution::kFull;
-  o.outline_weight = 1;  // the plain SSD of every encoder before the outline weight
-}
-
 std::vector<std::pair<std::string, codec::EncoderOptions>> p_frame_cases() {
   std::vector<std::pair<std::string, codec::EncoderOptions>> cases;
   for (const codec::Preset preset : {codec::Preset::kFast, codec::Preset::kSlow})

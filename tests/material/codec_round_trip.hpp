@@ -29,14 +29,6 @@ std::string writer_round_trip(const std::vector<GeometryImage>& frames,
                               const codec::SequenceInfo& info, const codec::EncoderOptions& options,
                               std::vector<codec::FrameCodingStats>* stats = nullptr);
 
-// Turns off in *options every format tool of version 1.`minor` and later, so that the encoder
-// writes the stream of version 1.(minor - 1) and its other options: 8 the deblocking filter, 9
-// temporal contexts and compact segment sizes, 10 compact packets, 11 merge, 12 TD16, 13 the
-// quadratic intra mode, 14 half resolution; and the encoder's outline weight (an encoder-only
-// change after 1.14) back to the plain SSD of the encoders that wrote the golden streams.
-// Contract: 8 <= minor <= 14.
-void format_tools_before(int minor, codec::EncoderOptions* options);
-
 // Encoder configurations with P frames that a P-frame tool must survive, named: fast and slow
 // preset x 0 / 1 B frames x QP 0 / 12 (intra period 5, 2 threads; index 4 is slow, no B frames,
 // QP 0), then one reference, slow with shared motion, lossless and near-lossless.

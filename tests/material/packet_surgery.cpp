@@ -54,6 +54,46 @@ std::string damage_payload(std::string packet, std::mt19937& rng, int flips, siz
   return with_payload(packet, packet.substr(header));
 }
 
+std::string with_file_header_byte(const std::string& stream, size_t offset, uint8_t value) {
+  size_t header_size = 0;
+  GVKIT_CHECK(format::read_file_header(stream, &header_size).is_ok());
+  GVKIT_CHECK(offset >= 4 && offset + 4 < header_size);
+  std::string out = stream;
+  out[offset] = static_cast<char>(value);
+  const uint32_t crc = codec::crc32(out.data(), header_size - 4);
+  for (int i = 0; i < 4; ++i) out[header_size - 4 + i] = static_cast<char>((crc >> (8 * i)) & 255);
+  return out;
+}
+
+std::vector<std::string> stream_packets(const std::string& stream) {
+  auto reader = codec::GvidReader::open_memory(stream, "x.gvid").value();
+  size_t offset = static_cast<size_t>(reader->header_bytes());
+  std::vector<std::string> out;
+  for (int64_t k = 0; k < reader->frame_count(); ++k) {
+    out.push_back(first_packet(stream, offset));
+    offset += out.back().size();
+  }
+  return out;
+}
+
+std::string make_stream(const std::string& file_header, const std::vector<std::string>& packets) {
+  std::string out = file_header;
+  std::vector<format::IndexEntry> index;
+  for (const std::string& packet : packets) {
+    auto h = format::read_packet_header(packet);
+    GVKIT_CHECK(h.is_ok());
+    format::IndexEntry e;
+    e.offset = out.size();
+    e.frame_number = h->frame_number;
+    e.payload_size = h->payload_size;
+    e.type = h->type;
+    e.header_size = static_cast<uint8_t>(h->header_size);
+    index.push_back(e);
+    out += packet;
+  }
+  return out + format::write_index(index, out.size());
+}
+
 std::vector<std::pair<format::FrameType, uint8_t>> payload_flags(const std::string& stream) {
   auto reader = codec::GvidReader::open_memory(stream, "x.gvid").value();
   size_t offset = static_cast<size_t>(reader->header_bytes());

@@ -35,6 +35,19 @@ std::string with_payload(const std::string& packet, std::string payload);
 // the packet's frame type. EXPECTs readable packet headers.
 std::vector<std::pair<codec::format::FrameType, uint8_t>> payload_flags(const std::string& stream);
 
+// The file header of `stream` (its first header_bytes bytes) with byte `offset` set to `value`
+// and the header's CRC fixed up (version, profile and reserved bytes). Contract: a readable
+// header.
+std::string with_file_header_byte(const std::string& stream, size_t offset, uint8_t value);
+
+// The frame packets of `stream` in decode order (header + payload each). Contract: a readable
+// stream.
+std::vector<std::string> stream_packets(const std::string& stream);
+
+// A stream of `file_header` and `packets` (decode order) with a fresh index and trailer.
+// Contract: readable packet headers.
+std::string make_stream(const std::string& file_header, const std::vector<std::string>& packets);
+
 // `packet` with `flips` random bits of its payload flipped, none in the payload's first `keep`
 // bytes (keep < payload size), and the CRC fixed up. Draws from `rng`.
 std::string damage_payload(std::string packet, std::mt19937& rng, int flips, size_t keep);

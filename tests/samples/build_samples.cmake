@@ -22,7 +22,7 @@ set(gvkit ${GVKIT_BUILD_DIR}/tools/gvkit)
 
 # decode_stats on a stored stream; its frames back to EXRs (gvkit decode) and encode_folder
 # makes a stream of them again, which decode_stats reads.
-set(golden ${GVKIT_SOURCE_DIR}/tests/golden/analytic_qp6_fast_64.gvid)
+set(golden ${GVKIT_SOURCE_DIR}/tests/golden/v2/intra_slow_qpm6_64.gvid)
 run("frames 64x64.*\n +0 +I " ${bin}/decode_stats ${golden})
 run("" ${gvkit} decode ${golden} -o ${WORK_DIR}/gv)
 run("frames 64x64 -> .*again.gvid, [0-9]+ bytes" ${bin}/encode_folder ${WORK_DIR}/gv

@@ -39,11 +39,14 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
   EXPECT_EQ((*stats)["options"]["lossless"], true);
+  EXPECT_EQ((*stats)["format"], "2.0");
+  EXPECT_EQ((*stats)["profile"], "lossless");
   EXPECT_EQ((*stats)["frames"].size(), 2u);
 
   auto info = run_gvkit("info " + gvid);
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_TRUE(contains(info.output, ".gvid geometry video"));
+  EXPECT_TRUE(contains(info.output, "format          2.0, profile lossless")) << info.output;
   EXPECT_TRUE(contains(info.output, "32x32, 16-bit xyz"));
   EXPECT_TRUE(contains(info.output, "frames          2"));
   EXPECT_TRUE(contains(info.output, "bits/vertex"));
@@ -107,7 +110,7 @@ TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
   write_frames(dir / "in", 5);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --lossless --preset fast --bframes 2 --b-qp-offset 3");
+                       " --lossless --preset fast --tune bframes=2 --tune b-qp-offset=3");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -135,152 +138,76 @@ TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
                            cv::norm(a->xyz_mm.at<cv::Vec3f>(y, x) - b->xyz_mm.at<cv::Vec3f>(y, x)));
     EXPECT_LT(worst, 0.01) << "frame " << f;  // lossless: the frame itself, in display order
   }
-  auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --bframes 4");
+  auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --tune bframes=4");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_TRUE(contains(bad.output, "B frames 4 out of range")) << bad.output;
 }
 
-TEST(CliCodec, CrossPlaneIsAnOptionInfoShowsItAndTheStreamDecodes) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
-  ASSERT_EQ(enc.exit_code, 0) << enc.output;
-  auto stats = read_json(gvid + ".stats.json");
-  ASSERT_TRUE(stats.is_ok());
-  EXPECT_EQ((*stats)["options"]["cross_plane"], true);
-  EXPECT_EQ((*stats)["options"]["cross_plane_contexts"], false);
-  auto bytes = read_file(gvid);
-  ASSERT_TRUE(bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 6);  // version 1.6
-  auto info = run_gvkit("info " + gvid);
-  ASSERT_EQ(info.exit_code, 0) << info.output;
-  EXPECT_TRUE(contains(info.output, "(packet 0)  cross-plane")) << info.output;
-  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
-  ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  // --no-cross-plane: no cross-plane frames; without the other 1.6 tools too, version 1.5.
-  auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 0 --preset fast --no-cross-plane --refs 1 --max-transform 4"
-                         " --no-cross-plane-contexts --no-deblock --no-temporal-contexts "
-                         "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
-                         "--no-quadratic-intra --resolution full");
-  ASSERT_EQ(plain.exit_code, 0) << plain.output;
-  auto plain_info = run_gvkit("info " + gvid);
-  ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
-  EXPECT_FALSE(contains(plain_info.output, "cross-plane")) << plain_info.output;
-  auto plain_bytes = read_file(gvid);
-  ASSERT_TRUE(plain_bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 5);
-}
-
-// RDO quantization is an encoder option (no syntax): on by default, recorded in the stats, and
-// both streams decode.
-TEST(CliCodec, RdoQuantizationIsAnOptionAndBothStreamsDecode) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  std::string bytes[2];
-  for (const bool on : {false, true}) {
-    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 6" +
-                         (on ? "" : " --no-rdoq"));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["rdoq"], on);
-    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
-    ASSERT_EQ(dec.exit_code, 0) << dec.output;
-    auto read = read_file(gvid);
-    ASSERT_TRUE(read.is_ok());
-    bytes[on] = *read;
-  }
-  EXPECT_NE(bytes[1], bytes[0]);  // the option reaches the encoder
-}
-
-// The deblocking filter (format 1.8): on by default, in the stats and in `gvkit info`;
-// --no-deblock writes a version 1.7 stream; both decode.
-TEST(CliCodec, DeblockingIsAnOptionInfoShowsItAndBothStreamsDecode) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  for (const bool on : {true, false}) {
-    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit(
-        "encode " + (dir / "in").string() + " -o " + gvid +
-        " --qp 12 --no-temporal-contexts --no-compact-segments "
-        "--no-compact-packets --no-merge --no-td16 --no-quadratic-intra --resolution full" +
-        (on ? "" : " --no-deblock"));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["deblocking"], on);
-    auto bytes = read_file(gvid);
-    ASSERT_TRUE(bytes.is_ok());
-    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 8 : 7);
-    auto info = run_gvkit("info " + gvid);
-    ASSERT_EQ(info.exit_code, 0) << info.output;
-    EXPECT_EQ(contains(info.output, "  deblocking"), on) << info.output;
-    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
-    ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  }
-}
-
-// The fast preset's RDO in I frames: on by default, in the stats; --no-intra-rdo reaches the
-// encoder (another stream of the same version); both decode.
-TEST(CliCodec, IntraRdoIsAnOptionInTheStatsAndBothStreamsDecode) {
-  TempDir dir;
-  write_frames(dir / "in", 2);
-  std::string bytes[2];
-  for (const bool on : {true, false}) {
-    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 6 --preset fast --intra-only" + (on ? "" : " --no-intra-rdo"));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["intra_rdo"], on);
-    auto read = read_file(gvid);
-    ASSERT_TRUE(read.is_ok());
-    bytes[on] = *read;
-    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
-    ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  }
-  EXPECT_NE(bytes[1], bytes[0]);
-  EXPECT_EQ(bytes[1][5], bytes[0][5]);  // the same format version
-}
-
-// Merge (format 1.11), TD16 (1.12), quadratic intra (1.13) and half resolution (1.14): on by
-// default, in the stats; with --resolution full a version 1.13 stream, with --no-quadratic-intra
-// as well 1.12, with --no-td16 as well 1.11, with --no-merge as well 1.10; all decode.
-TEST(CliCodec, MergeTd16QuadraticIntraAndResolutionAreOptionsInTheStatsAndEveryStreamDecodes) {
+// Every tool switch is a --tune key: it reaches the encoder (the stats record it, the stream
+// changes) and `gvkit info` shows the frame-level tools it turns on or off; every stream decodes.
+TEST(CliCodec, TuneKeysReachTheEncoderAndInfoShowsTheTools) {
   TempDir dir;
   write_frames(dir / "in", 4);
-  const std::string off[5] = {"", " --resolution full", " --resolution full --no-quadratic-intra",
-                              " --resolution full --no-quadratic-intra --no-td16",
-                              " --resolution full --no-quadratic-intra --no-td16 --no-merge"};
-  for (int k = 0; k < 5; ++k) {
-    const int version = 14 - k;
-    const std::string gvid = (dir / ("v" + std::to_string(version) + ".gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --bframes 0" + off[k]);
+  const std::string in = (dir / "in").string();
+  struct Case {
+    std::string tunes;                                          // --tune arguments
+    std::vector<std::pair<std::string, nlohmann::json>> stats;  // options in stats.json
+    std::vector<std::string> shown;  // what `gvkit info` shows with the defaults, not the tunes
+  };
+  const std::vector<Case> cases = {
+      {"cross-plane=off --tune deblock=off --tune temporal-contexts=off --tune max-transform=4 "
+       "--tune refs=1 --tune bframes=0 --tune cross-plane-contexts=off",
+       {{"cross_plane", false},
+        {"deblocking", false},
+        {"temporal_contexts", false},
+        {"max_transform", 4},
+        {"refs", 1},
+        {"bframes", 0},
+        {"cross_plane_contexts", false}},
+       {"  cross-plane  ", "  deblocking", "temporal-contexts", "transforms      8x8 / 16x16",
+        "refs 2", "  B  ", "cross-plane-contexts"}},
+      {"merge=off --tune td16=off --tune quadratic-intra=off --tune rdoq=off",
+       {{"merge", false}, {"td16", false}, {"quadratic_intra", false}, {"rdoq", false}},
+       {}},
+      {"resolution=full --tune subpel=2 --tune td=no --tune plane-qp-offsets=0,0,2",
+       {{"resolution", "full"},
+        {"subpel", 2},
+        {"td_prediction", false},
+        {"plane_qp_offsets", nlohmann::json::array({0, 0, 2})}},
+       {}},
+  };
+  const std::string base = (dir / "base.gvid").string();
+  auto enc = run_gvkit("encode " + in + " -o " + base + " --qp 6 --gop 4");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  auto base_info = run_gvkit("info " + base);
+  ASSERT_EQ(base_info.exit_code, 0) << base_info.output;
+  const auto base_bytes = read_file(base);
+  ASSERT_TRUE(base_bytes.is_ok());
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const Case& c = cases[k];
+    SCOPED_TRACE(c.tunes);
+    const std::string gvid = (dir / ("t" + std::to_string(k) + ".gvid")).string();
+    enc = run_gvkit("encode " + in + " -o " + gvid + " --qp 6 --gop 4 --tune " + c.tunes);
     ASSERT_EQ(enc.exit_code, 0) << enc.output;
     auto stats = read_json(gvid + ".stats.json");
     ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["resolution"], version >= 14 ? "auto" : "full");
-    EXPECT_EQ((*stats)["options"]["quadratic_intra"], version >= 13);
-    EXPECT_EQ((*stats)["options"]["td16"], version >= 12);
-    EXPECT_EQ((*stats)["options"]["merge"], version >= 11);
-    auto bytes = read_file(gvid);
-    ASSERT_TRUE(bytes.is_ok());
-    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), version);
-    auto dec =
-        run_gvkit("decode " + gvid + " -o " + (dir / ("v" + std::to_string(version))).string());
+    for (const auto& [name, value] : c.stats) EXPECT_EQ((*stats)["options"][name], value) << name;
+    EXPECT_EQ((*stats)["format"], "2.0");
+    EXPECT_EQ((*stats)["profile"], "main");
+    EXPECT_FALSE(*read_file(gvid) == *base_bytes);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_TRUE(contains(info.output, "format          2.0, profile main")) << info.output;
+    for (const std::string& shown : c.shown) {
+      EXPECT_TRUE(contains(base_info.output, shown)) << shown << base_info.output;
+      EXPECT_FALSE(contains(info.output, shown)) << shown << info.output;
+    }
+    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / ("t" + std::to_string(k))).string());
     ASSERT_EQ(dec.exit_code, 0) << dec.output;
   }
-  // --resolution half: every frame at half resolution, shown by `gvkit info`; it decodes.
+  // Tunes that turn tools on: half resolution in every frame, partitions in the slow preset.
   const std::string half = (dir / "half.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + half + " --resolution half");
+  enc = run_gvkit("encode " + in + " -o " + half + " --tune resolution=half --tune partitions=on");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   const auto info = run_gvkit("info " + half);
   ASSERT_EQ(info.exit_code, 0) << info.output;
@@ -290,154 +217,90 @@ TEST(CliCodec, MergeTd16QuadraticIntraAndResolutionAreOptionsInTheStatsAndEveryS
     ++shown;
   EXPECT_EQ(shown, 4u) << info.output;
   EXPECT_EQ(run_gvkit("decode " + half + " -o " + (dir / "half").string()).exit_code, 0);
-  const auto bad = run_gvkit("encode " + (dir / "in").string() + " -o " +
-                             (dir / "bad.gvid").string() + " --resolution quarter");
+}
+
+TEST(CliCodec, TuneHelpListsTheKeysAndBadTunesFailNamingThem) {
+  TempDir dir;
+  write_frames(dir / "in", 1);
+  const std::string in = (dir / "in").string(), out = (dir / "v.gvid").string();
+  auto help = run_gvkit("encode --tune help");  // no input or output needed
+  ASSERT_EQ(help.exit_code, 0) << help.output;
+  for (const char* key : {"merge", "td16", "quadratic-intra", "deblock", "refs", "resolution"})
+    EXPECT_TRUE(contains(help.output, std::string("  ") + key + " ")) << key << help.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const std::pair<const char*, const char*> bad[] = {
+      {"--tune merge=maybe", "tune merge=maybe: not on or off (on|off)"},
+      {"--tune frobnicate=1", "tune frobnicate=1: unknown key"},
+      {"--tune merge", "tune 'merge': not key=value"},
+      {"--tune max-transform=32", "max transform 32 is not 4, 8 or 16"},
+      {"--tune resolution=quarter", "resolution 'quarter' unknown"},
+      {"--tune plane-qp-offsets=1,2", "three integers X,Y,Z"},
+      {"--profile intra --tune bframes=2", "profile intra: I frames only, no B frames"},
+  };
+  for (const auto& [args, message] : bad) {
+    auto r = run_gvkit("encode " + in + " -o " + out + " " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_TRUE(contains(r.output, message)) << args << "\n" << r.output;
+  }
+  // The per-tool flags of the 1.x encoder are gone.
+  auto old = run_gvkit("encode " + in + " -o " + out + " --no-merge");
+  EXPECT_NE(old.exit_code, 0);
+}
+
+// The profile follows the options (lossless, intra, main) or is chosen; `gvkit info` and the stats
+// name it.
+TEST(CliCodec, ProfilesAreNamedInTheStreamTheStatsAndInfo) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string in = (dir / "in").string();
+  const std::pair<const char*, const char*> cases[] = {
+      {"--qp 12", "main"},
+      {"--intra-only", "intra"},
+      {"--lossless", "lossless"},
+      {"--max-error-mm 0.05", "lossless"},
+      {"--profile intra", "intra"},
+      {"--profile lossless --preset fast", "lossless"},
+      {"--profile main --lossless", "main"}};
+  for (const auto& [args, profile] : cases) {
+    SCOPED_TRACE(args);
+    const std::string gvid = (dir / (std::string(profile) + ".gvid")).string();
+    auto enc = run_gvkit("encode " + in + " -o " + gvid + " " + args);
+    ASSERT_EQ(enc.exit_code, 0) << enc.output;
+    auto stats = read_json(gvid + ".stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["profile"], profile);
+    auto info = run_gvkit("info " + gvid);
+    ASSERT_EQ(info.exit_code, 0) << info.output;
+    EXPECT_TRUE(contains(info.output, std::string("format          2.0, profile ") + profile))
+        << info.output;
+    if (std::string(profile) == "intra") {
+      EXPECT_TRUE(contains(info.output, "frame types     3 I, 0 P, 0 B")) << info.output;
+    }
+    if (std::string(args) == "--profile lossless --preset fast") {
+      EXPECT_LT((*stats)["summary"]["max_mm"].get<double>(), 0.01);  // the quantization only
+    }
+  }
+  auto bad = run_gvkit("encode " + in + " -o " + (dir / "x.gvid").string() + " --profile high");
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_NE(bad.output.find("resolution 'quarter' unknown"), std::string::npos) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "profile 'high' unknown")) << bad.output;
 }
 
-// Compact packets (format 1.10): on by default, in the stats and in `gvkit info` on every frame;
-// --no-compact-packets writes a version 1.9 stream of larger packets; both decode to the same
-// frames.
-TEST(CliCodec, CompactPacketsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
+// A legacy 1.x stream is still read: `gvkit info` says which version it is and that gvkit writes
+// 2.0; it decodes.
+TEST(CliCodec, InfoSaysALegacyStreamsVersionAndItDecodes) {
   TempDir dir;
-  write_frames(dir / "in", 3);
-  std::string decoded[2];
-  int64_t sizes[2] = {0, 0};
-  for (const bool on : {true, false}) {
-    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-merge --no-td16 --no-quadratic-intra --resolution full" +
-                         (on ? "" : " --no-compact-packets"));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["compact_packets"], on);
-    auto bytes = read_file(gvid);
-    ASSERT_TRUE(bytes.is_ok());
-    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 10 : 9);
-    sizes[on] = static_cast<int64_t>(bytes->size());
-    auto info = run_gvkit("info " + gvid);
-    ASSERT_EQ(info.exit_code, 0) << info.output;
-    EXPECT_EQ(contains(info.output, "deblocking  compact-packet"), on) << info.output;
-    const auto out = dir / (on ? "on" : "off");
-    auto dec = run_gvkit("decode " + gvid + " -o " + out.string());
-    ASSERT_EQ(dec.exit_code, 0) << dec.output;
-    auto frame = read_file(frame_path(out, 2, ".exr"));
-    ASSERT_TRUE(frame.is_ok());
-    decoded[on] = *frame;
-  }
-  EXPECT_LE(sizes[1] + 3 * 9, sizes[0]);  // at least 9 bytes a frame
-  EXPECT_TRUE(decoded[1] == decoded[0]);
-}
-
-// Temporal contexts (format 1.9): on by default, in the stats and in `gvkit info` on P and B
-// frames; --no-temporal-contexts writes a version 1.8 stream; both decode.
-TEST(CliCodec, TemporalContextsAreAnOptionInfoShowsThemAndBothStreamsDecode) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  for (const bool on : {true, false}) {
-    const std::string gvid = (dir / (on ? "on.gvid" : "off.gvid")).string();
-    auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                         " --qp 12 --no-compact-packets --no-merge --no-td16 --no-quadratic-intra "
-                         "--resolution full" +
-                         (on ? "" : " --no-temporal-contexts --no-compact-segments"));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["temporal_contexts"], on);
-    auto bytes = read_file(gvid);
-    ASSERT_TRUE(bytes.is_ok());
-    EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), on ? 9 : 8);
-    auto info = run_gvkit("info " + gvid);
-    ASSERT_EQ(info.exit_code, 0) << info.output;
-    EXPECT_EQ(contains(info.output, "  temporal-contexts"), on) << info.output;
-    auto dec = run_gvkit("decode " + gvid + " -o " + (dir / (on ? "on" : "off")).string());
-    ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  }
-}
-
-TEST(CliCodec, CrossPlaneContextsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-deblock --no-temporal-contexts "
-                       "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
-                       "--no-quadratic-intra --resolution full");  // on by default
-  ASSERT_EQ(enc.exit_code, 0) << enc.output;
-  auto stats = read_json(gvid + ".stats.json");
-  ASSERT_TRUE(stats.is_ok());
-  EXPECT_EQ((*stats)["options"]["cross_plane_contexts"], true);
-  auto bytes = read_file(gvid);
-  ASSERT_TRUE(bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 7);  // version 1.7
-  auto info = run_gvkit("info " + gvid);
+  const std::string v1 =
+      GVKIT_SOURCE_DIR "/tests/golden/v1/analytic_temporal_slow_qp6_ibpbp_v1_9_48.gvid";
+  auto info = run_gvkit("info " + v1);
   ASSERT_EQ(info.exit_code, 0) << info.output;
-  EXPECT_TRUE(contains(info.output, "(packet 0)  cross-plane  cross-plane-contexts"))
+  EXPECT_TRUE(contains(info.output,
+                       "format          1.9 (legacy 1.x, read-only: gvkit writes "
+                       "format 2.0)"))
       << info.output;
-  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
+  EXPECT_TRUE(contains(info.output, "full-packet-header")) << info.output;
+  auto dec = run_gvkit("decode " + v1 + " -o " + (dir / "out").string());
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  // --no-cross-plane-contexts: version 1.6, no frame with the tool.
-  auto off = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset fast --no-cross-plane-contexts --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
-  ASSERT_EQ(off.exit_code, 0) << off.output;
-  auto off_info = run_gvkit("info " + gvid);
-  ASSERT_EQ(off_info.exit_code, 0) << off_info.output;
-  EXPECT_FALSE(contains(off_info.output, "cross-plane-contexts")) << off_info.output;
-  auto off_bytes = read_file(gvid);
-  ASSERT_TRUE(off_bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*off_bytes)[5]), 6);
-}
-
-TEST(CliCodec, PartitionsAreAnOptionInfoShowsThemAndTheStreamDecodes) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  const std::string gvid = (dir / "v.gvid").string();
-  auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --qp 0 --preset slow --bframes 0 --partitions --no-deblock "
-                       "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                       "--no-merge --no-td16 --no-quadratic-intra --resolution full");
-  ASSERT_EQ(enc.exit_code, 0) << enc.output;
-  auto stats = read_json(gvid + ".stats.json");
-  ASSERT_TRUE(stats.is_ok());
-  EXPECT_EQ((*stats)["options"]["partitions"], true);
-  auto bytes = read_file(gvid);
-  ASSERT_TRUE(bytes.is_ok());
-  EXPECT_EQ(static_cast<uint8_t>((*bytes)[5]), 7);  // version 1.7
-  auto info = run_gvkit("info " + gvid);
-  ASSERT_EQ(info.exit_code, 0) << info.output;
-  EXPECT_TRUE(contains(info.output, "P ")) << info.output;
-  EXPECT_TRUE(contains(info.output, "  partitions")) << info.output;
-  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string());
-  ASSERT_EQ(dec.exit_code, 0) << dec.output;
-  // On by default in the slow preset: the same stream.
-  auto defaults = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                            " --qp 0 --preset slow --bframes 0 --no-deblock --no-temporal-contexts "
-                            "--no-compact-segments --no-compact-packets --no-merge --no-td16 "
-                            "--no-quadratic-intra --resolution full");
-  ASSERT_EQ(defaults.exit_code, 0) << defaults.output;
-  auto default_bytes = read_file(gvid);
-  ASSERT_TRUE(default_bytes.is_ok());
-  EXPECT_TRUE(*default_bytes == *bytes);
-  // --no-partitions (and no cross-plane contexts): version 1.6, no partition frames; the fast
-  // preset codes 16x16 only.
-  for (const char* args : {" --preset slow --no-partitions", " --preset fast --partitions"}) {
-    auto plain = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                           " --qp 0 --bframes 0 --no-cross-plane-contexts --no-deblock "
-                           "--no-temporal-contexts --no-compact-segments --no-compact-packets "
-                           "--no-merge --no-td16 --no-quadratic-intra --resolution full" +
-                           args);
-    ASSERT_EQ(plain.exit_code, 0) << plain.output;
-    auto plain_info = run_gvkit("info " + gvid);
-    ASSERT_EQ(plain_info.exit_code, 0) << plain_info.output;
-    EXPECT_FALSE(contains(plain_info.output, "partitions")) << args << plain_info.output;
-    auto plain_bytes = read_file(gvid);
-    ASSERT_TRUE(plain_bytes.is_ok());
-    EXPECT_EQ(static_cast<uint8_t>((*plain_bytes)[5]), 6) << args;
-  }
+  EXPECT_TRUE(std::filesystem::exists(frame_path(dir / "out", 4, ".exr")));
 }
 
 TEST(CliCodec, DecodeOfADamagedStreamWritesTheGoodFramesAndFails) {
@@ -470,9 +333,8 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   write_frames(dir / "in", 3);
   const std::string gvid = (dir / "v.gvid").string();
   auto enc = run_gvkit("encode " + (dir / "in").string() + " -o " + gvid +
-                       " --max-error-mm 0.05 --gop 3 --value-prediction affine --threads 2 "
-                       "--shared-motion "
-                       "--preset fast");
+                       " --max-error-mm 0.05 --gop 3 --tune value-prediction=affine --threads 2 "
+                       "--tune shared-motion=on --preset fast");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -487,8 +349,9 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   ASSERT_EQ(dec.exit_code, 0) << dec.output;
 
   auto rate = run_gvkit("-v encode " + (dir / "in").string() + " -o " + gvid +
-                        " --bitrate 200 --plane-qp-offsets 0 0 2 --p-qp-offset 3 --no-td "
-                        "--subpel 2 --preset fast --no-decimation --bframes 0");
+                        " --bitrate 200 --tune plane-qp-offsets=0,0,2 --tune p-qp-offset=3 --tune "
+                        "td=off --tune subpel=2 --preset fast --tune decimation=off --tune "
+                        "bframes=0");
   ASSERT_EQ(rate.exit_code, 0) << rate.output;
   stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -516,10 +379,10 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   auto tiny = run_gvkit("encode " + in + " -o " + gvid + " --max-error-mm 0.00001");
   EXPECT_NE(tiny.exit_code, 0);
   EXPECT_TRUE(contains(tiny.output, "below the quantization error")) << tiny.output;
-  auto mode = run_gvkit("encode " + in + " -o " + gvid + " --value-prediction rigid");
+  auto mode = run_gvkit("encode " + in + " -o " + gvid + " --tune value-prediction=rigid");
   EXPECT_NE(mode.exit_code, 0);
   EXPECT_TRUE(contains(mode.output, "value prediction 'rigid' unknown")) << mode.output;
-  auto subpel = run_gvkit("encode " + in + " -o " + gvid + " --subpel 8");
+  auto subpel = run_gvkit("encode " + in + " -o " + gvid + " --tune subpel=8");
   EXPECT_NE(subpel.exit_code, 0);
   EXPECT_TRUE(contains(subpel.output, "subpel 8 is not 0")) << subpel.output;
   auto threads = run_gvkit("encode " + in + " -o " + gvid + " --threads 0");
@@ -527,38 +390,22 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   EXPECT_TRUE(contains(threads.output, "threads 0 out of range")) << threads.output;
   auto lossless_rate = run_gvkit("encode " + in + " -o " + gvid + " --lossless --bitrate 100");
   EXPECT_NE(lossless_rate.exit_code, 0);
-  EXPECT_TRUE(contains(lossless_rate.output, "rate control needs lossy coding"))
+  EXPECT_TRUE(contains(lossless_rate.output, "--bitrate excludes --lossless"))
       << lossless_rate.output;
+  // A profile that implies lossless coding: the library's check names it.
+  auto profile_rate =
+      run_gvkit("encode " + in + " -o " + gvid + " --profile lossless --bitrate 100");
+  EXPECT_NE(profile_rate.exit_code, 0);
+  EXPECT_TRUE(contains(profile_rate.output, "rate control needs lossy coding"))
+      << profile_rate.output;
 }
 
-TEST(CliCodec, MaxTransformIsAnOptionAndInfoShowsTheLargerTransforms) {
-  TempDir dir;
-  write_frames(dir / "in", 3);
-  const std::string in = (dir / "in").string(), gvid = (dir / "t.gvid").string();
-  for (const int max_transform : {4, 16}) {
-    auto enc = run_gvkit("encode " + in + " -o " + gvid + " --qp 0 --preset fast --max-transform " +
-                         std::to_string(max_transform));
-    ASSERT_EQ(enc.exit_code, 0) << enc.output;
-    auto stats = read_json(gvid + ".stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["max_transform"], max_transform);
-    auto info = run_gvkit("info " + gvid);
-    ASSERT_EQ(info.exit_code, 0) << info.output;
-    EXPECT_EQ(contains(info.output, "transforms      8x8 / 16x16 in 3 of 3 frames (format 1.6)"),
-              max_transform == 16)
-        << info.output;
-  }
-  auto bad = run_gvkit("encode " + in + " -o " + gvid + " --max-transform 32");
-  EXPECT_NE(bad.exit_code, 0);
-  EXPECT_TRUE(contains(bad.output, "max transform 32 is not 4, 8 or 16")) << bad.output;
-}
-
-TEST(CliCodec, TargetPsnrMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
+TEST(CliCodec, QualityMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
   TempDir dir;
   write_frames(dir / "in", 3);
   const std::string in = (dir / "in").string(), gvid = (dir / "cq.gvid").string();
   auto enc = run_gvkit("encode " + in + " -o " + gvid +
-                       " --target-psnr 66 --intra-target-offset 2 --preset fast");
+                       " --quality 66 --tune intra-target-offset=2 --preset fast");
   ASSERT_EQ(enc.exit_code, 0) << enc.output;
   auto stats = read_json(gvid + ".stats.json");
   ASSERT_TRUE(stats.is_ok());
@@ -572,12 +419,11 @@ TEST(CliCodec, TargetPsnrMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
     EXPECT_GE(f["psnr_db"].get<double>(), target) << f.dump();
     EXPECT_TRUE(f.contains("qp") && f.contains("encodes")) << f.dump();
   }
-  auto both = run_gvkit("encode " + in + " -o " + gvid + " --target-psnr 66 --bitrate 500");
+  auto both = run_gvkit("encode " + in + " -o " + gvid + " --quality 66 --bitrate 500");
   EXPECT_NE(both.exit_code, 0);
-  EXPECT_TRUE(
-      contains(both.output, "target PSNR: constant quality and a bitrate exclude each other"))
-      << both.output;
-  auto lossless = run_gvkit("encode " + in + " -o " + gvid + " --target-rms-mm 0.1 --lossless");
+  EXPECT_TRUE(contains(both.output, "--quality excludes --bitrate")) << both.output;
+  auto lossless =
+      run_gvkit("encode " + in + " -o " + gvid + " --tune target-rms-mm=0.1 --lossless");
   EXPECT_NE(lossless.exit_code, 0);
   EXPECT_TRUE(contains(lossless.output, "target RMS: constant quality needs lossy coding"))
       << lossless.output;

@@ -35,6 +35,28 @@ TEST(CliInfo, DescribesTheSlStudioCalibration) {
   EXPECT_TRUE(contains(r.output, "t cam_from_proj"));
 }
 
+TEST(CliInfo, DescribesAForeignLayoutWithoutSizes) {
+  TempDir dir;
+  ASSERT_TRUE(write_file_atomically(dir / "procam.yml",
+                                    "%YAML:1.0\n"
+                                    "cam_K: [1000, 0, 320, 0, 1000, 240, 0, 0, 1]\n"
+                                    "cam_kc: [0, 0, 0, 0, 0]\n"
+                                    "proj_K: [1500, 0, 640, 0, 1500, 400, 0, 0, 1]\n"
+                                    "proj_kc: [0, 0, 0, 0, 0]\n"
+                                    "R: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
+                                    "T: [-200, 0, 0]\n")
+                  .is_ok());
+  auto r = run_gvkit("info " + (dir / "procam.yml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "procam layout")) << r.output;
+  EXPECT_TRUE(contains(r.output, "size not recorded (give --projector-size)")) << r.output;
+  EXPECT_TRUE(contains(r.output, "baseline (mm)                200.0000")) << r.output;
+  ASSERT_TRUE(write_file_atomically(dir / "odd.yml", "%YAML:1.0\nfocal: 3\n").is_ok());
+  auto odd = run_gvkit("info " + (dir / "odd.yml").string());
+  EXPECT_NE(odd.exit_code, 0);
+  EXPECT_TRUE(contains(odd.output, "keys found: focal")) << odd.output;
+}
+
 TEST(CliInfo, DescribesTheIctMesh) {
   GVKIT_REQUIRE_SHARED_DATA(data);
   auto r = run_gvkit("info " + (data / "ict-facekit" / "generic_neutral_mesh.obj").string());

@@ -150,7 +150,7 @@ TEST(FaultDrills, OutOfRangeOptionsOfEverySubcommand) {
   auto synth = run_gvkit("synth -o " + session + " --frames 1 --size 64x48 --no-progress --ict " +
                          (data / "ict-facekit").string());
   ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  const std::string golden = GVKIT_SOURCE_DIR "/tests/golden/analytic_qp6_fast_64.gvid";
+  const std::string golden = GVKIT_SOURCE_DIR "/tests/golden/v2/intra_slow_qpm6_64.gvid";
   struct Case {
     std::string args, expect;
   };
@@ -171,6 +171,11 @@ TEST(FaultDrills, OutOfRangeOptionsOfEverySubcommand) {
       {"facemap make-domain " + d + "/missing -o " + d + "/x.json", "generic_neutral_mesh.obj"},
       {"encode " + d + "/empty -o " + d + "/v.gvid --qp 99", "qp 99 out of range"},
       {"encode " + d + "/empty -o " + d + "/v.gvid --bit-depth 20", "bit depth 20 out of range"},
+      {"encode " + d + "/empty -o " + d + "/v.gvid --profile high", "profile 'high' unknown"},
+      {"encode " + d + "/empty -o " + d + "/v.gvid --tune merge=maybe",
+       "tune merge=maybe: not on or off"},
+      {"encode " + d + "/empty -o " + d + "/v.gvid --tune nokey=1", "tune nokey=1: unknown key"},
+      {"encode " + d + "/empty -o " + d + "/v.gvid --tune refs=9", "refs 9 out of range"},
       {"decode " + d + "/missing.gvid -o " + d + "/o", "missing.gvid: no such file"},
       {"export " + d + "/missing.gvid -o " + d + "/o --format stl", "--format must be"},
       {"render " + d + "/missing.gvid -o " + d + "/o --msaa 99", "msaa samples must be"},

@@ -10,10 +10,23 @@
 //   mf<N>-f<P1>-f<P2>[-f<P3>]  multi-frequency temporal unwrapping, N shifts per frequency,
 //                           finest first; the last frequency must be 1 period (absolute).
 //                           mf3-f16-f1 is SLStudio's 2x3 scheme (the real skull data).
+//   het<N>-f<P1>-f<P2>[-f<P3>] multi-frequency heterodyne, N shifts per frequency, finest first:
+//                           the beats P1-P2 (and P2-P3) are unwrapped from the beat of the beats,
+//                           which must be one period: P1-P2 = 1, or (P1-P2)-(P2-P3) = +-1
+//                           (het4-f70-f64-f59: beats 6 and 5, their beat 1) (absolute)
 //   zh-f<P>                 Zhang-Huang 2+1: two fringes 90 degrees apart + one flat image;
 //                           spatial unwrapping
 //   gray<B>-psp<N>          B Gray-code bit images + N-step phase shift with 2^B periods
-//                           (absolute)
+//                           (absolute); bits read against the phase-shift mean (or the mean of
+//                           the white and black references)
+//   cgray<B>-psp<N>         complementary Gray code: each bit image followed by its inverse,
+//                           bit = image > inverse (immune to the threshold's bias) (absolute)
+// Gray-code modifiers, in this order: -f<P> (P periods: pitch = width / P) or -p<PX> (pitch in
+// projector px; the code stripes are one pitch wide), -o<ORDER> (projection order of the blocks
+// p phase, g gray, w white, b black; default pg; e.g. -owbgp), -ia (complementary: all bits,
+// then all inverses). Every family but zh: -pos (image k shows phi + 2*pi*k/N instead of
+// phi - 2*pi*k/N), -ph<DEG> (phi at column 0). Names with every modifier: cgray5-psp4-p40-owbgp-
+// ia-pos-ph90. A JSON spec file (pattern_spec.hpp) says the same in words.
 // Projected intensity of an N-step image k: I = 0.5 * (1 + cos(2*pi*u/p - 2*pi*k/N)).
 
 #include <memory>
@@ -22,6 +35,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "gvkit/capture/pattern_spec.hpp"
 #include "gvkit/core/fringe_set.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -62,6 +76,9 @@ class PatternSet {
   virtual int image_count() const = 0;
   // Projector pixels per period of the finest pattern, for a projector of the given width.
   virtual double pitch_px(int projector_width) const = 0;
+  // Whether decoding gives absolute phase (temporal unwrapping, Gray code), not phase known only
+  // up to whole periods per region (spatial unwrapping).
+  virtual bool absolute() const = 0;
 
   // The projector images for a projector of the given size: CV_32F in [0, 1] (linear intensity;
   // apply a gamma LUT before sending them to a real projector).
@@ -78,13 +95,20 @@ class PatternSet {
   PatternSetOptions options_;
 };
 
-// Makes a pattern set from its name (see above). Fails naming the name when it does not parse or
-// a parameter is out of range.
+// Makes a pattern set from its name (see above) or from a JSON spec file (a name ending in
+// .json). Fails naming the name or file when it does not parse or a parameter is out of range.
 Result<std::unique_ptr<PatternSet>> create_pattern_set(const std::string& name,
+                                                       const PatternSetOptions& options = {});
+Result<std::unique_ptr<PatternSet>> create_pattern_set(const PatternSpec& spec,
                                                        const PatternSetOptions& options = {});
 
 // One line per family with an example, for --help texts.
 std::string pattern_set_help();
+
+// Names (with placeholders such as <P> for free parameters) of the pattern sets that project
+// exactly `images` images per frame, most common first; empty when none does. For the message
+// that asks a user with a plain folder of images to name its pattern set.
+std::vector<std::string> pattern_set_candidates(int images);
 
 // Projector column u (px) from an unwrapped phase map: u = phase / (2*pi) * pitch_px.
 cv::Mat projector_column(const PhaseMap& phase);

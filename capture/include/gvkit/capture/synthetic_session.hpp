@@ -11,6 +11,7 @@
 
 #include "gvkit/capture/synthetic_renderer.hpp"
 #include "gvkit/capture/synthetic_rig.hpp"
+#include "gvkit/core/calibration_io.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::capture {
@@ -28,6 +29,14 @@ struct SyntheticSessionOptions {
   SyntheticRigOptions rig;
   RenderOptions render;
   bool progress = true;
+
+  // A plain folder instead of a session: a foreign rig's data as gvkit meets it. The images of
+  // frame i are img_<i*N+1> .. img_<i*N+N>.<image_format> (numbered from 1, no padding, so only
+  // a natural sort orders them), the calibration is calibration.yml in calibration_layout, gt/
+  // is written as for a session, and there is no session.json.
+  bool plain_folder = false;
+  std::string image_format = "png";  // png (8/16 bit) or bmp (8 bit only)
+  CalibrationFormat calibration_layout = CalibrationFormat::kProcam;
 
   Status check() const;
   nlohmann::json to_json() const;

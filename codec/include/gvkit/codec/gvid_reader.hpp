@@ -1,8 +1,10 @@
 #pragma once
-// GvidReader: random access to the frames of a .gvid stream. The whole file is read and checked
-// on open; the seek index at the end is used when it is intact, otherwise the packets are found
-// by a scan (index_rebuilt()). Decoding a damaged packet fails for that frame only, with a Status
-// naming the file, the frame and the field; other frames still decode.
+// GvidReader: random access to the frames of a .gvid stream, format 2.0 or a legacy 1.x one
+// (docs/bitstream.md, appendix A). The whole file is read and checked on open; the seek index at
+// the end is used when it is intact, otherwise the packets are found by a scan (index_rebuilt()).
+// Decoding a damaged packet, or one that breaks the rules of the stream's format and profile,
+// fails for that frame only, with a Status naming the file, the frame and the field ("x.gvid:
+// frame 3: profile intra: a P frame (I frames only)"); other frames still decode.
 
 #include <cstdint>
 #include <deque>
@@ -29,6 +31,8 @@ class GvidReader {
                                                          const DecoderLimits& limits = {});
 
   const SequenceInfo& info() const { return info_; }
+  // The stream's version and profile (format.legacy() for a 1.x stream).
+  const format::StreamFormat& format() const { return format_; }
   int64_t frame_count() const { return static_cast<int64_t>(index_.size()); }
   // Decodes frame `index` (0-based, display order; the packets are in decode order). A P frame
   // needs the anchors (I and P frames) from the previous intra frame on, a B frame also the
@@ -86,6 +90,7 @@ class GvidReader {
 
   std::string bytes_, name_;
   SequenceInfo info_;
+  format::StreamFormat format_;
   size_t header_size_ = 0;
   std::vector<format::IndexEntry> index_;  // decode order
   std::vector<size_t> order_;              // display order -> position in index_

@@ -1,5 +1,6 @@
 #pragma once
-// GvidWriter: encodes geometry images into a .gvid file. The stream goes to a temporary file
+// GvidWriter: encodes geometry images into a .gvid file: a format 2.0 stream of the profile
+// options.resolved_profile() names. The stream goes to a temporary file
 // beside the target ("<path>.tmp-<pid>") and is renamed over the target by finish(), so a failed
 // or abandoned encode never leaves a partial .gvid behind. Packets are written in decode order
 // (SequenceEncoder): with B frames a frame's packet is written once the anchor after it is.
@@ -7,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,7 +37,9 @@ class GvidWriter {
   // Takes the next frame (display order) and appends the packets it completes. Returns the
   // decoder's reconstructions of the frames completed, in display order, continuing where the
   // last call's ended: the frame itself without B frames; with B frames nothing while it waits
-  // as a B-frame candidate, then at the next anchor the candidates and the anchor.
+  // as a B-frame candidate, then at the next anchor the candidates and the anchor (with frame
+  // threads, SequenceEncoder, a step later: each reconstruction once every frame before it in
+  // display order is coded).
   Result<std::vector<GeometryImage>> write(const GeometryImage& frame);
   // Codes the frames still waiting (as P frames), writes the seek index and trailer, closes and
   // renames the file into place; returns the reconstructions of the frames it coded, in display
@@ -74,6 +78,10 @@ class GvidWriter {
   std::vector<int> frame_qp_;
   std::vector<FrameCodingStats> frame_stats_;
   std::vector<format::FrameType> frame_types_;
+  // Reconstructions coded but not yet returned (a frame before them in display order is not
+  // coded yet), by display number; the next display number to return.
+  std::map<uint32_t, GeometryImage> held_;
+  uint32_t next_display_ = 0;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;
   bool finished_ = false;
@@ -92,13 +100,6 @@ Result<EncodedFrame> encode_sequence_frame(
     QualityController* quality = nullptr,
     const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
     ReferenceInterpolationCache* cache = nullptr);
-
-// The minor version a stream with these options is written as: 10 with compact packet headers
-// (the default), else that of the newest tool the options turn on (docs/bitstream.md 1): 9 with
-// temporal contexts or compact segment sizes, ..., 6 when P frames may use several reference
-// frames (options.reference_frames() > 1), else 5 when it may hold B frames, else 4 (a stream
-// without B frames uses no 1.5 syntax and stays byte-identical to 1.4).
-uint8_t stream_minor_version(const EncoderOptions& options);
 
 // Encodes a whole sequence into memory (tests, fuzz seeds, benchmarks). Returns the .gvid bytes;
 // frame_stats (optional) receives each frame's bit accounting.

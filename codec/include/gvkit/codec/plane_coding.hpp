@@ -82,6 +82,10 @@ struct PlaneCodingParams {
   // rate-distortion decisions counts this many times (row-major over the plane's padded
   // width x height; null = once each).
   const std::vector<uint8_t>* distortion_weights = nullptr;
+  // Encoder only, with rdo and larger transforms: a residual's transform sizes are tried from
+  // the largest down, and the smaller ones are skipped once a size leaves no level or costs
+  // more than the larger one.
+  bool transform_early_exit = false;
   // Encoder only, with rdo: 4x4 intra blocks and I16x16 macroblocks code only this many modes,
   // those of the lowest SATD-based costs (0 = every mode).
   int intra_rdo_shortlist = 0;

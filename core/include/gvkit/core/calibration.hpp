@@ -42,4 +42,11 @@ struct Calibration {
   Status check() const;
 };
 
+// The calibration of a camera whose images are `size` instead of camera_width x camera_height
+// with the same aspect ratio (binned, downsampled or upsampled images): camera_K scaled with
+// pixel centres kept (x' = (x + 0.5) * s - 0.5); lens distortion, which acts on normalized
+// coordinates, and the projector are unchanged. Fails when the aspect ratios differ by more
+// than 0.5 %.
+Result<Calibration> rescale_camera(const Calibration& calibration, cv::Size size);
+
 }  // namespace gvkit
