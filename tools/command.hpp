@@ -62,6 +62,7 @@ void add_summary_command(CLI::App& app);
 #ifdef GVKIT_WITH_PLAYER
 void add_play_command(CLI::App& app);
 void add_render_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
 #endif
 
 }  // namespace gvkit::tools

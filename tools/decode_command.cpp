@@ -1,26 +1,37 @@
 // gvkit decode FILE.gvid -o DIR: writes every decodable frame as DIR/frame_NNNNNN.exr and
-// DIR/stats.json; a damaged frame is reported and skipped, and the command then fails.
+// DIR/stats.json; a damaged frame is reported and skipped, and the command then fails. With
+// --reference GV_DIR (the encoder's input) stats.json also holds each frame's point error (PSNR,
+// RMS, max) and surface error (normal-angle error, Hausdorff distance) and their summary.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
+#include "gvkit/codec/surface_metrics.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
+#include "surface_error_json.hpp"
 
 namespace gvkit::tools {
 namespace {
 
 struct DecodeArgs {
-  std::string input, output;
+  std::string input, output, reference;
 };
+
+nlohmann::json psnr_json(double psnr) {
+  return std::isfinite(psnr) ? nlohmann::json(psnr) : nlohmann::json("inf");
+}
 
 void run_decode(const DecodeArgs& args) {
   auto reader = value_or_throw(codec::GvidReader::open(args.input));
@@ -32,6 +43,16 @@ void run_decode(const DecodeArgs& args) {
         args.input, reader->frame_count());
   const codec::SequenceInfo& info = reader->info();
   const double vertices = static_cast<double>(info.domain_pixels());
+  std::vector<FrameFile> reference_files;
+  if (!args.reference.empty()) {
+    reference_files = value_or_throw(list_frame_files(args.reference, ".exr"));
+    if (static_cast<int64_t>(reference_files.size()) != reader->frame_count())
+      throw CommandFailed(invalid_argument(
+          "--reference " + args.reference + ": " + std::to_string(reference_files.size()) +
+          " frame_NNNNNN.exr files for " + std::to_string(reader->frame_count()) + " frames"));
+  }
+  codec::GeometryError point_total;
+  codec::SurfaceError surface_total;
   nlohmann::json frames = nlohmann::json::array();
   int64_t failed = 0;
   std::string first_error;
@@ -48,6 +69,23 @@ void run_decode(const DecodeArgs& args) {
     if (frame.is_ok()) {
       throw_if_error(write_geometry_image_exr(frame_path(args.output, i, ".exr"), *frame));
       entry["status"] = "ok";
+      if (!reference_files.empty()) {
+        const GeometryImage reference =
+            value_or_throw(read_geometry_image_exr(reference_files[i].path));
+        if (reference.size() != frame->size())
+          throw CommandFailed(invalid_argument(reference_files[i].path.string() + ": size " +
+                                               std::to_string(reference.size().width) + "x" +
+                                               std::to_string(reference.size().height) +
+                                               " differs from the stream's"));
+        const codec::GeometryError e = codec::geometry_error(reference, *frame);
+        const codec::SurfaceError surface = codec::surface_error(reference, *frame);
+        codec::accumulate(point_total, e);
+        codec::accumulate(surface_total, surface);
+        entry["psnr_db"] = psnr_json(e.psnr_db(info.box_diagonal_mm()));
+        entry["rms_mm"] = e.rms_mm;
+        entry["max_mm"] = e.max_mm;
+        entry.update(surface_error_json(surface));
+      }
     } else {
       ++failed;
       if (first_error.empty()) first_error = frame.status().message();
@@ -71,10 +109,25 @@ void run_decode(const DecodeArgs& args) {
                             {"index_rebuilt", reader->index_rebuilt()},
                             {"decode_fps", decode_seconds > 0 ? n / decode_seconds : 0.0}}},
                           {"frames", frames}};
+  if (!reference_files.empty()) {
+    stats["reference"] = args.reference;
+    stats["summary"]["psnr_db"] = psnr_json(point_total.psnr_db(info.box_diagonal_mm()));
+    stats["summary"]["rms_mm"] = point_total.rms_mm;
+    stats["summary"]["max_mm"] = point_total.max_mm;
+    stats["summary"].update(surface_error_json(surface_total));
+  }
   throw_if_error(write_json(std::filesystem::path(args.output) / "stats.json", stats));
   std::printf("%s: %lld frames decoded into %s (%.1f frames/s)\n", args.input.c_str(),
               static_cast<long long>(reader->frame_count() - failed), args.output.c_str(),
               decode_seconds > 0 ? n / decode_seconds : 0.0);
+  if (!reference_files.empty())
+    std::printf(
+        "against %s: PSNR %.2f dB, max %.4g mm, normal error mean %.2f / p95 %.2f / max %.1f "
+        "deg, Hausdorff %.4g mm (outline %.4g mm)\n",
+        args.reference.c_str(), point_total.psnr_db(info.box_diagonal_mm()), point_total.max_mm,
+        surface_total.normal_mean_deg(), surface_total.normal_p95_deg(),
+        surface_total.normal_max_deg, surface_total.hausdorff_mm,
+        surface_total.outline_hausdorff_mm);
   if (failed)
     throw CommandFailed(corrupt_data(std::to_string(failed) + " of " +
                                      std::to_string(reader->frame_count()) +
@@ -88,6 +141,9 @@ void add_decode_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("decode", "Decode a .gvid stream into geometry-image EXRs");
   cmd->add_option("input", args->input, "Input .gvid file")->required();
   cmd->add_option("-o,--output", args->output, "Output folder")->required();
+  cmd->add_option("--reference", args->reference,
+                  "Folder of the encoder's input frame_NNNNNN.exr: also report each frame's "
+                  "point error and surface error (normal-angle error, Hausdorff distance)");
   cmd->callback([args] { run_decode(*args); });
 }
 

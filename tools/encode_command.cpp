@@ -16,11 +16,13 @@
 #include "gvkit/codec/encoder_tune.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/surface_metrics.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
+#include "surface_error_json.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -31,6 +33,7 @@ struct EncodeArgs {
   std::vector<std::string> tunes;  // key=value each (encoder_tune.hpp)
   codec::EncoderOptions options;
   double fps = 30.0;
+  bool qp_given = false;  // --qp on the command line
 };
 
 // `--tune help`: the keys, their values and what they change (to stdout).
@@ -108,6 +111,13 @@ nlohmann::json bit_accounting(const std::vector<codec::FrameCodingStats>& frames
 
 void run_encode(const EncodeArgs& args) {
   codec::EncoderOptions options = args.options;
+  // The default QP is for 16-bit samples; a bit depth without that QP takes its finest one.
+  const int qp_min = -6 * (options.bit_depth - 8);
+  if (!args.qp_given && options.qp < qp_min) {
+    logger().info("--bit-depth {}: QP {} (the finest at that depth) instead of the default {}",
+                  options.bit_depth, qp_min, options.qp);
+    options.qp = qp_min;
+  }
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.profile = value_or_throw(codec::parse_profile(args.profile));
   for (const std::string& tune : args.tunes) throw_if_error(codec::apply_tune(tune, &options));
@@ -130,6 +140,7 @@ void run_encode(const EncodeArgs& args) {
   const double vertices = static_cast<double>(info.domain_pixels());
   nlohmann::json per_frame = nlohmann::json::array();
   codec::GeometryError total;
+  codec::SurfaceError surface_total;
   Progress progress("encoding", static_cast<int64_t>(frames.size()));
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
@@ -140,6 +151,8 @@ void run_encode(const EncodeArgs& args) {
     const size_t i = reported++;
     const codec::GeometryError e = codec::geometry_error(frames[i], recon);
     codec::accumulate(total, e);
+    const codec::SurfaceError surface = codec::surface_error(frames[i], recon);
+    codec::accumulate(surface_total, surface);
     const int64_t bytes = writer->frame_bytes()[i];
     per_frame.push_back({{"frame", i},
                          {"source", files[i].path.filename().string()},
@@ -150,6 +163,7 @@ void run_encode(const EncodeArgs& args) {
                          {"max_mm", e.max_mm},
                          {"qp", writer->frame_qp()[i]},
                          {"type", codec::format::frame_type_name(writer->frame_types()[i])}});
+    per_frame.back().update(surface_error_json(surface));
     if (const auto* q = writer->quality_controller())
       per_frame.back()["encodes"] = q->frame_encodes()[i];
     nlohmann::json syntax_bits;
@@ -221,6 +235,8 @@ void run_encode(const EncodeArgs& args) {
         {"target_rms_mm", options.target_rms_mm},
         {"intra_target_offset_db", options.intra_target_offset_db},
         {"refs", options.reference_frames()},
+        {"outline_weight", options.outline_weight},
+        {"texture_qp", options.texture_qp},
         {"threads", options.threads},
         {"fps", args.fps}}},
       {"summary",
@@ -244,6 +260,7 @@ void run_encode(const EncodeArgs& args) {
         {"buffer_bits", writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0},
         {"syntax_bits", bit_accounting(writer->frame_stats(), vertices)}}},
       {"frames", per_frame}};
+  stats["summary"].update(surface_error_json(surface_total));
   if (const auto* q = writer->quality_controller()) {
     stats["summary"]["encodes_per_frame"] = q->total_encodes() / n;
     stats["summary"]["frames_missing_target"] = q->frames_missed();
@@ -253,9 +270,12 @@ void run_encode(const EncodeArgs& args) {
   throw_if_error(write_json(args.output + ".stats.json", stats));
   std::printf(
       "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm, "
+      "normal error mean %.2f / p95 %.2f / max %.1f deg, Hausdorff %.4g mm (outline %.4g mm), "
       "%.1f frames/s (%.1f per CPU second)\n",
       args.output.c_str(), frames.size(), info.width, info.height,
-      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, n / seconds, n / cpu_seconds);
+      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, surface_total.normal_mean_deg(),
+      surface_total.normal_p95_deg(), surface_total.normal_max_deg, surface_total.hausdorff_mm,
+      surface_total.outline_hausdorff_mm, n / seconds, n / cpu_seconds);
 }
 
 }  // namespace
@@ -268,14 +288,16 @@ void add_encode_command(CLI::App& app) {
       "2.0); writes OUT.stats.json beside it");
   cmd->add_option("input", args->input, "Folder of frame_NNNNNN.exr geometry images")->required();
   cmd->add_option("-o,--output", args->output, "Output .gvid file")->required();
-  // The rate mode: one of these (default: --qp 12).
+  // The rate mode: one of these (default: --qp -10).
   auto* quality = cmd->add_option("--quality", args->options.target_psnr_db,
                                   "Constant quality: each frame at the coarsest QP whose geometry "
                                   "PSNR (dB, peak = the box diagonal) meets this; 2-4 encodes per "
                                   "frame");
-  auto* qp = cmd->add_option("--qp", args->options.qp,
-                             "Constant QP, -6(B-8)..51 (lower = finer; default 12); with "
-                             "--quality or --bitrate the starting QP");
+  auto* qp = cmd->add_option(
+      "--qp", args->options.qp,
+      "Constant QP, -6(B-8)..51 (lower = finer; default -10: normal error p95 <= 2 deg on "
+      "the main-job face); with "
+      "--quality or --bitrate the starting QP");
   auto* bitrate = cmd->add_option("--bitrate", args->options.bitrate_kbps,
                                   "Target bitrate in kbit/s at --fps (rate control)");
   auto* max_error = cmd->add_option(
@@ -314,7 +336,10 @@ void add_encode_command(CLI::App& app) {
         print_tune_keys();  // and nothing else (no input or output needed)
         throw CLI::Success();
       });
-  cmd->callback([args] { run_encode(*args); });
+  cmd->callback([args, qp] {
+    args->qp_given = qp->count() > 0;
+    run_encode(*args);
+  });
 }
 
 }  // namespace gvkit::tools

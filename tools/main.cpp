@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
 #ifdef GVKIT_WITH_PLAYER
   gvkit::tools::add_play_command(app);
   gvkit::tools::add_render_command(app);
+  gvkit::tools::add_compare_command(app);
 #endif
 
   try {

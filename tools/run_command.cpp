@@ -1,7 +1,9 @@
 // gvkit run INPUT -o WORK: the whole chain on a session folder (or the synthetic source) in one
-// command: [synth ->] reconstruct -> facemap clean -> facemap map -> encode -> decode [-> render].
+// command: [synth ->] reconstruct -> facemap clean -> facemap map -> encode -> decode [-> render
+// -> compare].
 // Each stage runs as its own gvkit subcommand; its outputs stay in WORK (session/, scans/, faces/,
-// gv/, face.gvid, decoded/, face.mp4) and its console output in WORK/logs/STAGE.log. Resumable:
+// gv/, face.gvid, decoded/, face.mp4, compare.png / .mp4) and its console output in
+// WORK/logs/STAGE.log. Resumable:
 // a stage whose outputs are complete is skipped, and the per-frame stages keep the frames an
 // earlier run finished (--resume). WORK/run.json records each stage's command, state and time;
 // the result table (see work_summary.hpp) ends the run.
@@ -36,7 +38,7 @@ struct RunArgs {
   bool rescale_calibration = false, sliding = false;
   int frames = 30;
   std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
-  int qp = 12;
+  int qp = codec::EncoderOptions().qp;
   double depth_prior_mm = 0;  // 0: reconstruct's default (the session's, else 650 mm)
   bool render = false, restart = false;
 };
@@ -185,6 +187,12 @@ void run(const RunArgs& a) {
          {"render", (work / "decoded").string(), "-o", (work / "face.mp4").string(),
           "--contact-sheet", (work / "contact.png").string()},
          [&] { return finished_without_failures(work / "face.stats.json", "failed"); }});
+    // The decoded face beside its input, with the normal-error heat map (issue 30).
+    stages.push_back(
+        {"compare",
+         {"compare", (work / "gv").string(), (work / "decoded").string(), "-o",
+          (work / "compare.mp4").string(), "--contact-sheet", (work / "compare.png").string()},
+         [&] { return fs::exists(work / "compare.stats.json"); }});
 #else
     throw CommandFailed(unsupported("--render: this gvkit was built without the player"));
 #endif
@@ -217,9 +225,9 @@ void run(const RunArgs& a) {
     }
     if (stage.name == "synth") {
       // A new session: nothing made from an earlier one may be kept.
-      for (const char* stale :
-           {"session", "scans", "faces", "gv", "decoded", "face.gvid", "face.gvid.stats.json",
-            "face.mp4", "face.stats.json", "contact.png"})
+      for (const char* stale : {"session", "scans", "faces", "gv", "decoded", "face.gvid",
+                                "face.gvid.stats.json", "face.mp4", "face.stats.json",
+                                "contact.png", "compare.mp4", "compare.png", "compare.stats.json"})
         fs::remove_all(work / stale, ec);
     }
     std::printf("== [%zu/%zu] %s: %s\n", i + 1, stages.size(), stage.name.c_str(), shown.c_str());
@@ -301,7 +309,9 @@ void add_run_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--preset", a->preset, "Encoder preset: fast or slow")->capture_default_str();
   cmd->add_flag("--render", a->render,
-                "Also render the decoded video offscreen to WORK/face.mp4 and WORK/contact.png");
+                "Also render the decoded video offscreen to WORK/face.mp4 and WORK/contact.png, "
+                "and it beside the input with a normal-error heat map to WORK/compare.mp4 and "
+                "WORK/compare.png (gvkit compare)");
   cmd->add_flag("--restart", a->restart, "Delete WORK first (nothing is kept)");
   cmd->callback([a] { run(*a); });
 }

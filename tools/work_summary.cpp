@@ -12,9 +12,10 @@ namespace gvkit::tools {
 namespace fs = std::filesystem;
 namespace {
 
-std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0) {
+std::string format(const char* fmt, double a, double b = 0, double c = 0, double d = 0,
+                   double e = 0) {
   char buf[256];
-  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d, e);
   return buf;
 }
 
@@ -143,9 +144,13 @@ Result<std::vector<StageSummary>> summarize_work_folder(const fs::path& work) {
     StageSummary s;
     s.stage = "encode";
     s.frames_in = s.frames_out = static_cast<int64_t>(number(sum, "frames", -1));
-    s.figures = format("%.4f bits/vertex/frame, PSNR %.2f dB, max error %.4f mm, %.0f bytes",
+    s.figures = format("%.4f bits/vertex/frame, PSNR %.2f dB, max error %.4f mm, ",
                        number(sum, "bits_per_vertex_per_frame"), number(sum, "psnr_db"),
-                       number(sum, "max_mm"), number(sum, "file_bytes"));
+                       number(sum, "max_mm"));
+    if (std::isfinite(number(sum, "normal_p95_deg")))  // streams encoded since the surface metrics
+      s.figures += format("normal error p95 %.2f deg, Hausdorff %.3f mm, ",
+                          number(sum, "normal_p95_deg"), number(sum, "hausdorff_mm"));
+    s.figures += format("%.0f bytes", number(sum, "file_bytes"));
     stages.push_back(s);
   }
 
@@ -172,6 +177,21 @@ Result<std::vector<StageSummary>> summarize_work_folder(const fs::path& work) {
                 (sum.contains("video_codec") && sum["video_codec"].is_string()
                      ? ", " + sum["video_codec"].get<std::string>()
                      : "");
+    stages.push_back(s);
+  }
+
+  GVKIT_ASSIGN_OR_RETURN(nlohmann::json compare, read_if_present(work / "compare.stats.json"));
+  if (!compare.is_null()) {
+    const auto& sum = summary_of(compare);
+    StageSummary s;
+    s.stage = "compare";
+    s.frames_in = s.frames_out = static_cast<int64_t>(number(sum, "frames", -1));
+    s.figures = format(
+        "decoded vs input: normal error mean %.2f / p95 %.2f / max %.1f deg, Hausdorff %.3f mm "
+        "(outline %.3f mm)",
+        number(sum, "normal_mean_deg"), number(sum, "normal_p95_deg"),
+        number(sum, "normal_max_deg"), number(sum, "hausdorff_mm"),
+        number(sum, "outline_hausdorff_mm"));
     stages.push_back(s);
   }
 

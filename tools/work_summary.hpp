@@ -7,9 +7,11 @@
 //   WORK/scans/stats.json            reconstruct: RMS depth error against ground truth (mm)
 //   WORK/faces/stats.json            facemap clean: frames cleaned, failures
 //   WORK/gv/stats.json               facemap map: flips, feature drift, temporal coherence
-//   WORK/face.gvid.stats.json        encode: bits per vertex per frame, geometry PSNR
+//   WORK/face.gvid.stats.json        encode: bits per vertex per frame, geometry PSNR, normal
+//                                    error and Hausdorff distance
 //   WORK/decoded/stats.json          decode: frames decoded
 //   WORK/face.stats.json             render (face.mp4)
+//   WORK/compare.stats.json          compare (compare.png, compare.mp4): normal error, Hausdorff
 //   WORK/run.json                    time per stage ({"stages": [{"name", "seconds", ...}]})
 
 #include <filesystem>

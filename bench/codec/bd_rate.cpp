@@ -81,4 +81,18 @@ std::optional<double> bd_rate_percent(std::vector<RdPoint> anchor, std::vector<R
   return (std::pow(10.0, sum / steps) - 1.0) * 100.0;
 }
 
+double normal_quality_db(double normal_p95_deg) {
+  return -20.0 * std::log10(std::max(1e-3, normal_p95_deg));
+}
+
+std::optional<double> bd_rate_normal_percent(std::vector<RdPoint> anchor,
+                                             std::vector<RdPoint> test) {
+  for (auto* curve : {&anchor, &test})
+    for (RdPoint& p : *curve) {
+      if (!std::isfinite(p.normal_db)) return std::nullopt;
+      p.psnr_db = p.normal_db;
+    }
+  return bd_rate_percent(std::move(anchor), std::move(test));
+}
+
 }  // namespace gvkit::bench

@@ -1,8 +1,9 @@
 // codec_rd_compare: rate-distortion of the .gvid codec (geometry modes on and off) and of its
 // peers (x265 12-bit, x264 10-bit, FFV1 16-bit lossless) through libavcodec, intra-only, and of
 // Draco per frame (mesh and point cloud, 11..16-bit positions; bench/codec/draco_peer.hpp), on
-// the same geometry video and with the same metric (geometry PSNR over domain pixels, peak = the
-// bounding-box diagonal; bits per vertex per frame). Prints markdown tables.
+// the same geometry video and with the same metrics (geometry PSNR over domain pixels, peak = the
+// bounding-box diagonal; the normal error's 95th percentile, codec/surface_metrics.hpp; bits per
+// vertex per frame). Prints markdown tables; BD-rates over PSNR and over the normal error.
 //
 // Usage: codec_rd_compare [--ict DIR | --analytic] [--size N] [--frames N] [--no-peers]
 //                         [--no-slow] [--gop N] [--draco | --no-draco] [--draco-level N]
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
+#include "gvkit/codec/surface_metrics.hpp"
 #include "libav_peer.hpp"
 #ifdef GVKIT_HAVE_DRACO
 #include "draco_peer.hpp"
@@ -55,6 +58,9 @@ struct Material {
 
 double seconds_since(Clock::time_point t) { return (Clock::now() - t); }
 
+// The 95th-percentile normal error (degrees) of a point measured with its normal error.
+double normal_p95(const RdPoint& p) { return std::pow(10.0, -p.normal_db / 20.0); }
+
 // One encode + decode of our codec; returns (rate, psnr) and the speeds.
 RdPoint run_ours(const Material& m, const EncoderOptions& options, double* enc_fps, double* dec_fps,
                  double* max_mm) {
@@ -69,6 +75,7 @@ RdPoint run_ours(const Material& m, const EncoderOptions& options, double* enc_f
   *enc_fps = m.frames.size() / seconds_since(t0);
   auto reader = GvidReader::open_memory(*bytes, "rd").value();
   GeometryError total;
+  SurfaceError surface;
   int64_t bits = 0;
   double decode_seconds = 0;
   for (int64_t f = 0; f < reader->frame_count(); ++f) {
@@ -76,11 +83,13 @@ RdPoint run_ours(const Material& m, const EncoderOptions& options, double* enc_f
     GeometryImage decoded = reader->decode_frame(f).value();
     decode_seconds += seconds_since(t0);
     accumulate(total, geometry_error(m.frames[f], decoded));
+    accumulate(surface, surface_error(m.frames[f], decoded));
     bits += reader->frame_bits(f);
   }
   *dec_fps = m.frames.size() / decode_seconds;
   *max_mm = total.max_mm;
-  return {bits / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  return {bits / m.vertices / m.frames.size(), total.psnr_db(m.peak),
+          normal_quality_db(surface.normal_p95_deg())};
 }
 
 // Peer run on planes quantized by rounding in the same box at the peer's bit depth.
@@ -96,15 +105,19 @@ std::optional<RdPoint> run_libav(const Material& m, const PeerConfig& config, do
     return std::nullopt;
   }
   GeometryError total;
+  SurfaceError surface;
   int64_t bytes = 0;
   for (size_t f = 0; f < m.frames.size(); ++f) {
-    accumulate(total, geometry_error(m.frames[f], dequantize_geometry(run->decoded[f], info, f)));
+    const GeometryImage decoded = dequantize_geometry(run->decoded[f], info, f);
+    accumulate(total, geometry_error(m.frames[f], decoded));
+    accumulate(surface, surface_error(m.frames[f], decoded));
     bytes += run->frame_bytes[f];
   }
   *enc_fps = m.frames.size() / run->encode_seconds;
   *dec_fps = m.frames.size() / run->decode_seconds;
   *max_mm = total.max_mm;
-  return RdPoint{bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  return RdPoint{bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak),
+                 normal_quality_db(surface.normal_p95_deg())};
 }
 
 #ifdef GVKIT_HAVE_DRACO
@@ -120,6 +133,7 @@ Curve run_draco(const Material& m, DracoGeometry geometry, int level) {
     o.quantization_bits = bits;
     o.compression_level = level;
     GeometryError total;
+    SurfaceError surface;
     int64_t bytes = 0, lost = 0;
     double enc = 0, dec = 0;
     for (const GeometryImage& f : m.frames) {
@@ -129,29 +143,35 @@ Curve run_draco(const Material& m, DracoGeometry geometry, int level) {
         std::exit(1);
       }
       accumulate(total, geometry_error(f, r->decoded));
+      accumulate(surface, surface_error(f, r->decoded));
       bytes += r->bytes;
       enc += r->encode_seconds;
       dec += r->decode_seconds;
       lost += std::max<int64_t>(0, r->input_points - r->decoded_points);
     }
     const double n = static_cast<double>(m.frames.size());
-    c.points.push_back({bytes * 8.0 / m.vertices / n, total.psnr_db(m.peak)});
+    c.points.push_back({bytes * 8.0 / m.vertices / n, total.psnr_db(m.peak),
+                        normal_quality_db(surface.normal_p95_deg())});
     c.labels.push_back(std::to_string(bits) + " bits");
-    std::printf("| %s | %d bits | %.4f | %.2f | %.4f | %.4f | %.1f | %.1f | %lld |\n",
+    std::printf("| %s | %d bits | %.4f | %.2f | %.4f | %.4f | %.2f | %.1f | %.1f | %lld |\n",
                 c.name.c_str(), bits, c.points.back().rate, c.points.back().psnr_db, total.rms_mm,
-                total.max_mm, n / enc, n / dec, static_cast<long long>(lost));
+                total.max_mm, surface.normal_p95_deg(), n / enc, n / dec,
+                static_cast<long long>(lost));
     std::fflush(stdout);
   }
   return c;
 }
 #endif
 
+// A BD-rate row over PSNR and over the normal error.
 void print_bd(const char* what, const Curve& anchor, const Curve& test) {
-  const auto bd = bd_rate_percent(anchor.points, test.points);
-  if (bd)
-    std::printf("| %s | %+.2f %% |\n", what, *bd);
-  else
-    std::printf("| %s | no overlap |\n", what);
+  const auto cell = [](std::optional<double> bd) {
+    char text[32] = "no overlap";
+    if (bd) std::snprintf(text, sizeof text, "%+.2f %%", *bd);
+    return std::string(text);
+  };
+  std::printf("| %s | %s | %s |\n", what, cell(bd_rate_percent(anchor.points, test.points)).c_str(),
+              cell(bd_rate_normal_percent(anchor.points, test.points)).c_str());
 }
 
 }  // namespace
@@ -240,8 +260,8 @@ int main(int argc, char** argv) {
     configs.push_back({false, codec::Preset::kSlow});
   }
   std::printf(
-      "\n| configuration | QP | bits/vertex/frame | PSNR (dB) | max error (mm) | encode "
-      "fps | decode fps |\n|---|---|---|---|---|---|---|\n");
+      "\n| configuration | QP | bits/vertex/frame | PSNR (dB) | max error (mm) | normal error p95 "
+      "(deg) | encode fps | decode fps |\n|---|---|---|---|---|---|---|---|\n");
   for (const auto& [gv, preset] : configs) {
     Curve c;
     c.name = std::string("gvid ") + codec::preset_name(preset) +
@@ -256,8 +276,9 @@ int main(int argc, char** argv) {
       double ef, df, mx;
       c.points.push_back(run_ours(m, o, &ef, &df, &mx));
       c.labels.push_back("qp " + std::to_string(qp));
-      std::printf("| %s | %d | %.4f | %.2f | %.3f | %.1f | %.1f |\n", c.name.c_str(), qp,
-                  c.points.back().rate, c.points.back().psnr_db, mx, ef, df);
+      std::printf("| %s | %d | %.4f | %.2f | %.3f | %.2f | %.1f | %.1f |\n", c.name.c_str(), qp,
+                  c.points.back().rate, c.points.back().psnr_db, mx, normal_p95(c.points.back()),
+                  ef, df);
       std::fflush(stdout);
     }
     ours.push_back(c);
@@ -273,8 +294,9 @@ int main(int argc, char** argv) {
     double ef, df, mx;
     const RdPoint p = run_ours(m, o, &ef, &df, &mx);
     lossless_points.push_back(p);
-    std::printf("| gvid lossless %s, gv %s | - | %.4f | %.2f | %.4f | %.1f | %.1f |\n",
-                codec::preset_name(preset), gv ? "on" : "off", p.rate, p.psnr_db, mx, ef, df);
+    std::printf("| gvid lossless %s, gv %s | - | %.4f | %.2f | %.4f | %.2f | %.1f | %.1f |\n",
+                codec::preset_name(preset), gv ? "on" : "off", p.rate, p.psnr_db, mx, normal_p95(p),
+                ef, df);
   }
   std::vector<Curve> peer_curves;
   if (peers) {
@@ -307,8 +329,8 @@ int main(int argc, char** argv) {
         if (!p) break;
         c.points.push_back(*p);
         c.labels.push_back("qp " + std::to_string(qp));
-        std::printf("| %s | %d | %.4f | %.2f | %.3f | %.1f | %.1f |\n", c.name.c_str(), qp, p->rate,
-                    p->psnr_db, mx, ef, df);
+        std::printf("| %s | %d | %.4f | %.2f | %.3f | %.2f | %.1f | %.1f |\n", c.name.c_str(), qp,
+                    p->rate, p->psnr_db, mx, normal_p95(*p), ef, df);
         std::fflush(stdout);
       }
       peer_curves.push_back(c);
@@ -326,8 +348,8 @@ int main(int argc, char** argv) {
       double ef, df, mx;
       auto p = run_libav(m, l.config, &ef, &df, &mx);
       if (p)
-        std::printf("| %s | - | %.4f | %.2f | %.4f | %.1f | %.1f |\n", l.name.c_str(), p->rate,
-                    p->psnr_db, mx, ef, df);
+        std::printf("| %s | - | %.4f | %.2f | %.4f | %.2f | %.1f | %.1f |\n", l.name.c_str(),
+                    p->rate, p->psnr_db, mx, normal_p95(*p), ef, df);
     }
   }
   std::vector<Curve> draco_curves;
@@ -336,14 +358,15 @@ int main(int argc, char** argv) {
   if (draco) {
     std::printf(
         "\n| Draco per frame | quantization | bits/vertex/frame | PSNR (dB) | RMS (mm) | max error "
-        "(mm) | encode fps | decode fps | points lost |\n|---|---|---|---|---|---|---|---|---|\n");
+        "(mm) | normal error p95 (deg) | encode fps | decode fps | points lost "
+        "|\n|---|---|---|---|---|---|---|---|---|---|\n");
     for (const DracoGeometry g : {DracoGeometry::kMesh, DracoGeometry::kPointCloud})
       draco_curves.push_back(run_draco(m, g, draco_level));
     const auto& [gv, preset] = slow ? configs[2] : configs[0];
     fine.name = std::string("gvid ") + codec::preset_name(preset) + ", geometry modes on";
     std::printf(
-        "\n| %s, high rates | QP | bits/vertex/frame | PSNR (dB) | max error (mm) | "
-        "encode fps | decode fps |\n|---|---|---|---|---|---|---|\n",
+        "\n| %s, high rates | QP | bits/vertex/frame | PSNR (dB) | max error (mm) | normal error "
+        "p95 (deg) | encode fps | decode fps |\n|---|---|---|---|---|---|---|---|\n",
         fine.name.c_str());
     for (int qp : {-48, -42, -36, -30, -24, -18, -12}) {
       codec::EncoderOptions o;
@@ -354,8 +377,9 @@ int main(int argc, char** argv) {
       o.preset = preset;
       double ef, df, mx;
       fine.points.push_back(run_ours(m, o, &ef, &df, &mx));
-      std::printf("| %s | %d | %.4f | %.2f | %.4f | %.1f | %.1f |\n", fine.name.c_str(), qp,
-                  fine.points.back().rate, fine.points.back().psnr_db, mx, ef, df);
+      std::printf("| %s | %d | %.4f | %.2f | %.4f | %.2f | %.1f | %.1f |\n", fine.name.c_str(), qp,
+                  fine.points.back().rate, fine.points.back().psnr_db, mx,
+                  normal_p95(fine.points.back()), ef, df);
       std::fflush(stdout);
     }
     const RdPoint& ours_lossless = lossless_points[slow ? 2 : 0];
@@ -367,7 +391,7 @@ int main(int argc, char** argv) {
         ours_lossless.rate < draco16.rate ? "met" : "not met");
   }
 #endif
-  std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
+  std::printf("\n| BD-rate (piecewise cubic) | over PSNR | over normal error |\n|---|---|---|\n");
   print_bd("geometry modes on vs off, fast preset", ours[1], ours[0]);
   if (slow) print_bd("geometry modes on vs off, slow preset (RDO)", ours[3], ours[2]);
   const Curve& best = slow ? ours[2] : ours[0];

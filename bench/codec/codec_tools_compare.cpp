@@ -74,6 +74,7 @@
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/codec/gvid_writer.hpp"
 #include "gvkit/codec/half_resolution.hpp"
+#include "gvkit/codec/surface_metrics.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "libav_peer.hpp"
@@ -102,7 +103,8 @@ std::string g_stream_dir;
 int g_streams_written = 0;
 
 struct Run {
-  RdPoint point;
+  RdPoint point;  // with the normal error (normal_db)
+  SurfaceError surface;
   double max_mm = 0, encode_fps = 0, decode_fps = 0, kbps = 0;
   std::string bytes;
 };
@@ -141,35 +143,46 @@ Run run_ours(const Material& m, const EncoderOptions& options,
     GeometryImage decoded = reader->decode_frame(f).value();
     decode_seconds += cpu_now() - t0;
     accumulate(total, geometry_error(m.frames[f], decoded));
+    accumulate(run.surface, surface_error(m.frames[f], decoded));
     bits += reader->frame_bits(f);
   }
   run.decode_fps = m.frames.size() / decode_seconds;
   run.max_mm = total.max_mm;
-  run.point = {bits / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  run.point = {bits / m.vertices / m.frames.size(), total.psnr_db(m.peak),
+               normal_quality_db(run.surface.normal_p95_deg())};
   run.kbps = bits / (m.frames.size() / m.info.fps) / 1000.0;
   run.bytes = std::move(bytes).value();
   return run;
 }
 
 void print_row(const std::string& name, const std::string& setting, const Run& r) {
-  std::printf("| %s | %s | %.4f | %.2f | %.4f | %.1f | %.1f |\n", name.c_str(), setting.c_str(),
-              r.point.rate, r.point.psnr_db, r.max_mm, r.encode_fps, r.decode_fps);
+  std::printf("| %s | %s | %.4f | %.2f | %.4f | %.2f | %.3f | %.1f | %.1f |\n", name.c_str(),
+              setting.c_str(), r.point.rate, r.point.psnr_db, r.max_mm, r.surface.normal_p95_deg(),
+              r.surface.hausdorff_mm, r.encode_fps, r.decode_fps);
   std::fflush(stdout);
 }
 
 void print_header() {
   std::printf(
-      "\n| configuration | setting | bits/vertex/frame | PSNR (dB) | max error (mm) | encode fps "
-      "(CPU) | decode fps (CPU) |\n|---|---|---|---|---|---|---|\n");
+      "\n| configuration | setting | bits/vertex/frame | PSNR (dB) | max error (mm) | normal error "
+      "p95 (deg) | Hausdorff (mm) | encode fps (CPU) | decode fps (CPU) "
+      "|\n|---|---|---|---|---|---|---|---|---|\n");
 }
 
+// A BD-rate row: over PSNR, and over the normal error (bd_rate.hpp) where both curves have it.
 void print_bd(const std::string& what, const std::vector<RdPoint>& anchor,
               const std::vector<RdPoint>& test) {
-  const auto bd = bd_rate_percent(anchor, test);
-  if (bd)
-    std::printf("| %s | %+.2f %% |\n", what.c_str(), *bd);
-  else
-    std::printf("| %s | no overlap |\n", what.c_str());
+  const auto cell = [](std::optional<double> bd) {
+    char text[32] = "no overlap";
+    if (bd) std::snprintf(text, sizeof text, "%+.2f %%", *bd);
+    return std::string(text);
+  };
+  const bool normals = std::all_of(anchor.begin(), anchor.end(),
+                                   [](const RdPoint& p) { return std::isfinite(p.normal_db); }) &&
+                       std::all_of(test.begin(), test.end(),
+                                   [](const RdPoint& p) { return std::isfinite(p.normal_db); });
+  std::printf("| %s | %s | %s |\n", what.c_str(), cell(bd_rate_percent(anchor, test)).c_str(),
+              normals ? cell(bd_rate_normal_percent(anchor, test)).c_str() : "-");
 }
 
 // `base` at each QP, a row per point; mean_encode_fps (optional): the mean of the rows' encode
@@ -211,7 +224,9 @@ std::vector<std::vector<RdPoint>> report_subpel(const Material& m, const Encoder
     o.lossless = true;
     print_row(std::string("lossless, ") + names[i], "-", run_ours(m, o));
   }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   print_bd("half-sample vs whole-sample motion", curves[0], curves[1]);
   print_bd("quarter-sample vs whole-sample motion", curves[0], curves[2]);
   return curves;
@@ -316,7 +331,9 @@ void report_bframes(const Material& m, const EncoderOptions& base, const std::ve
     o.lossless = true;
     print_row("lossless, fast, --bframes " + std::to_string(b), "-", run_ours(m, o));
   }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (int p = 0; p < 2; ++p)
     for (int b = 1; b <= 3; ++b)
       print_bd(std::string(preset_name(presets[p])) + ", --bframes " + std::to_string(b) + " vs 0",
@@ -355,7 +372,9 @@ void report_transforms(const Material& m, const EncoderOptions& base, const std:
         o.intra_only = intra != 0;
         curves[intra][p][s] = qp_curve(m, o, name(intra, p, s), qps);
       }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (int intra = 0; intra < 2; ++intra)
     for (int p = 0; p < 2; ++p)
       for (int s = 1; s < 3; ++s)
@@ -447,7 +466,9 @@ void report_cross_plane_contexts(const Material& m, const EncoderOptions& base,
                   (on ? ", --cross-plane-contexts" : ", cross-plane contexts off"),
               "-", r);
   }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (int k = 0; k < 2; ++k)
     print_bd(std::string(preset_name(presets[k])) + ": --cross-plane-contexts vs off", curves[k][0],
              curves[k][1]);
@@ -487,7 +508,9 @@ void report_on_off(const Material& m, const EncoderOptions& base, const std::vec
           qp_curve(m, o, std::string(preset_name(presets[k])) + ", " + (on ? on_flag : off_flag),
                    qps, &fps[k][on]);
     }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (size_t k = 0; k < presets.size(); ++k)
     print_bd(std::string(preset_name(presets[k])) + ": " + on_flag + " vs " + off_flag,
              curves[k][0], curves[k][1]);
@@ -600,7 +623,9 @@ void report_cross_plane(const Material& m, const EncoderOptions& base, const std
                               counts.str());
       }
     }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (size_t i = 0; i < configs.size(); ++i)
     print_bd(configs[i].name + ": --cross-plane vs off", curves[0][i], curves[1][i]);
   for (size_t i = 0; i < configs.size(); ++i)
@@ -667,7 +692,9 @@ void report_partitions(const Material& m, const EncoderOptions& base, const std:
       print_row(name, "-", r);
       if (on) share_lines.push_back(name + ": " + share(stats));
     }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (size_t p = 0; p < n; ++p)
     print_bd(std::string(preset_name(presets[p])) + ": --partitions vs off", curves[p][0],
              curves[p][1]);
@@ -702,7 +729,9 @@ void report_refs(const Material& m, const EncoderOptions& base, const std::vecto
     o.refs = r;
     print_row("lossless, fast, --refs " + std::to_string(r), "-", run_ours(m, o));
   }
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (size_t p = 0; p < presets.size(); ++p)
     for (int i = 1; i < 4; ++i)
       print_bd(std::string(preset_name(presets[p])) + ", --refs " + std::to_string(refs[i]) +
@@ -779,7 +808,9 @@ std::vector<std::vector<RdPoint>> report_motion_tools(const Material& m, const E
   o.shared_motion = false;
   o.inter_decimation = false;
   add("1.3 encoder, slow preset (RDO)", o);
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   print_bd("shared motion vs 1.3", curves[0], curves[1]);
   print_bd("inter decimation vs 1.3", curves[0], curves[2]);
   print_bd("shared motion + decimation vs 1.3", curves[0], curves[3]);
@@ -808,19 +839,22 @@ std::optional<Run> run_peer_config(const Material& m, const PeerConfig& config, 
     return std::nullopt;
   }
   GeometryError total;
+  Run r;
   int64_t bytes = 0;
   for (size_t f = 0; f < m.frames.size(); ++f) {
     if (half)
       for (SamplePlane& p : run->decoded[f])
         p = upsample_half_plane(p, info.width, info.height, info.bit_depth);
-    accumulate(total, geometry_error(m.frames[f], dequantize_geometry(run->decoded[f], info, f)));
+    const GeometryImage decoded = dequantize_geometry(run->decoded[f], info, f);
+    accumulate(total, geometry_error(m.frames[f], decoded));
+    accumulate(r.surface, surface_error(m.frames[f], decoded));
     bytes += run->frame_bytes[f];
   }
-  Run r;
   r.encode_fps = m.frames.size() / run->encode_seconds;
   r.decode_fps = m.frames.size() / run->decode_seconds;
   r.max_mm = total.max_mm;
-  r.point = {bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak)};
+  r.point = {bytes * 8.0 / m.vertices / m.frames.size(), total.psnr_db(m.peak),
+             normal_quality_db(r.surface.normal_p95_deg())};
   return r;
 }
 
@@ -898,7 +932,9 @@ void report_qp_offsets(const Material& m, const EncoderOptions& base, const std:
     o.b_qp_offset = s.b;
     curves.push_back(qp_curve(m, o, name(s), qps));
   }
-  std::printf("\n| BD-rate (piecewise cubic, common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, common quality range) | over PSNR | over normal error "
+      "|\n|---|---|---|\n");
   for (size_t i = 1; i < settings.size(); ++i)
     print_bd(name(settings[i]) + " vs the defaults", curves[0], curves[i]);
   for (size_t i = 0; i < settings.size(); ++i)
@@ -1172,7 +1208,9 @@ int main(int argc, char** argv) {
     // x265 given the same halved frames, its output upsampled by the same filter: how much of
     // the gain is the resolution alone.
     const std::vector<RdPoint> x265_half = run_x265(m, gop, peer_preset, true);
-    std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+    std::printf(
+        "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+        "error |\n|---|---|---|\n");
     print_bd("x265 at half resolution vs x265", x265, x265_half);
     for (const Preset preset : refs_presets) {
       EncoderOptions o = base;
@@ -1215,7 +1253,9 @@ int main(int argc, char** argv) {
       x265_points = run_x265(m, gop, peer_preset);
       source = "this run";
     }
-    std::printf("\n| BD-rate vs x265 12-bit (%s points) | value |\n|---|---|\n", source.c_str());
+    std::printf(
+        "\n| BD-rate vs x265 12-bit (%s points) | over PSNR | over normal error |\n|---|---|---|\n",
+        source.c_str());
     for (size_t i = 0; i < curves.size(); ++i)
       print_bd(names[i] + " vs x265", x265_points, curves[i]);
     return 0;
@@ -1224,7 +1264,7 @@ int main(int argc, char** argv) {
     const auto curves = report_subpel(m, base, qps);
     if (!peers) return 0;
     const std::vector<RdPoint> x265_points = run_x265(m, gop, peer_preset);
-    std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
+    std::printf("\n| BD-rate (piecewise cubic) | over PSNR | over normal error |\n|---|---|---|\n");
     print_bd("gvid fast, whole-sample motion vs x265", x265_points, curves[0]);
     print_bd("gvid fast, half-sample motion vs x265", x265_points, curves[1]);
     print_bd("gvid fast, quarter-sample motion vs x265", x265_points, curves[2]);
@@ -1294,7 +1334,9 @@ int main(int argc, char** argv) {
                                     qps));
   }
 
-  std::printf("\n| BD-rate (piecewise cubic, over the common PSNR range) | value |\n|---|---|\n");
+  std::printf(
+      "\n| BD-rate (piecewise cubic, over the common quality range) | over PSNR | over normal "
+      "error |\n|---|---|---|\n");
   for (int i = 1; i < 4; ++i)
     print_bd(std::string("value prediction ") + value_prediction_name(modes[i]) + " vs none",
              vp_curves[0], vp_curves[i]);
@@ -1347,7 +1389,7 @@ int main(int argc, char** argv) {
           lossless_bpv[0] / r->point.rate, lossless_bpv[3] / r->point.rate,
           no_td_lossless.point.rate / r->point.rate);
     }
-    std::printf("\n| BD-rate (piecewise cubic) | value |\n|---|---|\n");
+    std::printf("\n| BD-rate (piecewise cubic) | over PSNR | over normal error |\n|---|---|---|\n");
     print_bd("gvid fast (value prediction none) vs x265", x265_points, vp_curves[0]);
     print_bd("gvid fast (value prediction affine) vs x265", x265_points, vp_curves[3]);
     print_bd("gvid fast (value prediction none) vs x264", x264_points, vp_curves[0]);

@@ -68,7 +68,7 @@ Status EncoderOptions::check() const {
   if (bit_depth < 8 || bit_depth > 16)
     return invalid_argument("bit depth " + std::to_string(bit_depth) + " out of range (8..16)");
   const int qp_min = -6 * (bit_depth - 8);
-  if (!lossless && (qp < qp_min || qp > 51))
+  if (!bypass() && (qp < qp_min || qp > 51))  // lossless and near-lossless frames use no QP
     return invalid_argument("qp " + std::to_string(qp) + " out of range (" +
                             std::to_string(qp_min) + "..51 at " + std::to_string(bit_depth) +
                             " bits)");
@@ -93,6 +93,9 @@ Status EncoderOptions::check() const {
   if (rdo_shortlist < 0 || rdo_shortlist > 13)
     return invalid_argument("RDO shortlist " + std::to_string(rdo_shortlist) +
                             " out of range (0 = every mode, else 1..13)");
+  if (texture_qp < -1 || texture_qp > 51)
+    return invalid_argument("texture QP " + std::to_string(texture_qp) +
+                            " out of range (0..51, or -1 = the frame QP)");
   if (p_qp_offset < 0 || p_qp_offset > 12)
     return invalid_argument("P-frame QP offset " + std::to_string(p_qp_offset) +
                             " out of range (0..12)");
@@ -143,6 +146,9 @@ Status EncoderOptions::check() const {
     return invalid_argument(
         "resolution half: lossless and max-error coding (profile lossless) are at full "
         "resolution only");
+  if (outline_weight < 1 || outline_weight > 64)
+    return invalid_argument("outline weight " + std::to_string(outline_weight) +
+                            " out of range (1..64)");
   if (threads < 1 || threads > 16)
     return invalid_argument("threads " + std::to_string(threads) + " out of range (1..16)");
   return Status::ok();

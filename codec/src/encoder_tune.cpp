@@ -151,6 +151,9 @@ const std::vector<Entry>& entries() {
          for (int i = 0; i < 3; ++i) o.plane_qp_offset[i] = values[i];
          return Status::ok();
        }},
+      {{"texture-qp", "-1, 0..51",
+        "the texture plane's QP in I frames, 8-bit units (default 24; -1 = the frame QP)"},
+       integer(&EncoderOptions::texture_qp)},
       {{"p-qp-offset", "0..12", "added to the QP in P frames (default 4)"},
        integer(&EncoderOptions::p_qp_offset)},
       {{"b-qp-offset", "0..12", "added to the P frames' QP in B frames (default 2)"},
@@ -175,6 +178,10 @@ const std::vector<Entry>& entries() {
       {{"transform-early-exit", "on|off",
         "encoder only, slow preset: transform sizes tried from the largest down, stopping early"},
        flag(&EncoderOptions::transform_early_exit)},
+      {{"outline-weight", "1..64",
+        "encoder only, lossy frames: the outline's samples count this many times in the "
+        "rate-distortion decisions (default 8; 1 = plain SSD)"},
+       integer(&EncoderOptions::outline_weight)},
       {{"skip-check", "on|off",
         "encoder only: try the predicted vector first, take a skip found there at once"},
        flag(&EncoderOptions::skip_check)},

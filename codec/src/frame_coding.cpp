@@ -14,6 +14,7 @@
 #include "gvkit/codec/half_resolution.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/value_prediction.hpp"
+#include "outline_weights.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -30,11 +31,11 @@ constexpr int kFastIntraRdoShortlist = 2;
 struct FrameSyntax {
   int near_lossless = 0;
   ValueTransform value_transform;
-  int plane_qp_offset[3] = {0, 0, 0};
-  int ref_count = 1;        // format 1.6: P frames with flags2 bit 1, 2..5
-  int max_transform = 4;    // format 1.6 (flags2 bit 2): 8 or 16
-  bool partitions = false;  // format 1.7: P frames with flags2 bit 5
-  bool deblocking = false;  // format 1.8: flags2 bit 6
+  int plane_qp_offset[4] = {0, 0, 0, 0};  // X, Y, Z and the texture plane T
+  int ref_count = 1;                      // format 1.6: P frames with flags2 bit 1, 2..5
+  int max_transform = 4;                  // format 1.6 (flags2 bit 2): 8 or 16
+  bool partitions = false;                // format 1.7: P frames with flags2 bit 5
+  bool deblocking = false;                // format 1.8: flags2 bit 6
   DeblockingParams deblock;
   bool merge = false;            // format 1.11: the payload's first byte, bit 5
   bool td16 = false;             // format 1.12: the payload's first byte, bit 6
@@ -90,10 +91,8 @@ PlaneCodingParams plane_params(const SequenceInfo& info, int plane, uint8_t flag
   p.merge = syntax.merge;                      // format 1.11
   p.td16 = syntax.td16;                        // format 1.12
   p.quadratic_intra = syntax.quadratic_intra;  // format 1.13
-  if (plane < 3) {
-    p.near_lossless = syntax.near_lossless;
-    qp += syntax.plane_qp_offset[plane];
-  }
+  if (plane < 3) p.near_lossless = syntax.near_lossless;
+  qp += syntax.plane_qp_offset[std::min(plane, 3)];
   p.qp_prime = std::clamp(qp + 6 * (p.bit_depth - 8), 0, 51 + 6 * (p.bit_depth - 8));
   return p;
 }
@@ -277,11 +276,20 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
       }
     }
   }
-  if (!bypass)
-    for (int i = 0; i < 3; ++i) {
-      syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
+  if (!bypass) {
+    for (int i = 0; i < 3; ++i) syntax.plane_qp_offset[i] = options.plane_qp_offset[i];
+    // The texture plane at options.texture_qp in I frames (the frame QP's offsets for P and B
+    // frames and half resolution apply to it as to the geometry).
+    if (planes.size() == 4 && options.texture_qp >= 0)
+      syntax.plane_qp_offset[3] = options.texture_qp - options.qp;
+    for (int i = 0; i < 4; ++i)
       if (syntax.plane_qp_offset[i] != 0) header.flags |= format::kFramePlaneQp;
-    }
+  }
+  // Lossy frames: the outline's samples weigh outline_weight times in the SSD of the decisions.
+  const std::vector<uint8_t> weights =
+      bypass || options.outline_weight <= 1
+          ? std::vector<uint8_t>()
+          : outline_weights(mask, planes[0].width, planes[0].height, options.outline_weight);
   const bool shared_motion = (header.flags2 & format::kFrame2SharedMotion) != 0;
   const bool cross_plane = (header.flags2 & format::kFrame2CrossPlane) != 0;
   const bool cross_contexts = (header.flags2 & format::kFrame2CrossPlaneContexts) != 0;  // 1.7
@@ -299,6 +307,7 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
         p.rdo = true;
         p.intra_rdo_shortlist = kFastIntraRdoShortlist;
       }
+      if (!weights.empty() && i < 3) p.distortion_weights = &weights;
       if (options.preset == Preset::kSlow && !bypass) {
         p.intra_rdo_shortlist = options.rdo_shortlist;
         p.transform_early_exit = options.transform_early_exit;
@@ -386,7 +395,8 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
   if (header.flags & format::kFrameValuePrediction)
     write_value_transform(payload, syntax.value_transform);
   if (header.flags & format::kFramePlaneQp)
-    for (int i = 0; i < 3; ++i) payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
+    for (size_t i = 0; i < planes.size(); ++i)
+      payload.u8(static_cast<uint8_t>(syntax.plane_qp_offset[i]));
   if (header.flags2 & format::kFrame2MultiRef) payload.u8(static_cast<uint8_t>(syntax.ref_count));
   if (header.flags2 & format::kFrame2LargeTransforms)
     payload.u8(static_cast<uint8_t>(syntax.max_transform));
@@ -484,11 +494,13 @@ Result<int> packet_reference_count(std::string_view packet) {
   return ref_count;
 }
 
-Result<GeometryImage> decode_frame_packet(
-    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
-    const std::vector<SamplePlane>* reference, std::vector<SamplePlane>* planes_out,
-    const std::vector<SamplePlane>* reference1,
-    const std::vector<const std::vector<SamplePlane>*>* older) {
+Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
+                                          int64_t frame_number,
+                                          const std::vector<SamplePlane>* reference,
+                                          std::vector<SamplePlane>* planes_out,
+                                          const std::vector<SamplePlane>* reference1,
+                                          const std::vector<const std::vector<SamplePlane>*>* older,
+                                          bool texture_qp_offset) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
   if (packet.size() - header.header_size < header.payload_size)
     return corrupt_data("payload truncated");
@@ -600,12 +612,18 @@ Result<GeometryImage> decode_frame_packet(
     transformed = apply_value_transform(*reference, syntax.value_transform, info.bit_depth);
     prediction_ref = &transformed;
   }
-  if (header.flags & format::kFramePlaneQp)
+  if (header.flags & format::kFramePlaneQp) {
     for (int i = 0; i < 3; ++i) {
       syntax.plane_qp_offset[i] = static_cast<int8_t>(r.u8());
       if (!r.ok() || syntax.plane_qp_offset[i] < -12 || syntax.plane_qp_offset[i] > 12)
         return corrupt_data("plane QP offset missing or out of range (-12..12)");
     }
+    if (plane_count == 4 && texture_qp_offset) {  // format 2.0: the texture plane's
+      syntax.plane_qp_offset[3] = static_cast<int8_t>(r.u8());
+      if (!r.ok() || syntax.plane_qp_offset[3] < -51 || syntax.plane_qp_offset[3] > 99)
+        return corrupt_data("texture QP offset missing or out of range (-51..99)");
+    }
+  }
   // Multiple reference frames (format 1.6): ref_count 2..5, each an anchor the caller holds.
   std::vector<std::vector<const SamplePlane*>> more(plane_count);
   if (multi_ref) {

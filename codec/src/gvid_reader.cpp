@@ -132,7 +132,7 @@ Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* re
   }
   return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
                              ref1 ? &ref1->planes : nullptr,
-                             older_planes.empty() ? nullptr : &older_planes);
+                             older_planes.empty() ? nullptr : &older_planes, format_.major >= 2);
 }
 
 Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(

@@ -800,10 +800,12 @@ class MacroblockEncoder {
   int64_t reconstruct(int n, const int32_t* pred, const int32_t* levels, int x0, int y0) {
     reconstruct_block(n, pred, levels, p_, recon_.samples.data(), recon_.width, x0, y0);
     int64_t ssd = 0;
+    const std::vector<uint8_t>* weights = p_.distortion_weights;
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int64_t d = static_cast<int64_t>(src_.at(x0 + x, y0 + y)) - recon_.at(x0 + x, y0 + y);
-        ssd += d * d;
+        ssd +=
+            weights ? (*weights)[static_cast<size_t>(y0 + y) * src_.width + x0 + x] * d * d : d * d;
       }
     return ssd;
   }

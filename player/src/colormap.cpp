@@ -37,7 +37,11 @@ void draw_colour_bar(cv::Mat& bgr, double max_mm, const std::string& title) {
     cv::putText(bgr, text, {x0 + bar_w + 4, y0 + k * (bar_h - 1) / 4 + 4}, cv::FONT_HERSHEY_SIMPLEX,
                 scale, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
   }
-  cv::putText(bgr, title, {x0 - bar_w, y0 - 10}, cv::FONT_HERSHEY_SIMPLEX, scale,
+  // The title above the bar, moved left as far as it needs to end inside the picture.
+  int baseline = 0;
+  const int title_w = cv::getTextSize(title, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline).width;
+  const int title_x = std::max(0, std::min(x0 - bar_w, bgr.cols - 4 - title_w));
+  cv::putText(bgr, title, {title_x, y0 - 10}, cv::FONT_HERSHEY_SIMPLEX, scale,
               cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
 }
 

@@ -111,7 +111,7 @@ class EglOffscreenRenderer : public Renderer {
     cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
     cv::flip(bgr, bgr, 0);  // GL rows run bottom-up
     if (style.mode == ShadingMode::kError && style.colour_bar)
-      draw_colour_bar(bgr, style.error_max_mm);
+      draw_colour_bar(bgr, style.error_max_mm, style.error_title);
     return bgr;
   }
 

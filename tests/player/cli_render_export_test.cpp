@@ -1,4 +1,5 @@
 // gvkit render and gvkit export end to end, on a small synthetic geometry video.
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -83,6 +84,71 @@ TEST_F(CliPlayer, RenderReportsACorruptFrameAndWritesTheOthers) {
   auto frames = list_frame_files(tmp_ / "png", ".png");
   ASSERT_TRUE(frames.is_ok());
   EXPECT_EQ(frames->size(), 3u);
+}
+
+TEST_F(CliPlayer, CompareWritesTheSheetTheVideoAndTheFigures) {
+  // The "decoded" video: the sequence with a 0.3 mm ripple of 8 pixels along x on z.
+  ASSERT_TRUE(ensure_directory(tmp_ / "rippled").is_ok());
+  for (int f = 0; f < 4; ++f) {
+    GeometryImage image = testing::make_face_like_image(32, f);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        image.xyz_mm.at<cv::Vec3f>(y, x)[2] += static_cast<float>(0.3 * std::sin(x * M_PI / 4));
+    ASSERT_TRUE(write_geometry_image_exr(frame_path(tmp_ / "rippled", f, ".exr"), image).is_ok());
+  }
+  const std::string gvid = (tmp_ / "rippled").string();
+  const fs::path mp4 = tmp_ / "c.mp4", png = tmp_ / "c.png";
+  const auto r = run_gvkit("compare " + seq() + " " + gvid + " -o " + mp4.string() +
+                           " --contact-sheet " + png.string() + " --size 96x64 --contact-frames 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("normal error mean"), std::string::npos) << r.output;
+  auto sheet = read_image(png);
+  ASSERT_TRUE(sheet.is_ok());
+  EXPECT_EQ(sheet->cols, 3 * 96 + 4 * 2);  // input | decoded | heat map
+  EXPECT_EQ(sheet->rows, 2 * 64 + 3 * 2);  // two frames
+  cv::VideoCapture capture(mp4.string(), cv::CAP_FFMPEG);
+  ASSERT_TRUE(capture.isOpened());
+  cv::Mat frame;
+  ASSERT_TRUE(capture.read(frame));
+  EXPECT_EQ(frame.size(), cv::Size(3 * 96, 64));
+  auto stats = read_json(tmp_ / "c.stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["frames"].size(), 4u);
+  EXPECT_GT((*stats)["summary"]["normal_p95_deg"].get<double>(), 0.0);
+  EXPECT_GT((*stats)["summary"]["hausdorff_mm"].get<double>(), 0.0);
+  EXPECT_LE((*stats)["summary"]["hausdorff_mm"].get<double>(),
+            (*stats)["summary"]["max_mm"].get<double>() + 1e-6);
+
+  // A video against itself: nothing to see; figures only, no picture.
+  const auto same = run_gvkit("compare " + seq() + " " + seq() + " --stats " +
+                              (tmp_ / "same.json").string() + " --heat distance");
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  auto zero = read_json(tmp_ / "same.json");
+  ASSERT_TRUE(zero.is_ok());
+  EXPECT_EQ((*zero)["summary"]["normal_max_deg"].get<double>(), 0.0);
+  EXPECT_EQ((*zero)["summary"]["hausdorff_mm"].get<double>(), 0.0);
+}
+
+TEST_F(CliPlayer, CompareRejectsMismatchesAndBadOptions) {
+  testing::write_face_like_sequence(tmp_ / "short", 2, 32);
+  const auto count = run_gvkit("compare " + seq() + " " + (tmp_ / "short").string());
+  EXPECT_NE(count.exit_code, 0);
+  EXPECT_NE(count.output.find("2 frames, the reference"), std::string::npos) << count.output;
+  testing::write_face_like_sequence(tmp_ / "big", 4, 40);
+  const auto size = run_gvkit("compare " + seq() + " " + (tmp_ / "big").string());
+  EXPECT_NE(size.exit_code, 0);
+  EXPECT_NE(size.output.find("40x40"), std::string::npos) << size.output;
+  // Each message names what is wrong.
+  const std::pair<const char*, const char*> bad_options[] = {{"--heat colour", "colour"},
+                                                             {"--normal-scale 9", "normal scale"},
+                                                             {"--hausdorff-window 0", "window"},
+                                                             {"--normal-max 0", "--normal-max"},
+                                                             {"--pan 1", "--pan"}};
+  for (const auto& [bad, named] : bad_options) {
+    const auto r = run_gvkit("compare " + seq() + " " + seq() + " " + bad);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.output.find(named), std::string::npos) << bad << ": " << r.output;
+  }
 }
 
 TEST_F(CliPlayer, RenderRejectsBadOptions) {

@@ -68,6 +68,43 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
+TEST(CliCodec, EncodeAndDecodeReportTheSurfaceError) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string gvid = (dir / "v.gvid").string();
+  auto enc =
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --qp 12 --preset fast");
+  ASSERT_EQ(enc.exit_code, 0) << enc.output;
+  EXPECT_TRUE(contains(enc.output, "normal error mean")) << enc.output;
+  EXPECT_TRUE(contains(enc.output, "Hausdorff")) << enc.output;
+  auto stats = read_json(gvid + ".stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  const nlohmann::json& summary = (*stats)["summary"];
+  for (const char* key : {"normal_mean_deg", "normal_p95_deg", "normal_max_deg", "hausdorff_mm",
+                          "outline_hausdorff_mm", "surface_mean_mm"})
+    EXPECT_TRUE(summary.contains(key)) << key;
+  EXPECT_GT(summary["normal_p95_deg"].get<double>(), 0.0);
+  EXPECT_GE(summary["normal_max_deg"].get<double>(), summary["normal_p95_deg"].get<double>());
+  EXPECT_TRUE((*stats)["frames"][2].contains("normal_p95_deg"));
+
+  // The decoder measures the same frames against the same input: the same figures.
+  auto dec = run_gvkit("decode " + gvid + " -o " + (dir / "out").string() + " --reference " +
+                       (dir / "in").string());
+  ASSERT_EQ(dec.exit_code, 0) << dec.output;
+  EXPECT_TRUE(contains(dec.output, "normal error mean")) << dec.output;
+  auto decoded = read_json(dir / "out" / "stats.json");
+  ASSERT_TRUE(decoded.is_ok());
+  for (const char* key : {"normal_p95_deg", "hausdorff_mm", "max_mm"})
+    EXPECT_NEAR((*decoded)["summary"][key].get<double>(), summary[key].get<double>(), 1e-9) << key;
+
+  // A reference that does not match the stream is named.
+  write_frames(dir / "two", 2);
+  auto bad = run_gvkit("decode " + gvid + " -o " + (dir / "out2").string() + " --reference " +
+                       (dir / "two").string());
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "two: 2 frame_NNNNNN.exr files for 3 frames")) << bad.output;
+}
+
 TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
   TempDir dir;
   write_frames(dir / "in", 5);

@@ -55,17 +55,27 @@ void write_work_folder(const fs::path& w) {
                                        {"bits_per_vertex_per_frame", 0.93},
                                        {"psnr_db", 70.125},
                                        {"max_mm", 0.05},
+                                       {"normal_p95_deg", 1.875},
+                                       {"hausdorff_mm", 0.046875},
                                        {"file_bytes", 12345}}}});
   write(w / "decoded" / "stats.json",
         {{"summary", {{"frames", 2}, {"failed_frames", 0}, {"decode_fps", 120.0}}},
          {"frames", {{{"frame", 0}, {"status", "ok"}}, {{"frame", 1}, {"status", "ok"}}}}});
+  write(w / "compare.stats.json", {{"summary",
+                                    {{"frames", 2},
+                                     {"normal_mean_deg", 0.75},
+                                     {"normal_p95_deg", 1.875},
+                                     {"normal_max_deg", 12.5},
+                                     {"hausdorff_mm", 0.046875},
+                                     {"outline_hausdorff_mm", 0.03125}}}});
   write(w / "run.json", {{"stages",
                           {{{"name", "synth"}, {"seconds", 1.5}},
                            {{"name", "reconstruct"}, {"seconds", 2.0}, {"state", "kept"}},
                            {{"name", "clean"}, {"seconds", 3.25}},
                            {{"name", "map"}, {"seconds", 4.0}},
                            {{"name", "encode"}, {"seconds", 0.5}},
-                           {{"name", "decode"}, {"seconds", 0.25}}}}});
+                           {{"name", "decode"}, {"seconds", 0.25}},
+                           {{"name", "compare"}, {"seconds", 0.5}}}}});
 }
 
 TEST(WorkSummary, ReadsEveryStageInOrderWithFramesInAndOut) {
@@ -73,9 +83,9 @@ TEST(WorkSummary, ReadsEveryStageInOrderWithFramesInAndOut) {
   write_work_folder(dir.path());
   auto stages = summarize_work_folder(dir.path());
   ASSERT_TRUE(stages.is_ok()) << stages.status().message();
-  ASSERT_EQ(stages->size(), 6u);
-  const std::vector<std::string> names = {"synth", "reconstruct", "clean",
-                                          "map",   "encode",      "decode"};
+  ASSERT_EQ(stages->size(), 7u);
+  const std::vector<std::string> names = {"synth",  "reconstruct", "clean",  "map",
+                                          "encode", "decode",      "compare"};
   for (size_t i = 0; i < names.size(); ++i) EXPECT_EQ((*stages)[i].stage, names[i]);
   const StageSummary& clean = (*stages)[2];
   EXPECT_EQ(clean.frames_in, 3);
@@ -98,10 +108,16 @@ TEST(WorkSummary, TableShowsTheFiguresTimesAndLostFrames) {
       << table;
   EXPECT_TRUE(contains(table, "temporal MSE 0.0123 mm^2")) << table;
   EXPECT_TRUE(contains(table, "0.9300 bits/vertex/frame, PSNR 70.12 dB")) << table;
+  EXPECT_TRUE(contains(table, "normal error p95 1.88 deg, Hausdorff 0.047 mm, 12345 bytes"))
+      << table;
+  EXPECT_TRUE(contains(table,
+                       "decoded vs input: normal error mean 0.75 / p95 1.88 / max 12.5 deg, "
+                       "Hausdorff 0.047 mm (outline 0.031 mm)"))
+      << table;
   EXPECT_TRUE(contains(table, "3.2 s")) << table;   // clean's time
   EXPECT_TRUE(contains(table, "2.0 s*")) << table;  // reconstruct's, from an earlier run
   EXPECT_TRUE(contains(table, "* kept from an earlier run")) << table;
-  EXPECT_TRUE(contains(table, "11.5 s")) << table;  // the total
+  EXPECT_TRUE(contains(table, "12.0 s")) << table;  // the total
   EXPECT_TRUE(contains(table, "clean: 1 frame(s) failed:\n  frame 1: landmark 60")) << table;
   EXPECT_FALSE(contains(table, "decode: ")) << table;  // no decode failures
 }

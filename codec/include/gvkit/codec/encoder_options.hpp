@@ -50,7 +50,12 @@ const char* resolution_name(Resolution resolution);
 Result<Resolution> parse_resolution(const std::string& name);
 
 struct EncoderOptions {
-  int qp = 12;            // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8)
+  // QP in 8-bit units, -6 (B - 8) .. 51; coded as QP' = QP + 6 (B - 8). -10 by default: the
+  // coarsest QP whose decoded main-job face keeps the 95th-percentile normal error within 2
+  // degrees (surface_metrics.hpp; 1.69 degrees at 2.97 bits/vertex/frame; was 12: 8.4 degrees,
+  // visibly crumpled; docs/benchmarks.md, "Surface metrics"). 8- and 9-bit streams take QP 0 and
+  // -6 at the least (gvkit encode then starts from those); lossless and near-lossless use none.
+  int qp = -10;
   bool lossless = false;  // transform bypass: decoded samples equal the quantized input
   // The stream's profile (profile.hpp): kAuto picks it from the other options
   // (resolved_profile()). kLossless codes every frame by transform bypass (lossless, or within
@@ -101,6 +106,12 @@ struct EncoderOptions {
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
   bool skip_check = false;
   int plane_qp_offset[3] = {0, 0, 0};  // added to qp for X, Y, Z (lossy frames), -12..12
+  // Lossy frames of a sequence with a texture plane: the texture's QP (8-bit units, 0..51) in I
+  // frames, P and B frames and half resolution shifting it as they shift the frame QP (coded as
+  // the texture's plane QP offset, docs/bitstream.md 2.1); -1 = the frame QP itself. 24 by
+  // default: at the default geometry QP (-10) the texture would otherwise be coded near
+  // losslessly, 58 % of the main job's stream (docs/benchmarks.md, "Texture QP").
+  int texture_qp = 24;
   // Added to qp in P frames (a finer I frame is a better reference), 0..12. 4 since format 1.14
   // (was 6): -1.10 % BD-rate slow, -2.53 % fast on the ICT face (docs/benchmarks.md, format 1.14).
   int p_qp_offset = 4;
@@ -205,6 +216,15 @@ struct EncoderOptions {
   // QPs -18..24; half resolution from QP 0 on), at 0.77-0.86x the encode speed at equal QP
   // (docs/benchmarks.md, format 1.14); kFull codes every frame at full resolution.
   Resolution resolution = Resolution::kAuto;
+  // Encoder only, lossy frames: in the rate-distortion decisions (SSD + lambda x bits) the
+  // squared error of the domain's outline samples (inside the domain with a 4-neighbour outside
+  // it or the image: the face's border and the rims of its holes, which a viewer sees as the
+  // silhouette) counts this many times, so the outline is coded closer to the input than the
+  // interior; the stream syntax does not change. 1 = plain SSD; 1..64. 8 by default: on the
+  // main-job video (10 frames) at QP -10 / 0 the outline's Hausdorff distance drops from 0.84 to
+  // 0.40 / 1.60 to 1.00 mm for +1.7 / +2.2 % rate, the normal error unchanged
+  // (docs/benchmarks.md, "Surface metrics").
+  int outline_weight = 8;
   // Speed decisions of the slow preset (encoder only; the stream syntax does not change;
   // docs/benchmarks.md, "Encoder speed"):
   // - rdo_shortlist: the intra modes of every 4x4, 8x8 and 16x16 block (I and temporal-difference

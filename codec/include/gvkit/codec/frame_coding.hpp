@@ -64,12 +64,14 @@ struct DecoderLimits {
 // since the last intra frame" otherwise). The decoded planes carry their segments' final context
 // states (SamplePlane::final_contexts), which a packet with temporal contexts (format 1.9,
 // flags2 bit 7) needs on `reference`'s planes: planes from elsewhere fail it with
-// failed_precondition.
+// failed_precondition. texture_qp_offset: the plane QP offsets (flag bit 5) of a frame with a
+// texture plane carry its offset too (format 2.0); false for format 1.x packets (X, Y, Z only).
 Result<GeometryImage> decode_frame_packet(
     std::string_view packet, const SequenceInfo& info, int64_t frame_number,
     const std::vector<SamplePlane>* reference = nullptr,
     std::vector<SamplePlane>* planes_out = nullptr,
     const std::vector<SamplePlane>* reference1 = nullptr,
-    const std::vector<const std::vector<SamplePlane>*>* older = nullptr);
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
+    bool texture_qp_offset = true);
 
 }  // namespace gvkit::codec

@@ -78,6 +78,10 @@ struct PlaneCodingParams {
   // instead of the intra rounding and the inter dead zone.
   bool rdoq = false;
   bool rdo = true;  // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  // Encoder only, lossy planes with rdo: each sample's squared error in the SSD of the
+  // rate-distortion decisions counts this many times (row-major over the plane's padded
+  // width x height; null = once each).
+  const std::vector<uint8_t>* distortion_weights = nullptr;
   // Encoder only, with rdo and larger transforms: a residual's transform sizes are tried from
   // the largest down, and the smaller ones are skipped once a size leaves no level or costs
   // more than the larger one.

@@ -26,6 +26,10 @@ struct DrawStyle {
   ShadingMode mode = ShadingMode::kLit;
   float error_max_mm = 1.0f;  // kError: the top of the colour scale (> 0)
   bool colour_bar = true;     // kError: draw the colour bar into the picture
+  // kError: the colour bar's title, naming what the per-vertex values are and their unit (e.g.
+  // "normal error (deg)" when set_vertex_errors was given angles; error_max_mm is then in the
+  // same unit).
+  std::string error_title = "error (mm)";
 };
 
 // Background and surface colours shared by every renderer (RGB in [0, 1]).
