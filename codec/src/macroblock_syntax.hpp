@@ -18,6 +18,7 @@
 #include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
+#include "gvkit/codec/inverse_residual.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/quadratic_intra.hpp"
@@ -929,18 +930,8 @@ inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
     const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
     for (int i = 0; i < count; ++i) residual[i] = levels[i] * step;
   } else {
-    int64_t coeffs[256];
     int32_t transformed[256];
-    if (n == 16) {
-      dequantize16x16(levels, p.qp_prime, coeffs);
-      inverse_transform16x16(coeffs, transformed);
-    } else {
-      dequantize(n, levels, p.qp_prime, coeffs);
-      if (n == 4)
-        inverse_transform4x4(coeffs, transformed);
-      else
-        inverse_transform8x8(coeffs, transformed);
-    }
+    inverse_residual(n, levels, p.qp_prime, transformed);
     std::copy(transformed, transformed + count, residual);
   }
   store([&](int i) { return pred[i] + residual[i]; });

@@ -1,13 +1,17 @@
 // The decoder's optimised kernels (AVX2 where the processor has it) return exactly what their
 // plain reference versions return, on random input and at the extremes of the sample range:
-// half-resolution upsampling and dequantization to millimetres.
+// the CABAC decoding engine, the inverse residual (dequantization + inverse transform) of
+// sparse, dense, small and huge level blocks, half-resolution upsampling and dequantization to
+// millimetres.
 #include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "gvkit/codec/cabac_decoder.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/half_resolution.hpp"
+#include "gvkit/codec/inverse_residual.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -26,6 +30,79 @@ SamplePlane random_plane(int width, int height, int max_value, std::mt19937& rng
 }
 
 int padded(int n) { return (n + 15) / 16 * 16; }
+
+TEST(DecoderKernels, CabacTransitionTableIsCabacUpdate) {
+  for (int state = 0; state < 64; ++state)
+    for (int mps = 0; mps < 2; ++mps)
+      for (int bin = 0; bin < 2; ++bin) {
+        CabacContext a{static_cast<uint8_t>(state), static_cast<uint8_t>(mps)};
+        cabac_update(a, bin);
+        const uint8_t next = kCabacTransition[state][bin != mps];
+        EXPECT_EQ(a.state, next & 63) << state << " " << mps << " " << bin;
+        EXPECT_EQ(a.mps, mps ^ (next >> 7)) << state << " " << mps << " " << bin;
+      }
+}
+
+// Random data read as a random mix of context bins (from a few contexts, so that states reach
+// both ends), bypass bins and terminations, past the end of the data.
+TEST(DecoderKernels, CabacDecoderEqualsTheReference) {
+  std::mt19937 rng(10);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::string data(static_cast<size_t>(rng() % 300), '\0');
+    for (char& c : data) c = static_cast<char>(rng() & 0xFF);
+    // Skewed data too: long runs of zeros or ones keep the contexts in their confident states.
+    if (trial % 3 == 1)
+      for (size_t i = 0; i < data.size(); ++i) data[i] = i % 7 ? '\0' : data[i];
+    if (trial % 3 == 2)
+      for (size_t i = 0; i < data.size(); ++i) data[i] = i % 5 ? '\x7f' : data[i];
+    if (!data.empty() && static_cast<uint8_t>(data[0]) == 0xFF) data[0] = '\x7f';  // see header
+    CabacDecoder fast(data);
+    CabacDecoderReference plain(data);
+    CabacContext fast_ctx[4] = {}, plain_ctx[4] = {};
+    const int bins = static_cast<int>(data.size()) * 12 + 40;
+    for (int i = 0; i < bins; ++i) {
+      const uint32_t what = rng() % 16;
+      if (what == 0) {
+        ASSERT_EQ(fast.decode_bypass(), plain.decode_bypass()) << trial << " bin " << i;
+      } else if (what == 1 && i % 97 == 0) {
+        const int t = fast.decode_terminate();
+        ASSERT_EQ(t, plain.decode_terminate()) << trial << " bin " << i;
+        if (t) break;
+      } else {
+        const int c = static_cast<int>(what % 4);
+        ASSERT_EQ(fast.decode(fast_ctx[c]), plain.decode(plain_ctx[c])) << trial << " bin " << i;
+        ASSERT_EQ(fast_ctx[c].state, plain_ctx[c].state);
+        ASSERT_EQ(fast_ctx[c].mps, plain_ctx[c].mps);
+      }
+      ASSERT_EQ(fast.overrun(), plain.overrun()) << trial << " bin " << i;
+    }
+  }
+}
+
+TEST(DecoderKernels, InverseResidualEqualsTheReference) {
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int n = trial % 5 == 0 ? 4 : (trial % 5 == 1 ? 8 : 16);
+    const int qp = static_cast<int>(rng() % 100);
+    int32_t levels[256] = {};
+    // Levels in a corner of the block (decoded blocks), anywhere, or everywhere; magnitudes from
+    // +-1 to the decoder's limit (2^24), so that both paths and the bound between them are hit.
+    const int reach = 1 + static_cast<int>(rng() % n), count = static_cast<int>(rng() % 40);
+    const int magnitude_bits = static_cast<int>(rng() % 25);
+    std::uniform_int_distribution<int> value(-(1 << magnitude_bits), 1 << magnitude_bits);
+    for (int i = 0; i < (trial % 7 == 0 ? n * n : count); ++i) {
+      const int x = static_cast<int>(rng() % (trial % 3 ? reach : n)),
+                y = static_cast<int>(rng() % (trial % 3 ? reach : n));
+      levels[y * n + x] = value(rng);
+    }
+    if (trial % 50 == 3) levels[static_cast<int>(rng() % (n * n))] = (1 << 24) - 1;
+    int32_t fast[256], plain[256];
+    inverse_residual(n, levels, qp, fast);
+    inverse_residual_reference(n, levels, qp, plain);
+    ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * n * n))
+        << "n " << n << ", qp " << qp << ", trial " << trial;
+  }
+}
 
 TEST(DecoderKernels, UpsampleHalfPlaneEqualsTheReference) {
   std::mt19937 rng(11);
