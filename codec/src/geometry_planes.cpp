@@ -185,7 +185,37 @@ GVKIT_TARGET_AVX2 void dequantize_rows_avx2(const std::vector<SamplePlane>& plan
     float* p = image.xyz_mm.ptr<float>(y);
     const float *ax = &axis_rows[0], *ay = &axis_rows[axis_stride],
                 *az = &axis_rows[2 * axis_stride];
-    for (int x = 0; x < width; ++x) {
+    int x = 0;
+    // Eight pixels' x, y and z interleaved into 24 floats: each output vector takes three or
+    // two lanes of each axis (permuted into place), blended.
+    const __m256i x0 = _mm256_setr_epi32(0, 0, 0, 1, 0, 0, 2, 0),
+                  y0 = _mm256_setr_epi32(0, 0, 0, 0, 1, 0, 0, 2),
+                  z0 = _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 0, 0),
+                  x1 = _mm256_setr_epi32(0, 3, 0, 0, 4, 0, 0, 5),
+                  y1 = _mm256_setr_epi32(0, 0, 3, 0, 0, 4, 0, 0),
+                  z1 = _mm256_setr_epi32(2, 0, 0, 3, 0, 0, 4, 0),
+                  x2 = _mm256_setr_epi32(0, 0, 6, 0, 0, 7, 0, 0),
+                  y2 = _mm256_setr_epi32(5, 0, 0, 6, 0, 0, 7, 0),
+                  z2 = _mm256_setr_epi32(0, 5, 0, 0, 6, 0, 0, 7);
+    for (; x + 8 <= width; x += 8) {
+      const __m256 vx = _mm256_loadu_ps(ax + x), vy = _mm256_loadu_ps(ay + x),
+                   vz = _mm256_loadu_ps(az + x);
+      // Lanes of y: 0b10010010 (out 0), 0b00100100 (1), 0b01001001 (2); of z: 0b00100100,
+      // 0b01001001, 0b10010010.
+      const __m256 o0 = _mm256_blend_ps(
+          _mm256_blend_ps(_mm256_permutevar8x32_ps(vx, x0), _mm256_permutevar8x32_ps(vy, y0), 0x92),
+          _mm256_permutevar8x32_ps(vz, z0), 0x24);
+      const __m256 o1 = _mm256_blend_ps(
+          _mm256_blend_ps(_mm256_permutevar8x32_ps(vx, x1), _mm256_permutevar8x32_ps(vy, y1), 0x24),
+          _mm256_permutevar8x32_ps(vz, z1), 0x49);
+      const __m256 o2 = _mm256_blend_ps(
+          _mm256_blend_ps(_mm256_permutevar8x32_ps(vx, x2), _mm256_permutevar8x32_ps(vy, y2), 0x49),
+          _mm256_permutevar8x32_ps(vz, z2), 0x92);
+      _mm256_storeu_ps(p + 3 * x, o0);
+      _mm256_storeu_ps(p + 3 * x + 8, o1);
+      _mm256_storeu_ps(p + 3 * x + 16, o2);
+    }
+    for (; x < width; ++x) {
       p[3 * x] = ax[x];
       p[3 * x + 1] = ay[x];
       p[3 * x + 2] = az[x];

@@ -1,17 +1,22 @@
 // The decoder's optimised kernels (AVX2 where the processor has it) return exactly what their
 // plain reference versions return, on random input and at the extremes of the sample range:
-// the CABAC decoding engine, the inverse residual (dequantization + inverse transform) of
-// sparse, dense, small and huge level blocks, half-resolution upsampling and dequantization to
-// millimetres.
+// the CABAC decoding engine, motion-compensated prediction (every phase, block size and border
+// case), the deblocking filter, the clipped store of prediction + residual, the inverse residual
+// (dequantization + inverse transform) of sparse, dense, small and huge level blocks,
+// half-resolution upsampling and dequantization to millimetres.
+#include <algorithm>
 #include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "gvkit/codec/cabac_decoder.hpp"
+#include "gvkit/codec/deblocking.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/half_resolution.hpp"
 #include "gvkit/codec/inverse_residual.hpp"
+#include "gvkit/codec/motion_compensation.hpp"
+#include "gvkit/codec/reconstruction_store.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -101,6 +106,91 @@ TEST(DecoderKernels, InverseResidualEqualsTheReference) {
     inverse_residual_reference(n, levels, qp, plain);
     ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * n * n))
         << "n " << n << ", qp " << qp << ", trial " << trial;
+  }
+}
+
+TEST(DecoderKernels, PredictMotionBlockEqualsTheReference) {
+  std::mt19937 rng(14);
+  const int sizes[][2] = {{16, 16}, {16, 8}, {8, 16}, {8, 8}, {6, 16},
+                          {16, 2},  {6, 2},  {4, 4},  {1, 1}, {5, 3}};
+  for (const int bit_depth : {8, 16}) {
+    const SamplePlane ref = random_plane(48, 48, (1 << bit_depth) - 1, rng);
+    for (const auto& size : sizes)
+      for (int trial = 0; trial < 60; ++trial) {
+        // Inside the picture, and across every edge (positions and vectors up to a block out).
+        const int x0 = static_cast<int>(rng() % 48) - 8, y0 = static_cast<int>(rng() % 48) - 8;
+        const int mv_x = static_cast<int>(rng() % 161) - 80,
+                  mv_y = static_cast<int>(rng() % 161) - 80;
+        for (const bool quarter_pel : {true, false}) {
+          int32_t fast[256], plain[256];
+          predict_motion_block(ref, x0, y0, size[0], size[1], mv_x, mv_y, quarter_pel, bit_depth,
+                               fast);
+          predict_motion_block_reference(ref, x0, y0, size[0], size[1], mv_x, mv_y, quarter_pel,
+                                         bit_depth, plain);
+          ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * size[0] * size[1]))
+              << size[0] << "x" << size[1] << " at (" << x0 << ", " << y0 << "), mv (" << mv_x
+              << ", " << mv_y << "), " << bit_depth << " bits";
+        }
+      }
+  }
+}
+
+TEST(DecoderKernels, StoreReconstructionEqualsTheReference) {
+  std::mt19937 rng(15);
+  std::uniform_int_distribution<int32_t> any(INT32_MIN, INT32_MAX), near(-70000, 140000);
+  for (int trial = 0; trial < 600; ++trial) {
+    const int n = 4 << (trial % 3);
+    const int max_value = trial % 2 ? 65535 : 255;
+    int32_t pred[16 * 20], residual[256];
+    // Realistic sums around the range, and extremes whose 32-bit sums overflow.
+    for (int32_t& v : pred) v = trial % 5 == 0 ? any(rng) : near(rng);
+    for (int32_t& v : residual) v = trial % 5 == 0 ? any(rng) : near(rng) / 2;
+    for (const bool with_residual : {true, false}) {
+      uint16_t fast[20 * 20] = {}, plain[20 * 20] = {};
+      store_reconstruction(n, pred, 20, with_residual ? residual : nullptr, max_value, fast + 21,
+                           20);
+      store_reconstruction_reference(n, pred, 20, with_residual ? residual : nullptr, max_value,
+                                     plain + 21, 20);
+      ASSERT_EQ(0, std::memcmp(fast, plain, sizeof fast)) << "n " << n << ", trial " << trial;
+    }
+  }
+}
+
+// Smooth planes with steps at the block edges (what the filter acts on), noise, and every
+// strength, threshold and bit depth.
+TEST(DecoderKernels, DeblockPlaneEqualsTheReference) {
+  std::mt19937 rng(16);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int width = 8 * (1 + static_cast<int>(rng() % 6)),
+              height = 8 * (1 + static_cast<int>(rng() % 6));
+    const int bit_depth = trial % 3 == 0 ? 8 : 16, max_value = (1 << bit_depth) - 1;
+    SamplePlane plane;
+    plane.width = width;
+    plane.height = height;
+    plane.samples.resize(static_cast<size_t>(width) * height);
+    std::uniform_int_distribution<int> noise(-(1 << (bit_depth - 6)), 1 << (bit_depth - 6));
+    const int step = static_cast<int>(rng() % (max_value / 8 + 1));
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const int ramp = (x * 37 + y * 23) * max_value / (width * 37 + height * 23);
+        const int blocky = ((x / 8 + y / 8) % 2) * step + (trial % 4 == 3 ? noise(rng) * 64 : 0);
+        plane.at(x, y) =
+            static_cast<uint16_t>(std::clamp(ramp + blocky + noise(rng), 0, max_value));
+      }
+    if (trial % 10 == 9)  // extremes
+      for (uint16_t& v : plane.samples) v = static_cast<uint16_t>(rng() % 2 ? max_value : 0);
+    DeblockingStrengths strengths;
+    strengths.reset(width / 4, height / 4);
+    for (uint8_t& v : strengths.vertical) v = static_cast<uint8_t>(rng() % 3);
+    for (uint8_t& v : strengths.horizontal) v = static_cast<uint8_t>(rng() % 3);
+    DeblockingParams params;
+    params.beta = 1 + static_cast<int>(rng() % 255);
+    params.tc = 1 + static_cast<int>(rng() % 255);
+    const int qp = static_cast<int>(rng() % 100);
+    SamplePlane fast = plane, plain = plane;
+    deblock_plane(fast, strengths, qp, bit_depth, params);
+    deblock_plane_reference(plain, strengths, qp, bit_depth, params);
+    ASSERT_EQ(fast.samples, plain.samples) << "trial " << trial << ", qp " << qp;
   }
 }
 
