@@ -181,23 +181,24 @@ void run_export(const ExportCommandOptions& o) {
   progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  throw_if_error(write_json(std::filesystem::path(o.output) / "stats.json",
-                            {{"input", o.input},
-                             {"frames", per_frame},
-                             {"summary",
-                              {{"written", per_frame.size()},
-                               {"failed", failures.size()},
-                               {"failures", failures},
-                               {"seconds", seconds},
-                               {"frames_per_second", seconds > 0 ? per_frame.size() / seconds : 0.0}}},
-                             {"options",
-                              {{"format", o.format},
-                               {"frames", o.frames},
-                               {"ascii", o.ascii},
-                               {"max_edge_mm", o.max_edge_mm},
-                               {"partial_quads", o.partial_quads},
-                               {"threads", threads},
-                               {"fps", seq->fps()}}}}));
+  throw_if_error(
+      write_json(std::filesystem::path(o.output) / "stats.json",
+                 {{"input", o.input},
+                  {"frames", per_frame},
+                  {"summary",
+                   {{"written", per_frame.size()},
+                    {"failed", failures.size()},
+                    {"failures", failures},
+                    {"seconds", seconds},
+                    {"frames_per_second", seconds > 0 ? per_frame.size() / seconds : 0.0}}},
+                  {"options",
+                   {{"format", o.format},
+                    {"frames", o.frames},
+                    {"ascii", o.ascii},
+                    {"max_edge_mm", o.max_edge_mm},
+                    {"partial_quads", o.partial_quads},
+                    {"threads", threads},
+                    {"fps", seq->fps()}}}}));
   std::printf("exported %zu of %zu frames as %s to %s in %.2f s (%.1f frames/s)\n",
               per_frame.size(), indices.size(), o.format.c_str(), o.output.c_str(), seconds,
               seconds > 0 ? per_frame.size() / seconds : 0.0);

@@ -177,10 +177,9 @@ void run_render(const RenderCommandOptions& o) {
       camera->set_preset(view, 0.0);
       mesh_options.stride =
           auto_mesh_stride(full, *camera, render_options.width, render_options.height);
-      logger().info("render: mesh stride {} (grid step {:.2f} px at full detail)",
-                    mesh_options.stride,
-                    projected_grid_step_px(full, *camera, render_options.width,
-                                           render_options.height));
+      logger().info(
+          "render: mesh stride {} (grid step {:.2f} px at full detail)", mesh_options.stride,
+          projected_grid_step_px(full, *camera, render_options.width, render_options.height));
     }
   }
   PrefetchOptions prefetch;
@@ -253,9 +252,8 @@ void run_render(const RenderCommandOptions& o) {
         return Status::ok();
       });
     } else if (!o.output.empty()) {
-      picture_writer.push([path = frame_path(o.output, i, ".png"), picture] {
-        return write_image(path, picture);
-      });
+      picture_writer.push(
+          [path = frame_path(o.output, i, ".png"), picture] { return write_image(path, picture); });
     }
     if (std::find(sheet_positions.begin(), sheet_positions.end(), k) != sheet_positions.end()) {
       sheet_tiles.push_back(picture);

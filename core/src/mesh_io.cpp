@@ -134,8 +134,7 @@ std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, boo
     valences.push_back(static_cast<uint8_t>(corners.size() - before));
   }
   std::string out;
-  out.resize(header.size() + mesh.n_vertices() * floats * 4 + valences.size() +
-             4 * corners.size());
+  out.resize(header.size() + mesh.n_vertices() * floats * 4 + valences.size() + 4 * corners.size());
   char* p = out.data();
   std::memcpy(p, header.data(), header.size());
   p += header.size();

@@ -26,7 +26,8 @@ double projected_grid_step_px(const MeshBuffers& mesh, const ViewCamera& camera,
                       : Eigen::Vector2f::Constant(NAN);
   }
   std::vector<int32_t> vertex_of(static_cast<size_t>(mesh.width) * mesh.height, -1);
-  for (size_t i = 0; i < n; ++i) vertex_of[static_cast<size_t>(mesh.pixel_index[i])] = static_cast<int32_t>(i);
+  for (size_t i = 0; i < n; ++i)
+    vertex_of[static_cast<size_t>(mesh.pixel_index[i])] = static_cast<int32_t>(i);
   std::vector<float> lengths;
   lengths.reserve(2 * n);
   for (size_t i = 0; i < n; ++i) {

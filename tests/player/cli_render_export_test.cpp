@@ -146,9 +146,9 @@ TEST_F(CliPlayer, ExportPlyObjAndExr) {
 // Frames are meshed and written on worker threads: the files are the same with one or several.
 TEST_F(CliPlayer, ExportFilesDoNotDependOnThreads) {
   for (const char* threads : {"1", "3"}) {
-    const auto r = run_gvkit("export " + seq() + " --format ply -o " +
-                             (tmp_ / (std::string("t") + threads)).string() + " --threads " +
-                             threads);
+    const auto r =
+        run_gvkit("export " + seq() + " --format ply -o " +
+                  (tmp_ / (std::string("t") + threads)).string() + " --threads " + threads);
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   for (int i = 0; i < 4; ++i) {
@@ -162,8 +162,8 @@ TEST_F(CliPlayer, ExportFilesDoNotDependOnThreads) {
   EXPECT_EQ((*stats)["options"]["threads"], 3);
   ASSERT_EQ((*stats)["frames"].size(), 4u);
   for (int i = 0; i < 4; ++i) EXPECT_EQ((*stats)["frames"][i]["index"], i);  // in frame order
-  EXPECT_NE(run_gvkit("export " + seq() + " -o " + (tmp_ / "x").string() + " --threads -1").exit_code,
-            0);
+  EXPECT_NE(
+      run_gvkit("export " + seq() + " -o " + (tmp_ / "x").string() + " --threads -1").exit_code, 0);
 }
 
 TEST_F(CliPlayer, ExportRejectsBadFormatAndMissingInput) {

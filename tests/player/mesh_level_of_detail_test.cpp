@@ -31,7 +31,8 @@ TEST(MeshLevelOfDetail, GridStepScalesWithThePictureAndSetsTheStride) {
   // Closer is larger: zooming in halves the stride needed.
   ViewCamera close = camera;
   close.zoom(0.5);
-  EXPECT_GT(projected_grid_step_px(mesh, close, 64, 64), projected_grid_step_px(mesh, camera, 64, 64));
+  EXPECT_GT(projected_grid_step_px(mesh, close, 64, 64),
+            projected_grid_step_px(mesh, camera, 64, 64));
 }
 
 TEST(MeshLevelOfDetail, EmptyOrUnseenMeshKeepsFullDetail) {
