@@ -1,6 +1,7 @@
 // gvkit facemap landmarks MESH -o LANDMARKS.json [--image PNG]: 68 landmarks for a mesh that has
-// none, from dlib on a frontal render of the mesh, lifted back onto the surface (points_mm in the
-// mesh's frame, the input `facemap clean` takes with a mesh).
+// none, from dlib on a frontal render of the mesh (its texture image when it has one), lifted
+// back onto the surface (points_mm in the mesh file's frame and units, the input `facemap clean`
+// takes with a mesh). The mesh is read as the file has it and repaired first (mesh_from_soup).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -10,8 +11,9 @@
 #include "command.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/image_io.hpp"
-#include "gvkit/core/mesh_io.hpp"
+#include "gvkit/core/triangle_soup.hpp"
 #include "gvkit/facemap/landmark_detector.hpp"
+#include "gvkit/facemap/mesh_from_soup.hpp"
 #include "gvkit/facemap/mesh_landmarks.hpp"
 
 namespace gvkit::tools {
@@ -24,12 +26,14 @@ struct Options {
 
 void run(const Options& o) {
   throw_if_error(o.landmarks.check());
-  const Mesh mesh = value_or_throw(read_mesh(o.mesh));
+  const TriangleSoup soup = value_or_throw(read_triangle_soup(o.mesh));
+  const facemap::SoupMesh repaired = value_or_throw(facemap::mesh_from_soup(soup, o.mesh));
+  const Mesh& mesh = repaired.mesh;
   facemap::LandmarkDetectorOptions detector_options;
   detector_options.model_path = o.model;
   const auto detector = value_or_throw(facemap::LandmarkDetector::create(detector_options));
-  const auto found =
-      value_or_throw(facemap::detect_mesh_landmarks(mesh, detector, o.mesh, o.landmarks));
+  const auto found = value_or_throw(
+      facemap::detect_mesh_landmarks(mesh, detector, o.mesh, o.landmarks, &repaired.texture));
   throw_if_error(write_face_landmarks(o.output, found.landmarks));
   if (!o.image.empty()) {
     cv::Mat grey, colour;
@@ -40,10 +44,14 @@ void run(const Options& o) {
     throw_if_error(write_image(o.image, colour));
   }
   std::printf(
-      "%s: 68 landmarks (render %s, %dx%d px, %.3f mm/px, roll %d deg, %d moved onto "
-      "the surface) -> %s\n",
-      o.mesh.c_str(), found.render.coloured ? "vertex colours" : "shaded", found.render.image.cols,
-      found.render.image.rows, found.render.pixel_mm, found.roll_deg, found.gap_filled,
+      "%s: 68 landmarks (render %s, %dx%d px, %.3f mm/px, view %s, roll %d deg, %d moved onto "
+      "the surface, %d out of cavities) -> %s\n",
+      o.mesh.c_str(),
+      found.render.textured   ? "texture"
+      : found.render.coloured ? "vertex colours"
+                              : "shaded",
+      found.render.image.cols, found.render.image.rows, found.render.pixel_mm,
+      found.view_name.c_str(), found.roll_deg, found.gap_filled, found.cavity_moved,
       o.output.c_str());
 }
 
@@ -53,7 +61,7 @@ void add_facemap_landmarks_command(CLI::App& app) {
   auto o = std::make_shared<Options>();
   auto* cmd = facemap_group(app)->add_subcommand(
       "landmarks", "68 landmarks of a mesh from dlib on a frontal render (points_mm)");
-  cmd->add_option("MESH", o->mesh, "Mesh (PLY/OBJ, mm)")->required();
+  cmd->add_option("MESH", o->mesh, "Mesh (PLY/OBJ; the points are in its own units)")->required();
   cmd->add_option("-o,--output", o->output, "Landmarks JSON (e.g. frame_000000.landmarks.json)")
       ->required();
   cmd->add_option("--image", o->image, "Also write the render with the points (PNG)");

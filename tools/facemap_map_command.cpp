@@ -37,7 +37,8 @@ namespace fs = std::filesystem;
 using facemap::MappedFace;
 
 struct MapCommandOptions {
-  std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle";
+  std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle",
+                             solver = "auto";
   int threads = 0;
   bool same_vertices = false;
   bool plain_cotan = false;
@@ -107,6 +108,19 @@ nlohmann::json own_entry(const FrameResult& r, const MappedFace& m, const std::s
   if (method == "eip") {
     f["untangled_vertices"] = m.st_untangled;
     f["cut_method"] = m.cut_method;
+    const auto& t = m.timing;
+    f["cpu_ms"] = {{"annulus", t.annulus_ms},
+                   {"cut_distances", t.cut_distance_ms},
+                   {"laplacian", t.laplacian_ms},
+                   {"order", t.order_ms},
+                   {"f", t.f_ms},
+                   {"psi", t.psi_ms},
+                   {"correspondence", t.correspondence_ms},
+                   {"untangle", t.untangle_ms},
+                   {"resample", t.resample_ms},
+                   {"landmarks", t.landmarks_ms},
+                   {"quality", t.quality_ms},
+                   {"total", t.total_ms}};
   }
   if (!m.warnings.empty()) f["warnings"] = m.warnings;
   nlohmann::json landmarks = nlohmann::json::array();
@@ -152,6 +166,13 @@ void run(const MapCommandOptions& o) {
     throw CommandFailed(
         invalid_argument("--rim must be arclength, angle or flow, got '" + o.rim + "'"));
   if (o.threads < 0) throw CommandFailed(invalid_argument("--threads must be >= 0"));
+  if (o.solver != "auto" && o.solver != "direct" && o.solver != "multigrid")
+    throw CommandFailed(
+        invalid_argument("--solver must be auto, direct or multigrid, got '" + o.solver + "'"));
+  facemap::EipOptions eip_options;
+  eip_options.solver = o.solver == "direct"      ? facemap::HarmonicSolver::kDirect
+                       : o.solver == "multigrid" ? facemap::HarmonicSolver::kMultigrid
+                                                 : facemap::HarmonicSolver::kAuto;
   const auto meshes = value_or_throw(list_frame_files(o.faces, ".ply"));
   if (meshes.empty()) throw CommandFailed(not_found(o.faces + ": no frame_NNNNNN.ply files"));
   throw_if_error(ensure_directory(o.output));
@@ -178,6 +199,7 @@ void run(const MapCommandOptions& o) {
                                   {"method", o.method},
                                   {"rim", o.rim},
                                   {"plain_cotan", o.plain_cotan},
+                                  {"solver", o.solver},
                                   {"domain", o.domain},
                                   {"threads", o.threads},
                                   {"same_vertices", o.same_vertices},
@@ -213,9 +235,9 @@ void run(const MapCommandOptions& o) {
     auto landmarks = read_face_landmarks(frame_path(o.faces, r.index, ".landmarks.json"));
     if (!mesh.is_ok()) return fail(mesh.status());
     if (!landmarks.is_ok()) return fail(landmarks.status());
-    Result<MappedFace> mapped = o.method == "eip"
-                                    ? facemap::map_face_eip(*mesh, *landmarks, *domain, distance)
-                                    : facemap::map_face_hm(*mesh, *landmarks, size);
+    Result<MappedFace> mapped =
+        o.method == "eip" ? facemap::map_face_eip(*mesh, *landmarks, *domain, distance, eip_options)
+                          : facemap::map_face_hm(*mesh, *landmarks, size);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!mapped.is_ok())
@@ -396,6 +418,11 @@ void add_facemap_map_command(CLI::App& app) {
                 "EIP: solve f and its conjugate with the plain cotangent weights, negative ones "
                 "included (the seed's; default: every edge weight floored at 0.005, so f has no "
                 "interior extrema)");
+  cmd->add_option("--solver", o->solver,
+                  "EIP: how f and its conjugate are solved: direct (sparse LDL'), multigrid "
+                  "(conjugate gradients with an algebraic multigrid preconditioner, to 1e-10) or "
+                  "auto (multigrid from 100,000 vertices on)")
+      ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--same-vertices", o->same_vertices,

@@ -9,7 +9,8 @@
 //   - threads: encode wall time and bytes identical to one thread
 //   - peers through libavcodec: FFV1 16-bit lossless, x264 10-bit and x265 12-bit 4:4:4 with the
 //     given GOP (I every --gop frames, one B frame between P frames) at --peer-preset
-// Usage: codec_tools_compare [--ict DIR | --gv DIR] [--size N] [--frames N] [--gop N] [--bframes N]
+// Usage: codec_tools_compare [--ict DIR | --gv DIR [--no-texture]] [--size N] [--frames N] [--gop
+// N] [--bframes N]
 //                            [--no-peers] [--peer-preset P] [--rate-only] [--subpel-only]
 //                            [--bits-only] [--motion-only] [--bframes-only] [--transform-only]
 //                            [--refs-only [--refs-preset fast|slow]] [--cross-plane-only]
@@ -60,6 +61,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -500,6 +502,49 @@ void report_on_off(const Material& m, const EncoderOptions& base, const std::vec
                 fps[k][1] / fps[k][0]);
 }
 
+// Encoder speed decisions (encoder only, the stream syntax unchanged): per preset, the curve
+// with every decision off (the encoder before them), each decision alone and all of them
+// together; mean encode frames per CPU second and the BD-rate against the decisions off.
+struct SpeedVariant {
+  std::string name;
+  std::function<void(EncoderOptions&)> set;
+};
+void report_speed(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
+                  const std::vector<Preset>& presets, const std::vector<SpeedVariant>& variants) {
+  print_header();
+  for (const Preset preset : presets) {
+    std::vector<std::vector<RdPoint>> curves;
+    std::vector<double> fps(variants.size(), 0.0);
+    for (size_t v = 0; v < variants.size(); ++v) {
+      EncoderOptions o = base;
+      o.preset = preset;
+      variants[v].set(o);
+      std::vector<RdPoint> points;
+      double seconds = 0;  // CPU seconds of every encode of the curve
+      for (int qp : qps) {
+        o.qp = qp;
+        const Run r = run_ours(m, o);
+        print_row(std::string(preset_name(preset)) + ", " + variants[v].name,
+                  "qp " + std::to_string(qp), r);
+        points.push_back(r.point);
+        seconds += static_cast<double>(m.frames.size()) / r.encode_fps;
+      }
+      curves.push_back(points);
+      fps[v] = static_cast<double>(m.frames.size() * qps.size()) / seconds;
+    }
+    std::printf(
+        "\n| %s preset | encode fps (CPU, all frames of the curve) | speed | BD-rate "
+        "|\n|---|---|---|---|\n",
+        preset_name(preset));
+    for (size_t v = 0; v < variants.size(); ++v) {
+      const auto bd = bd_rate_percent(curves[0], curves[v]);
+      std::printf("| %s | %.2f | %.2fx | %s |\n", variants[v].name.c_str(), fps[v], fps[v] / fps[0],
+                  bd ? (std::to_string(*bd).substr(0, 6) + " %").c_str() : "no overlap");
+    }
+    std::fflush(stdout);
+  }
+}
+
 // Format 1.6: cross-plane residual prediction off and on, fast and slow preset, intra only (both
 // presets), lossless and near-lossless; BD-rates on vs off and against x265, and the scales.
 void report_cross_plane(const Material& m, const EncoderOptions& base, const std::vector<int>& qps,
@@ -879,7 +924,8 @@ int main(int argc, char** argv) {
        bframes_only = false, refs_only = false, transform_only = false, cross_plane_only = false,
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
-       td16_only = false, quadratic_only = false, resolution_only = false;
+       td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false,
+       no_texture = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -903,6 +949,8 @@ int main(int argc, char** argv) {
       ict = argv[++i];
     else if (a == "--gv" && i + 1 < argc)
       gv_dir = argv[++i];
+    else if (a == "--no-texture")
+      no_texture = true;
     else if (a == "--size" && i + 1 < argc)
       vo.size = std::atoi(argv[++i]);
     else if (a == "--frames" && i + 1 < argc)
@@ -919,6 +967,8 @@ int main(int argc, char** argv) {
       intra_rdo_only = true;
     else if (a == "--temporal-contexts-only")
       temporal_only = true;
+    else if (a == "--speed-only")
+      speed_only = true;
     else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--td16-only")
@@ -959,7 +1009,8 @@ int main(int argc, char** argv) {
     else if (a == "--refs-only")
       refs_only = true;
     else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
-              a == "--deblock-preset" || a == "--temporal-contexts-preset") &&
+              a == "--deblock-preset" || a == "--temporal-contexts-preset" ||
+              a == "--speed-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -993,7 +1044,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: no frame_NNNNNN.exr files\n", gv_dir.c_str());
       return 1;
     }
-    for (const auto& f : *files) m.frames.push_back(read_geometry_image_exr(f.path).value());
+    for (const auto& f : *files) {
+      m.frames.push_back(read_geometry_image_exr(f.path).value());
+      if (no_texture) m.frames.back().texture = cv::Mat();  // --no-texture: X, Y, Z only
+    }
   } else {
     auto frames = testing::make_ict_face_video(ict, vo);
     if (!frames.is_ok()) {
@@ -1071,6 +1125,22 @@ int main(int argc, char** argv) {
                   set);
     return 0;
   };
+  if (speed_only) {
+    // Each variant sets every decision.
+    const auto set = [](EncoderOptions& o, int shortlist, bool early_exit) {
+      o.rdo_shortlist = shortlist;
+      o.transform_early_exit = early_exit;
+    };
+    const std::vector<SpeedVariant> variants = {
+        {"decisions off", [&](EncoderOptions& o) { set(o, 0, false); }},
+        {"rdo-shortlist=3", [&](EncoderOptions& o) { set(o, 3, false); }},
+        {"rdo-shortlist=2", [&](EncoderOptions& o) { set(o, 2, false); }},
+        {"transform-early-exit", [&](EncoderOptions& o) { set(o, 0, true); }},
+        {"rdo-shortlist=3 transform-early-exit", [&](EncoderOptions& o) { set(o, 3, true); }},
+    };
+    report_speed(m, base, qps, refs_presets, variants);
+    return 0;
+  }
   if (rdoq_only)
     return on_off(refs_presets, "--rdoq", "--no-rdoq",
                   [](EncoderOptions& o, bool on) { o.rdoq = on; });

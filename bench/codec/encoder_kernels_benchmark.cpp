@@ -8,6 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "forward_transform16x16_simd.hpp"
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/transform.hpp"
@@ -108,6 +109,29 @@ void BM_QuantizeBlock(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_QuantizeBlock)->ArgsProduct({{4, 8, 16}, {0, 1}})->ArgNames({"n", "rdo"});
+
+// The 16x16 forward transform of a residual within the 32-bit range: the int64 butterfly
+// (method 0, the only path before the 32-bit one), the portable 32-bit version (1), the AVX2
+// one (2), and the matrix-product reference (3).
+void BM_ForwardTransform16x16(benchmark::State& state) {
+  const int method = static_cast<int>(state.range(0));
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<int> u(-3000, 3000);
+  int32_t residual[256], coeffs[256];
+  for (int32_t& v : residual) v = u(rng);
+  for (auto _ : state) {
+    if (method == 0)
+      forward_transform16x16_butterfly64(residual, coeffs);
+    else if (method == 1)
+      detail::forward_transform16x16_32(residual, coeffs);
+    else if (method == 2)
+      detail::forward_transform16x16_32_avx2(residual, coeffs);
+    else
+      forward_transform16x16_reference(residual, coeffs);
+    benchmark::DoNotOptimize(coeffs);
+  }
+}
+BENCHMARK(BM_ForwardTransform16x16)->DenseRange(0, 3)->ArgName("method");
 
 void BM_QuarterSample16x16AllPhases(benchmark::State& state) {
   const SamplePlane ref = random_plane(64);

@@ -4,6 +4,10 @@
 // frame).
 #include <benchmark/benchmark.h>
 
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -17,9 +21,12 @@
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/eip_map.hpp"
 #include "gvkit/facemap/face_annulus.hpp"
+#include "gvkit/facemap/face_cleaning.hpp"
 #include "gvkit/facemap/flow_coordinates.hpp"
 #include "gvkit/facemap/harmonic_field.hpp"
 #include "gvkit/facemap/harmonic_map_baseline.hpp"
+#include "gvkit/facemap/multigrid_solver.hpp"
+#include "gvkit/facemap/synthetic_face_scan.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -30,7 +37,8 @@ struct Face {
 };
 
 // range(0): 0 = ICT neutral, 1 = ICT jaw half open + smile, 2 = first frame of
-// $GVKIT_BENCH_FACES.
+// $GVKIT_BENCH_FACES, 3 = the 250K-vertex face: the neutral ICT face rendered at 672 x 672 px
+// (the clean bench's CleanScan/672 scan, 255K vertices) and cleaned (about 247K vertices).
 const Face* face(int which) {
   static std::map<int, std::optional<Face>> cache;
   auto it = cache.find(which);
@@ -46,6 +54,19 @@ const Face* face(int which) {
       for (int v : model->landmark_vertices())
         f.landmarks.points_mm.emplace_back(pos[v][0], pos[v][1], pos[v][2]);
       out = std::move(f);
+    }
+  } else if (which == 3) {
+    auto model = IctFaceModel::load(std::filesystem::path(GVKIT_SHARED_DATA_DIR) / "ict-facekit",
+                                    {"jawOpen"});
+    if (model.is_ok()) {
+      SyntheticFaceScanOptions o;
+      o.size_px = 672;
+      o.pixel_mm = 0.8 * 256.0 / o.size_px;
+      const auto synthetic = render_synthetic_face_scan(*model, model->neutral_mm(), o);
+      FaceLandmarks landmarks;
+      landmarks.points_px = synthetic.landmarks.points_px;
+      auto cleaned = clean_scan(synthetic.scan, landmarks);
+      if (cleaned.is_ok()) out = Face{std::move(cleaned->mesh), std::move(cleaned->landmarks)};
     }
   } else if (const char* dir = std::getenv("GVKIT_BENCH_FACES")) {
     auto files = list_frame_files(dir, ".ply");
@@ -103,7 +124,7 @@ void BM_FaceAnnulus(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FaceAnnulus)
-    ->ArgsProduct({{0, 1, 2}, {0, 1, 2}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2}})
     ->ArgNames({"face", "cuts"})
     ->Unit(benchmark::kMillisecond);
 
@@ -117,7 +138,7 @@ void BM_FlowCoordinates(benchmark::State& state) {
   if (a->key_names() != d->key_names()) a->reverse_orientation();
   for (auto _ : state) benchmark::DoNotOptimize(flow_coordinates(*a, d->key_u()));
 }
-BENCHMARK(BM_FlowCoordinates)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlowCoordinates)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 // f and psi of the annulus: range(1) = 0 orders each reduced system on its own (the reference),
 // 1 uses one elimination order of the whole Laplacian for both (what flow_coordinates does).
@@ -139,9 +160,74 @@ void BM_HarmonicSolves(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_HarmonicSolves)
-    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
     ->ArgNames({"face", "one_order"})
     ->Unit(benchmark::kMillisecond);
+
+// f's system (the annulus's Laplacian, floored weights, restricted to the free vertices) on each
+// sparse solver. range(1): 0 = Eigen SimplicialLDLT with its AMD order (what the direct path
+// factorizes), 1 = CHOLMOD supernodal LL' (reference BLAS), 2 = CHOLMOD simplicial LDL',
+// 3 = MultigridSolver (counters: setup and solve wall ms, iterations, levels, max_err = the
+// largest difference to the LDLT solution over its largest value).
+void BM_DirichletSolvers(benchmark::State& state) {
+  REQUIRE_FACE(state);
+  auto a = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
+  if (!a.is_ok()) return state.SkipWithError(a.status().message().c_str());
+  const TriSurface& s = a->surface;
+  const int n = s.n_vertices();
+  std::vector<char> fixed(n, 0);
+  for (int v : a->outer_loop) fixed[v] = 1;
+  for (int v : a->inner_loop) fixed[v] = 1;
+  std::vector<int> index(n, -1);
+  int m = 0;
+  for (int v = 0; v < n; ++v)
+    if (!fixed[v]) index[v] = m++;
+  const auto laplacian = cotan_laplacian(s, kDefaultMinCotanWeight);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int col = 0; col < n; ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
+      if (index[col] >= 0 && index[it.row()] >= 0)
+        entries.emplace_back(index[it.row()], index[col], it.value());
+  Eigen::SparseMatrix<double> system(m, m);
+  system.setFromTriplets(entries.begin(), entries.end());
+  Eigen::VectorXd b = Eigen::VectorXd::Ones(m);
+  double nnz = 0;
+  Eigen::VectorXd reference;
+  if (state.range(1) == 3)
+    reference = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>(system).solve(b);
+  for (auto _ : state) {
+    if (state.range(1) == 0) {
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
+      benchmark::DoNotOptimize(solver.solve(b));
+      nnz = solver.matrixL().nestedExpression().nonZeros();
+    } else if (state.range(1) == 1) {
+      Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(system);
+      benchmark::DoNotOptimize(solver.solve(b));
+      nnz = solver.cholmod().lnz;
+    } else if (state.range(1) == 2) {
+      Eigen::CholmodSimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
+      benchmark::DoNotOptimize(solver.solve(b));
+      nnz = solver.cholmod().lnz;
+    } else {
+      MultigridSolver solver;
+      auto t0 = std::chrono::steady_clock::now();
+      if (!solver.compute(system).is_ok()) return state.SkipWithError("multigrid setup failed");
+      auto t1 = std::chrono::steady_clock::now();
+      Eigen::VectorXd x;
+      const Status status = solver.solve(b, &x);
+      auto t2 = std::chrono::steady_clock::now();
+      state.counters["setup_ms"] = std::chrono::duration<double, std::milli>(t1 - t0).count();
+      state.counters["solve_ms"] = std::chrono::duration<double, std::milli>(t2 - t1).count();
+      if (!status.is_ok()) return state.SkipWithError(status.message().c_str());
+      state.counters["iterations"] = solver.iterations();
+      state.counters["levels"] = solver.levels();
+      state.counters["max_err"] = (reference - x).cwiseAbs().maxCoeff() / x.cwiseAbs().maxCoeff();
+    }
+  }
+  state.counters["unknowns"] = m;
+  state.counters["nnz_L"] = nnz;
+}
+BENCHMARK(BM_DirichletSolvers)->ArgsProduct({{2, 3}, {0, 1, 2, 3}})->Unit(benchmark::kMillisecond);
 
 // The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
 void BM_MapFaceEip(benchmark::State& state) {
@@ -156,7 +242,7 @@ void BM_MapFaceEip(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MapFaceEip)
-    ->ArgsProduct({{0, 1, 2}, {320}})
+    ->ArgsProduct({{0, 1, 2, 3}, {320}})
     ->ArgNames({"face", "size"})
     ->Unit(benchmark::kMillisecond);
 
@@ -168,7 +254,7 @@ void BM_MapFaceHm(benchmark::State& state) {
     benchmark::DoNotOptimize(m);
   }
 }
-BENCHMARK(BM_MapFaceHm)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MapFaceHm)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace gvkit::facemap

@@ -90,6 +90,9 @@ Status EncoderOptions::check() const {
     if (plane_qp_offset[i] < -12 || plane_qp_offset[i] > 12)
       return invalid_argument("plane QP offset " + std::to_string(plane_qp_offset[i]) +
                               " out of range (-12..12)");
+  if (rdo_shortlist < 0 || rdo_shortlist > 13)
+    return invalid_argument("RDO shortlist " + std::to_string(rdo_shortlist) +
+                            " out of range (0 = every mode, else 1..13)");
   if (p_qp_offset < 0 || p_qp_offset > 12)
     return invalid_argument("P-frame QP offset " + std::to_string(p_qp_offset) +
                             " out of range (0..12)");

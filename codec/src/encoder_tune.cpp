@@ -168,6 +168,13 @@ const std::vector<Entry>& entries() {
       {{"joint-motion-search", "on|off",
         "encoder only, shared motion: X's vectors searched on the error of all three planes"},
        flag(&EncoderOptions::joint_motion_search)},
+      {{"rdo-shortlist", "0..13",
+        "encoder only, slow preset: RDO on this many intra modes per block, the cheapest by "
+        "SATD (0 = every mode; default 3)"},
+       integer(&EncoderOptions::rdo_shortlist)},
+      {{"transform-early-exit", "on|off",
+        "encoder only, slow preset: transform sizes tried from the largest down, stopping early"},
+       flag(&EncoderOptions::transform_early_exit)},
       {{"skip-check", "on|off",
         "encoder only: try the predicted vector first, take a skip found there at once"},
        flag(&EncoderOptions::skip_check)},

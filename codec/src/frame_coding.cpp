@@ -299,6 +299,10 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
         p.rdo = true;
         p.intra_rdo_shortlist = kFastIntraRdoShortlist;
       }
+      if (options.preset == Preset::kSlow && !bypass) {
+        p.intra_rdo_shortlist = options.rdo_shortlist;
+        p.transform_early_exit = options.transform_early_exit;
+      }
       p.search_range = options.search_range;
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;

@@ -83,10 +83,11 @@ Result<std::vector<GeometryImage>> GvidWriter::append(std::vector<SequenceFrame>
     frame_stats_[n] = std::move(f.stats);
     frame_types_[n] = f.type;
   }
-  // Display order: the coded frames are the next ones after those returned before.
-  std::sort(coded.begin(), coded.end(),
-            [](const SequenceFrame& a, const SequenceFrame& b) { return a.number < b.number; });
-  for (SequenceFrame& f : coded) done.push_back(std::move(f.reconstruction));
+  // Display order: each reconstruction once every frame before it has been coded.
+  for (SequenceFrame& f : coded) held_.emplace(f.number, std::move(f.reconstruction));
+  for (auto it = held_.begin(); it != held_.end() && it->first == next_display_;
+       it = held_.erase(it), ++next_display_)
+    done.push_back(std::move(it->second));
   return done;
 }
 

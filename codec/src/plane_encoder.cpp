@@ -850,11 +850,27 @@ class MacroblockEncoder {
     int32_t pred[64], levels[64], best_pred[64];
     double best_cost = std::numeric_limits<double>::infinity();
     int best_mode = kIntraDc;
-    // RDO on a shortlist (p_.intra_rdo_shortlist > 0, 4x4 blocks): the modes of the lowest
-    // SATD-based costs are coded; the others are not tried.
-    const int shortlist = n == 4 && p_.rdo ? p_.intra_rdo_shortlist : 0;
+    // RDO on a shortlist (p_.intra_rdo_shortlist > 0): the modes of the lowest SATD-based costs
+    // are coded; the others are not tried.
+    const int shortlist = p_.rdo ? p_.intra_rdo_shortlist : 0;
     bool listed[kIntra4x4ModeCount];
     std::fill(listed, listed + kIntra4x4ModeCount, shortlist == 0);
+    if (n == 8 && shortlist > 0 && shortlist < mode_count) {
+      double costs[kIntra4x4ModeCount];
+      int order[kIntra4x4ModeCount];
+      for (int mode = 0; mode < mode_count; ++mode) {
+        predict_intra(8, mode, nb, max_value_, pred);
+        add_cross(8, x0, y0, pred);
+        costs[mode] = static_cast<double>(distortion_estimate(8, pred, x0, y0)) +
+                      lambda_sad_ * mode_bits_estimate(mode, mpm);
+        order[mode] = mode;
+      }
+      std::partial_sort(order, order + shortlist, order + mode_count,
+                        [&](int a, int b) { return costs[a] < costs[b]; });
+      for (int k = 0; k < shortlist; ++k) listed[order[k]] = true;
+    } else if (n == 8) {
+      std::fill(listed, listed + kIntra4x4ModeCount, true);
+    }
     if (n == 4 && (!p_.rdo || shortlist > 0)) {
       // Fast decision: every mode predicted and measured in one pass over the neighbours.
       int32_t preds[kIntra4x4ModeCount][16];
@@ -888,7 +904,7 @@ class MacroblockEncoder {
       }
     }
     for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
-      if (!listed[mode] && n == 4) continue;
+      if (!listed[mode]) continue;
       predict_intra(n, mode, nb, max_value_, pred);
       if (td)
         for (int i = 0; i < 16; ++i) pred[i] += ref_block[i];
@@ -1028,29 +1044,55 @@ class MacroblockEncoder {
     std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
     int best_mode = order[0];
     if (p_.rdo) {
-      double best_cost = std::numeric_limits<double>::infinity();
       const int shortlist =
           p_.intra_rdo_shortlist > 0 ? std::min(p_.intra_rdo_shortlist, modes) : modes;
+      ModeResidual best;
       for (int k = 0; k < shortlist; ++k) {
         predict_td16(recon_, td_window_, mb_x_, mb_y_, order[k], p_.bit_depth, pred);
         add_cross(16, x0, y0, pred);
-        MacroblockData m = mb;
-        ContextSet scratch = trial;
-        const double cost = code_i16_residual(m, pred, scratch, true);
-        if (cost < best_cost) {
-          best_cost = cost;
+        ModeResidual m{mb, trial};
+        m.cost = code_i16_residual(m.mb, pred, m.contexts, true);
+        if (m.cost < best.cost) {
+          keep_mode_residual(m);
+          best = m;
           best_mode = order[k];
         }
       }
+      mb = best.mb;
+      mb.i16_mode = best_mode;
+      trial = best.contexts;
+      restore_mode_residual();
+      return best.cost + lambda_ * (side_bits - 2);
     }
     mb.i16_mode = best_mode;
     predict_td16(recon_, td_window_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
-    if (p_.rdo) return code_i16_residual(mb, pred, trial, true) + lambda_ * (side_bits - 2);
     const double cost =
         static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
     code_i16_residual(mb, pred, trial, true);
     return cost;
+  }
+
+  // ---- One 16x16 mode's coded residual (I16x16 and TD16 with RDO) ----
+  // A mode's macroblock data and contexts after code_i16_residual; keep_mode_residual saves the
+  // reconstructed samples and coded-block flags it left in the plane, restore_mode_residual puts
+  // the last kept ones back, so the best mode need not be coded a second time.
+  struct ModeResidual {
+    MacroblockData mb;
+    ContextSet contexts;
+    double cost = std::numeric_limits<double>::infinity();
+  };
+  void keep_mode_residual(const ModeResidual&) {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) kept_recon_[y * 16 + x] = recon_.at(x0 + x, y0 + y);
+    for (int i = 0; i < 16; ++i) kept_cbf_[i] = st_.cbf_at(mb_x_ * 4 + i % 4, mb_y_ * 4 + i / 4);
+  }
+  void restore_mode_residual() {
+    const int x0 = mb_x_ * 16, y0 = mb_y_ * 16;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) recon_.at(x0 + x, y0 + y) = kept_recon_[y * 16 + x];
+    for (int i = 0; i < 16; ++i) st_.cbf_at(mb_x_ * 4 + i % 4, mb_y_ * 4 + i / 4) = kept_cbf_[i];
   }
 
   double try_i8(MacroblockData& mb, ContextSet& trial) {
@@ -1059,6 +1101,7 @@ class MacroblockEncoder {
       const int gx = mb_x_ * 4 + (q & 1) * 2, gy = mb_y_ * 4 + (q >> 1) * 2;
       cost += try_block_modes(8, q * 4, kIntra8x8ModeCount, most_probable_mode(st_, gx, gy, true),
                               trial, &mb.modes[q], mb.levels8[q]);
+      if (cost >= bound_) return cost;  // cannot win: the rest is not needed
     }
     mb.cbp = 0;
     for (int q = 0; q < 4; ++q)
@@ -1090,15 +1133,19 @@ class MacroblockEncoder {
       std::sort(order, order + modes, [&](int a, int b) { return estimate[a] < estimate[b]; });
       for (int k = 0; k < p_.intra_rdo_shortlist; ++k) listed[order[k]] = true;
     }
+    ModeResidual best;
     for (int mode = 0; mode < modes; ++mode) {
       if (!listed[mode]) continue;
       predict_i16(recon_, mb_x_, mb_y_, mode, p_.bit_depth, pred);
       add_cross(16, x0, y0, pred);
       double cost;
       if (p_.rdo) {
-        MacroblockData m;
-        ContextSet scratch = trial;
-        cost = code_i16_residual(m, pred, scratch);
+        ModeResidual m{mb, trial};
+        cost = m.cost = code_i16_residual(m.mb, pred, m.contexts);
+        if (cost < best_cost) {
+          keep_mode_residual(m);
+          best = m;
+        }
       } else {
         cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * 2;
       }
@@ -1106,6 +1153,13 @@ class MacroblockEncoder {
         best_cost = cost;
         best_mode = mode;
       }
+    }
+    if (p_.rdo) {  // the best mode as it was coded
+      mb = best.mb;
+      mb.i16_mode = best_mode;
+      trial = best.contexts;
+      restore_mode_residual();
+      return best.cost;
     }
     predict_i16(recon_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
@@ -1146,7 +1200,13 @@ class MacroblockEncoder {
     uint8_t best_cbp = 0;
     ContextSet best_ctx;
     std::array<uint16_t, 256> best_recon;
-    for (int size = 4; size <= p_.max_transform; size *= 2) {
+    // Early exit (p_.transform_early_exit): the largest size first; when it leaves no level,
+    // or a smaller size costs more than a larger one, the smaller sizes are not tried.
+    const bool early_exit = p_.transform_early_exit && p_.rdo;
+    double previous_cost = std::numeric_limits<double>::infinity();
+    for (int k = 0, size = early_exit ? p_.max_transform : 4; k < 3;
+         ++k, size = early_exit ? size / 2 : size * 2) {
+      if (size < 4 || size > p_.max_transform) break;
       // Fast preset: 4x4 or the largest size only (8x8 as well would cost ~10 % of its speed).
       if (!p_.rdo && size != 4 && size != p_.max_transform) continue;
       ContextSet t = trial;
@@ -1158,7 +1218,7 @@ class MacroblockEncoder {
         write_transform_size(counter, t, st_, mb_x_, mb_y_, size, mb.cbp, p_.max_transform);
         cost += lambda_ * counter.bits();
       }
-      if (cost < best_cost) {
+      if (early_exit ? cost <= best_cost : cost < best_cost) {
         best_cost = cost;
         best_size = size;
         best_cbp = mb.cbp;
@@ -1166,6 +1226,8 @@ class MacroblockEncoder {
         for (int y = 0; y < 16; ++y)
           for (int x = 0; x < 16; ++x) best_recon[y * 16 + x] = recon_.at(x0 + x, y0 + y);
       }
+      if (early_exit && (mb.cbp == 0 || cost > previous_cost)) break;
+      previous_cost = cost;
     }
     // Slow preset with RDO quantization: no residual at all (cbp 0), the prediction as the
     // reconstruction, when that is cheaper than every size's levels (whose cost does not count
@@ -1351,6 +1413,9 @@ class MacroblockEncoder {
   int skip_mv_x_ = 0, skip_mv_y_ = 0;
   int merge_cand_[kMergeCandidates][2] = {};
   int merge_count_ = 0;
+  // keep_mode_residual's samples and coded-block flags of the current macroblock.
+  std::array<uint16_t, 256> kept_recon_{};
+  std::array<uint8_t, 16> kept_cbf_{};
   int merge_k_ = 0;
   int cur_ref_ = 0;  // reference of the inter candidate (reused by try_td)
   double last_cost_ = 0;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdlib>
 
+#include "forward_transform16x16_simd.hpp"
 #include "gvkit/codec/transform.hpp"
 
 namespace gvkit::codec {
@@ -121,6 +122,14 @@ const int8_t kTransform16[16][16] = {
 const std::array<uint16_t, 256> kZigzag16x16 = make_zigzag16();
 
 void forward_transform16x16(const int32_t* residual, int32_t* coeffs) {
+  // Residuals below 2^14 (nearly all): the 32-bit vectorised version, the same output.
+  if (detail::forward_transform16x16_fits_32(residual))
+    detail::forward_transform16x16_32_avx2(residual, coeffs);
+  else
+    forward_transform16x16_butterfly64(residual, coeffs);
+}
+
+void forward_transform16x16_butterfly64(const int32_t* residual, int32_t* coeffs) {
   int64_t in[256], t[256], out[256];
   for (int i = 0; i < 256; ++i) in[i] = residual[i];
   // Rows (over x), then columns (over y).

@@ -1,5 +1,6 @@
 #include "gvkit/core/face_landmarks_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gvkit/core/json_io.hpp"
@@ -16,6 +17,15 @@ Result<FaceLandmarks> read_face_landmarks(const std::filesystem::path& path) {
       return corrupt_data(path.string() + ": " + key + " must list 68 points");
     for (size_t i = 0; i < list.size(); ++i) {
       const auto& p = list[i];
+      // An absent jaw point (landmarks from a 51-point set) is null, or a list of nulls.
+      const bool absent = p.is_null() || (p.is_array() && !p.empty() &&
+                                          std::all_of(p.begin(), p.end(),
+                                                      [](const auto& x) { return x.is_null(); }));
+      if (absent && i < FaceLandmarks::kJawCount) {
+        const double nan[3] = {NAN, NAN, NAN};
+        add(nan);
+        continue;
+      }
       if (!p.is_array() || static_cast<int>(p.size()) != dims)
         return corrupt_data(path.string() + ": " + key + "[" + std::to_string(i) + "] must have " +
                             std::to_string(dims) + " numbers");

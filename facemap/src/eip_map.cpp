@@ -5,7 +5,9 @@
 #include <string>
 
 #include "gvkit/facemap/map_metrics.hpp"
+#include "gvkit/facemap/nearest_vertices.hpp"
 #include "gvkit/facemap/triangle_locator.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace gvkit::facemap {
 
@@ -30,17 +32,10 @@ DistanceFunction heat_geodesic_distance(const HeatGeodesicsOptions& options) {
 }
 
 std::vector<int> nearest_vertices(const Mesh& mesh, const FaceLandmarks& landmarks) {
+  std::vector<Mesh::Point> points;
+  for (const auto& q : landmarks.points_mm) points.emplace_back(q[0], q[1], q[2]);
   std::vector<int> out;
-  for (const auto& q : landmarks.points_mm) {
-    const Mesh::Point p(q[0], q[1], q[2]);
-    double best = std::numeric_limits<double>::infinity();
-    int best_v = -1;
-    for (auto v : mesh.vertices()) {
-      const double d = (mesh.point(v) - p).sqrnorm();
-      if (d < best) best = d, best_v = v.idx();
-    }
-    out.push_back(best_v);
-  }
+  for (auto v : nearest_vertices(mesh, points)) out.push_back(v.is_valid() ? v.idx() : -1);
   return out;
 }
 
@@ -87,9 +82,18 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
                                 const CanonicalDomain& domain, const DistanceFunction& distance,
                                 const EipOptions& options) {
   GVKIT_RETURN_IF_ERROR(options.check());
+  const double start = thread_cpu_ms();
+  double clock = start;
+  auto lap = [&clock](double* ms) {
+    const double now = thread_cpu_ms();
+    *ms += now - clock;
+    clock = now;
+  };
   GVKIT_ASSIGN_OR_RETURN(FaceAnnulus annulus,
                          make_face_annulus(mesh, landmarks, distance, options.annulus));
   MappedFace out;
+  lap(&out.timing.annulus_ms);
+  out.timing.cut_distance_ms = annulus.distance_ms;
   if (annulus.key_names() != domain.key_names()) {
     annulus.reverse_orientation();
     if (annulus.key_names() != domain.key_names()) {
@@ -106,9 +110,16 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
     }
     out.warnings.push_back("mesh faces are oriented clockwise seen from the front; reversed");
   }
-  GVKIT_ASSIGN_OR_RETURN(
-      FlowCoordinates flow,
-      flow_coordinates(annulus, domain.key_u(), domain.flow().rim, domain.flow().min_cotan_weight));
+  GVKIT_ASSIGN_OR_RETURN(FlowCoordinates flow,
+                         flow_coordinates(annulus, domain.key_u(), domain.flow().rim,
+                                          domain.flow().min_cotan_weight, options.solver));
+  lap(&out.timing.fields_ms);
+  out.timing.laplacian_ms = flow.timing.laplacian_ms;
+  out.timing.order_ms = flow.timing.order_ms;
+  out.timing.f_ms = flow.timing.f_ms;
+  out.timing.psi_ms = flow.timing.psi_ms;
+  out.timing.correspondence_ms = flow.timing.correspondence_ms;
+  out.timing.untangle_ms = flow.timing.untangle_ms;
   out.interior_extrema = flow.field_report.interior_extrema;
   out.boundary_nonmonotone = flow.boundary_nonmonotone;
   out.st_flipped = flow.flipped;
@@ -185,6 +196,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
       filled.at<uint8_t>(y, x) = 255;
     }
   out.unmapped_pixels = fill_unmapped_pixels(image, filled);
+  lap(&out.timing.resample_ms);
 
   // Landmarks: the flow coordinates of their nearest vertex, located in D.
   std::vector<int> corner_of_input(mesh.n_vertices(), -1);
@@ -200,17 +212,18 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
                                      : domain.pixel_of(st_corners[c].x(), st_corners[c].y()));
   }
 
-  // Boundary key points: the flow coordinates of their vertex, located in D.
+  // Boundary key points: the flow coordinates of their vertex (at its first corner), located in
+  // D.
+  std::vector<int> vertex_corner(s.n_vertices(), -1);
+  for (int c = 3 * s.n_triangles() - 1; c >= 0; --c) vertex_corner[s.triangles[c / 3][c % 3]] = c;
   for (const auto& key : annulus.keys) {
     const int v = annulus.inner_loop[key.position];
-    for (int k = 0; k < s.n_triangles() && !out.keys_px.count(key.name); ++k)
-      for (int j = 0; j < 3; ++j)
-        if (s.triangles[k][j] == v) {
-          out.keys_px[key.name] = domain.pixel_of(flow.corner_s[3 * k + j], flow.t[v]);
-          break;
-        }
+    const int c = vertex_corner[v];
+    if (c >= 0 && !out.keys_px.count(key.name))
+      out.keys_px[key.name] = domain.pixel_of(flow.corner_s[c], flow.t[v]);
   }
 
+  lap(&out.timing.landmarks_ms);
   if (options.measure_quality) {
     std::vector<Eigen::Vector3d> xyz(3 * s.n_triangles());
     std::vector<Eigen::Vector2d> uv(3 * s.n_triangles());
@@ -231,6 +244,8 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
     // Counter-clockwise seen from the front is clockwise in pixels (y down): negative area.
     out.quality = measure_map_quality(xyz, uv, -1);
   }
+  lap(&out.timing.quality_ms);
+  out.timing.total_ms = clock - start;
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include "gvkit/facemap/mesh_cutting.hpp"
 #include "gvkit/facemap/mesh_repair.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -667,7 +668,7 @@ Result<FaceAnnulus> build_annulus(const Mesh& mesh, const std::vector<int>& orig
   // in the frontal (x, y) plane (the farthest crossing of the rim along the line).
   {
     const cv::Vec3f& q30 = landmarks.points_mm[30];
-    const cv::Vec3f& q8 = landmarks.points_mm[8];
+    const cv::Vec3f& q8 = landmarks.chin_or_lower_lip_mm();
     const Eigen::Vector2d o(q30[0], q30[1]);
     const Eigen::Vector2d dir = Eigen::Vector2d(q8[0] - q30[0], q8[1] - q30[1]).normalized();
     a.rim_centre = o;
@@ -725,10 +726,18 @@ Result<FaceAnnulus> make_face_annulus(const Mesh& mesh, const FaceLandmarks& lan
   const int pinch_faces = open_boundary_pinches(&work, &original);
   GVKIT_ASSIGN_OR_RETURN(FaceBoundaries boundaries,
                          find_face_boundaries(work, landmarks, options.boundaries));
+  double distance_ms = 0;
+  const DistanceFunction timed_distance =
+      [&](const Mesh& m, const std::vector<Mesh::VertexHandle>& sources, double edge_scale) {
+        const double start = thread_cpu_ms();
+        auto fields = distance(m, sources, edge_scale);
+        distance_ms += thread_cpu_ms() - start;
+        return fields;
+      };
   auto attempt = [&](bool edge_paths, double crop_mm) {
-    Result<FaceAnnulus> a = build_annulus(work, original, landmarks, boundaries, distance, options,
-                                          edge_paths, crop_mm);
-    if (a.is_ok()) a->pinch_faces_removed = pinch_faces;
+    Result<FaceAnnulus> a = build_annulus(work, original, landmarks, boundaries, timed_distance,
+                                          options, edge_paths, crop_mm);
+    if (a.is_ok()) a->pinch_faces_removed = pinch_faces, a->distance_ms = distance_ms;
     return a;
   };
   if (!options.descent_paths) return attempt(true, 0);

@@ -141,7 +141,12 @@ Result<CleanedFace> transfer_cleaned_face(const CleanedFace& reference, const Me
                             std::to_string(reference_input.n_faces()) + ")");
   std::vector<cv::Vec3d> points;
   for (auto v : reference.mesh.vertices()) points.push_back(vec(reference.mesh.point(v)));
-  for (const auto& p : reference.landmarks.points_mm) points.emplace_back(p);
+  // Absent landmarks (NaN: a 51-point set's jaw) stay absent.
+  std::vector<char> present;
+  for (const auto& p : reference.landmarks.points_mm) {
+    present.push_back(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
+    if (present.back()) points.emplace_back(p);
+  }
   GVKIT_ASSIGN_OR_RETURN(auto anchors, anchor_points(reference_input, points));
   CleanedFace out;
   out.mesh = reference.mesh;
@@ -155,8 +160,10 @@ Result<CleanedFace> transfer_cleaned_face(const CleanedFace& reference, const Me
     if (off > 1e-6) ++s.off_surface_vertices;
     s.max_offset_mm = std::max(s.max_offset_mm, off);
   }
-  for (size_t i = n; i < anchors.size(); ++i)
-    out.landmarks.points_mm.emplace_back(evaluate_anchor(target_input, anchors[i]));
+  for (size_t i = 0, k = n; i < present.size(); ++i)
+    out.landmarks.points_mm.push_back(present[i]
+                                          ? cv::Vec3f(evaluate_anchor(target_input, anchors[k++]))
+                                          : cv::Vec3f(NAN, NAN, NAN));
   if (stats) *stats = s;
   return out;
 }

@@ -1,6 +1,7 @@
 #include "gvkit/facemap/flow_coordinates.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -8,6 +9,7 @@
 #include <Eigen/SparseLU>
 
 #include "directed_edges.hpp"
+#include "thread_cpu_time.hpp"
 
 namespace gvkit::facemap {
 
@@ -30,6 +32,32 @@ int majority_sign(const TriSurface& s, const std::vector<double>& t,
     positive += a > 0, negative += a < 0;
   }
   return positive >= negative ? 1 : -1;
+}
+
+// out[c] = value(v, psi[c]) for every corner c = 3k + j of vertex v = triangles[k][j], evaluated
+// once per distinct psi of each vertex: a vertex's corners carry its psi, or psi + 1 across the
+// seam, so two evaluations per vertex instead of one per corner, with the same numbers.
+template <class Value>
+void per_corner_values(const TriSurface& s, const std::vector<double>& psi, Value value,
+                       std::vector<double>* out) {
+  const int n = s.n_vertices();
+  std::vector<std::array<double, 2>> x(n), y(n);
+  std::vector<char> known(n, 0);
+  out->resize(psi.size());
+  for (int k = 0; k < s.n_triangles(); ++k)
+    for (int j = 0; j < 3; ++j) {
+      const int c = 3 * k + j, v = s.triangles[k][j];
+      const double p = psi[c];
+      int slot = 0;
+      while (slot < known[v] && x[v][slot] != p) ++slot;
+      if (slot < known[v]) {
+        (*out)[c] = y[v][slot];
+        continue;
+      }
+      const double result = value(v, p);
+      (*out)[c] = result;
+      if (known[v] < 2) x[v][known[v]] = p, y[v][known[v]] = result, ++known[v];
+    }
 }
 
 }  // namespace
@@ -147,23 +175,39 @@ int untangle_flow_coordinates(const TriSurface& s, const std::vector<char>& fixe
 
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u,
-                                         RimCorrespondence rim, double min_cotan_weight) {
+                                         RimCorrespondence rim, double min_cotan_weight,
+                                         HarmonicSolver solver) {
   const TriSurface& s = annulus.surface;
   const int n = s.n_vertices();
   FlowCoordinates out;
   out.min_cotan_weight = min_cotan_weight;
+  double clock = thread_cpu_ms();
+  auto lap = [&clock](double* ms) {
+    const double now = thread_cpu_ms();
+    *ms += now - clock;
+    clock = now;
+  };
   const Eigen::SparseMatrix<double> laplacian = cotan_laplacian(s, min_cotan_weight);
+  lap(&out.timing.laplacian_ms);
   std::vector<char> fixed(n, 0);
   std::vector<double> value(n, 0.0);
   for (int v : annulus.outer_loop) fixed[v] = 1, value[v] = 0.0;
   for (int v : annulus.inner_loop) fixed[v] = 1, value[v] = 1.0;
-  // f and psi: two systems of the same Laplacian, one elimination order.
-  const std::vector<int> order = laplacian_elimination_order(laplacian);
-  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order));
+  // f and psi: two systems of the same Laplacian, one elimination order (direct solves only).
+  out.solver = resolve_harmonic_solver(solver, n);
+  const std::vector<int> order = out.solver == HarmonicSolver::kDirect
+                                     ? laplacian_elimination_order(laplacian)
+                                     : std::vector<int>{};
+  lap(&out.timing.order_ms);
+  // The solver as given: under kAuto a multigrid iteration that fails falls back to the
+  // factorization (without the shared order, which is computed for direct solves only).
+  GVKIT_ASSIGN_OR_RETURN(out.t, solve_dirichlet(laplacian, fixed, value, order, solver));
   out.field_report = check_harmonic_field(s, laplacian, fixed, out.t);
+  lap(&out.timing.f_ms);
   GVKIT_ASSIGN_OR_RETURN(
       std::vector<double> psi,
-      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order));
+      harmonic_conjugate(s, laplacian, annulus.inner_loop, annulus.outer_loop, order, solver));
+  lap(&out.timing.psi_ms);
 
   // Boundary parameter u along the inner loop (loop order, u(0) at the anchor key).
   const std::vector<int>& loop = annulus.inner_loop;
@@ -238,8 +282,8 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
     const double w = (y - loop_psi[lo]) / (loop_psi[hi] - loop_psi[lo]);
     return u[lo] + std::clamp(w, 0.0, 1.0) * (u[hi] - u[lo]) + shift;
   };
-  out.corner_s.resize(psi.size());
-  for (size_t c = 0; c < psi.size(); ++c) out.corner_s[c] = phi(psi[c]);
+  per_corner_values(
+      s, psi, [&](int, double x) { return phi(x); }, &out.corner_s);
 
   // The rim's correspondence: arc length from the rim anchor, as a map of psi like phi.
   if (rim != RimCorrespondence::kFlow && annulus.rim_anchor[0] >= 0) {
@@ -339,12 +383,13 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
       mean_diff += (phi(x) - phi_rim(x)) / 64;
     }
     const double periods = std::round(mean_diff);
-    for (int k = 0; k < s.n_triangles(); ++k)
-      for (int j = 0; j < 3; ++j) {
-        const double w = out.t[s.triangles[k][j]];
-        const double x = psi[3 * k + j];
-        out.corner_s[3 * k + j] = (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
-      }
+    per_corner_values(
+        s, psi,
+        [&](int v, double x) {
+          const double w = out.t[v];
+          return (1.0 - w) * (phi_rim(x) + periods) + w * phi(x);
+        },
+        &out.corner_s);
     out.rim = rim;
   }
   // Every corner of an inner-loop vertex takes the vertex's exact boundary parameter (up to
@@ -362,8 +407,10 @@ Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
   std::vector<char> on_boundary(n, 0);
   for (int v : annulus.outer_loop) on_boundary[v] = 2;
   for (int v : annulus.inner_loop) on_boundary[v] = 1;
+  lap(&out.timing.correspondence_ms);
   out.untangled_vertices = untangle_flow_coordinates(s, on_boundary, &out.t, &out.corner_s);
   out.flipped = count_flipped(s, out.t, out.corner_s);
+  lap(&out.timing.untangle_ms);
   return out;
 }
 

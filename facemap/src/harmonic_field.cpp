@@ -14,6 +14,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "directed_edges.hpp"
+#include "gvkit/facemap/multigrid_solver.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -74,12 +75,22 @@ Eigen::SparseMatrix<double> reduced_matrix(const Eigen::SparseMatrix<double>& l,
   return a;
 }
 
-// Factorizes a (the reduced system, already in elimination order when `ordered`) and solves.
+// Solves a x = rhs (a: the reduced system, already in elimination order when `ordered`): factorized
+// directly, or by multigrid (which ignores the order).
 Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a,
                                             const Eigen::VectorXd& rhs, bool ordered,
-                                            const std::string& what) {
+                                            HarmonicSolver solver, const std::string& what) {
   Eigen::VectorXd x;
   bool ok = false;
+  if (resolve_harmonic_solver(solver, static_cast<int>(a.rows())) == HarmonicSolver::kMultigrid) {
+    MultigridSolver multigrid;
+    Status status = multigrid.compute(a);
+    if (status.is_ok()) status = multigrid.solve(rhs, &x);
+    if (status.is_ok()) return x;
+    // kAuto falls back to the factorization; a forced multigrid reports why it failed.
+    if (solver == HarmonicSolver::kMultigrid)
+      return failed_precondition(what + ": " + status.message());
+  }
   if (ordered) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
         solver(a);
@@ -95,7 +106,37 @@ Result<Eigen::VectorXd> factorize_and_solve(const Eigen::SparseMatrix<double>& a
   return x;
 }
 
+// psi oriented: it must increase by +1 going once around inner_loop in loop order.
+Result<std::vector<double>> oriented_conjugate(const TriSurface& surface,
+                                               const DirectedEdges& edges,
+                                               const std::vector<int>& inner_loop,
+                                               std::vector<double> psi) {
+  double total = 0;
+  const int m = static_cast<int>(inner_loop.size());
+  for (int i = 0; i < m; ++i) {
+    const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
+    const int k = edges.triangle(u, w);
+    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
+    const auto& t = surface.triangles[k];
+    int su = 0, sw = 0;
+    while (t[su] != u) ++su;
+    while (t[sw] != w) ++sw;
+    total += psi[3 * k + sw] - psi[3 * k + su];
+  }
+  if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
+    return failed_precondition("harmonic conjugate: period around the inner boundary is " +
+                               std::to_string(total) + ", not +-1");
+  if (total < 0)
+    for (double& p : psi) p = -p;
+  return psi;
+}
+
 }  // namespace
+
+HarmonicSolver resolve_harmonic_solver(HarmonicSolver solver, int n_free) {
+  if (solver != HarmonicSolver::kAuto) return solver;
+  return n_free >= kMultigridMinVertices ? HarmonicSolver::kMultigrid : HarmonicSolver::kDirect;
+}
 
 std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian) {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
@@ -139,7 +180,7 @@ Eigen::SparseMatrix<double> cotan_laplacian(const TriSurface& surface, double mi
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
                                             const std::vector<double>& value,
-                                            const std::vector<int>& order) {
+                                            const std::vector<int>& order, HarmonicSolver solver) {
   const int n = static_cast<int>(laplacian.rows());
   GVKIT_CHECK(static_cast<int>(fixed.size()) == n && static_cast<int>(value.size()) == n);
   std::vector<int> index;
@@ -158,7 +199,7 @@ Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& l
   }
   const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
   GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
-                         factorize_and_solve(a, rhs, !order.empty(), "harmonic field"));
+                         factorize_and_solve(a, rhs, !order.empty(), solver, "harmonic field"));
   for (int i = 0; i < n; ++i)
     if (!fixed[i]) f[i] = x[index[i]];
   return f;
@@ -197,7 +238,8 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
                                                const std::vector<int>& outer_loop,
-                                               const std::vector<int>& order) {
+                                               const std::vector<int>& order,
+                                               HarmonicSolver solver) {
   const int n = surface.n_vertices();
   // Seam: shortest path (by length) from inner_loop[0] through interior vertices to the outer
   // boundary.
@@ -306,6 +348,28 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
   }
   std::vector<char> fixed(n, 0);
   fixed[start] = 1;
+  std::vector<double> psi(surface.n_triangles() * 3);
+  if (resolve_harmonic_solver(solver, n - 1) == HarmonicSolver::kMultigrid) {
+    // The whole Laplacian, singular with the constants as its null space (rhs sums to 0: every
+    // edge adds w dj at one end and takes it at the other): no reduced system to build, the same
+    // iterations as the system with start pinned, whose solution is this one's minus a constant.
+    MultigridOptions options;
+    options.constant_null_space = true;
+    MultigridSolver multigrid(options);
+    Eigen::VectorXd theta;
+    Status status = multigrid.compute(laplacian);
+    if (status.is_ok()) status = multigrid.solve(rhs, &theta);
+    if (status.is_ok()) {
+      theta.array() -= theta[start];
+      for (int k = 0; k < surface.n_triangles(); ++k)
+        for (int j = 0; j < 3; ++j)
+          psi[3 * k + j] = theta[surface.triangles[k][j]] + jump[3 * k + j];
+      return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
+    }
+    // kAuto falls back to the factorization below; a forced multigrid reports why it failed.
+    if (solver == HarmonicSolver::kMultigrid)
+      return failed_precondition("harmonic conjugate: " + status.message());
+  }
   std::vector<int> index;
   const int n_free = free_indices(fixed, order, &index);
   Eigen::VectorXd b(n_free);
@@ -313,32 +377,13 @@ Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
     if (!fixed[i]) b[index[i]] = rhs[i];
   const Eigen::SparseMatrix<double> a = reduced_matrix(laplacian, index, n_free);
   GVKIT_ASSIGN_OR_RETURN(const Eigen::VectorXd x,
-                         factorize_and_solve(a, b, !order.empty(), "harmonic conjugate"));
-  std::vector<double> psi(surface.n_triangles() * 3);
+                         factorize_and_solve(a, b, !order.empty(), solver, "harmonic conjugate"));
   for (int k = 0; k < surface.n_triangles(); ++k)
     for (int j = 0; j < 3; ++j) {
       const int v = surface.triangles[k][j];
       psi[3 * k + j] = (fixed[v] ? 0.0 : x[index[v]]) + jump[3 * k + j];
     }
-  // Orient: psi must increase by +1 going once around inner_loop in loop order.
-  double total = 0;
-  const int m = static_cast<int>(inner_loop.size());
-  for (int i = 0; i < m; ++i) {
-    const int u = inner_loop[i], w = inner_loop[(i + 1) % m];
-    const int k = edges.triangle(u, w);
-    GVKIT_CHECK(k >= 0, "inner loop follows boundary halfedges");
-    const auto& t = surface.triangles[k];
-    int su = 0, sw = 0;
-    while (t[su] != u) ++su;
-    while (t[sw] != w) ++sw;
-    total += psi[3 * k + sw] - psi[3 * k + su];
-  }
-  if (!(std::abs(std::abs(total) - 1.0) < 1e-6))
-    return failed_precondition("harmonic conjugate: period around the inner boundary is " +
-                               std::to_string(total) + ", not +-1");
-  if (total < 0)
-    for (double& p : psi) p = -p;
-  return psi;
+  return oriented_conjugate(surface, edges, inner_loop, std::move(psi));
 }
 
 }  // namespace gvkit::facemap

@@ -56,7 +56,7 @@ Result<MappedFace> map_face_hm(const Mesh& mesh, const FaceLandmarks& landmarks,
   // Start where the line from the nose tip (30) through the chin (8) leaves the face, in the
   // frontal (x, y) plane: a fractional rim position that moves continuously with the face.
   const cv::Vec3f& nose = landmarks.points_mm[30];
-  const cv::Vec3f& chin = landmarks.points_mm[8];
+  const cv::Vec3f& chin = landmarks.chin_or_lower_lip_mm();
   const Eigen::Vector2d dir = Eigen::Vector2d(chin[0] - nose[0], chin[1] - nose[1]).normalized();
   auto side = [&](Mesh::VertexHandle v) {
     const Eigen::Vector2d r(mesh.point(v)[0] - nose[0], mesh.point(v)[1] - nose[1]);
@@ -166,7 +166,9 @@ Result<MappedFace> map_face_hm(const Mesh& mesh, const FaceLandmarks& landmarks,
       filled.at<uint8_t>(y, x) = 255;
     }
   out.unmapped_pixels = fill_unmapped_pixels(image, filled);
-  for (int v : lm_vertex) out.landmarks_px.emplace_back(ux[v], uy[v]);
+  for (int v : lm_vertex)  // an absent landmark (NaN, a 51-point set's jaw) has no vertex
+    out.landmarks_px.push_back(v < 0 ? Eigen::Vector2d::Constant(NAN)
+                                     : Eigen::Vector2d(ux[v], uy[v]));
   return out;
 }
 

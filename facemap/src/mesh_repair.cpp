@@ -7,12 +7,13 @@
 #include <set>
 
 #include "gvkit/core/status.hpp"
+#include "gvkit/facemap/triangle_soup_repair.hpp"
 
 namespace gvkit::facemap {
 
 bool MeshRepairReport::changed() const {
-  return pinch_faces + degenerate_faces + duplicate_faces + non_manifold_faces +
-             removed_component_faces + removed_vertices >
+  return pinch_faces + non_finite_faces + degenerate_faces + duplicate_faces + non_manifold_faces +
+             flipped_faces + removed_component_faces + removed_vertices >
          0;
 }
 
@@ -24,9 +25,15 @@ std::string MeshRepairReport::summary() const {
     s += std::to_string(n) + " " + what;
   };
   add(pinch_faces, "faces removed to open boundary pinches");
+  add(non_finite_faces, "faces on non-finite points removed");
   add(degenerate_faces, "degenerate faces removed");
   add(duplicate_faces, "duplicate faces removed");
-  add(non_manifold_faces, "non-manifold faces removed");
+  add(non_manifold_faces, non_manifold_edges > 0 ? ("non-manifold faces removed (" +
+                                                    std::to_string(non_manifold_edges) +
+                                                    " edges with more than two faces)")
+                                                       .c_str()
+                                                 : "non-manifold faces removed");
+  add(flipped_faces, "faces flipped to the winding of their neighbours");
   if (components > 1)
     add(removed_component_faces,
         ("faces in smaller components removed (" + std::to_string(components) + " components)")
@@ -199,9 +206,10 @@ Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<Mesh::Color>& colors,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, MeshRepairReport* report,
-                         std::vector<int>* original_index) {
+                         std::vector<int>* original_index, std::vector<int>* original_face) {
   Mesh mesh;
-  mesh_from_triangles(points, colors, triangles, options, &mesh, report, original_index);
+  mesh_from_triangles(points, colors, triangles, options, &mesh, report, original_index,
+                      original_face);
   return mesh;
 }
 
@@ -209,26 +217,29 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<Mesh::Color>& colors,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, Mesh* out, MeshRepairReport* report,
-                         std::vector<int>* original_index) {
+                         std::vector<int>* original_index, std::vector<int>* original_face) {
   MeshRepairReport local;
   MeshRepairReport& r = report ? *report : local;
   r = {};
   const int n = static_cast<int>(points.size());
 
-  // Degenerate and duplicate faces.
+  // Faces on non-finite points, degenerate and duplicate faces.
+  std::vector<char> drop(triangles.size(), 0);
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) GVKIT_CHECK(t[k] >= 0 && t[k] < n, "triangle index out of range");
+  r.non_finite_faces = drop_non_finite_triangles(points, triangles, &drop);
   // Duplicates by sorting (corner set, position): the first of equal corner sets is kept. Corner
   // sets are packed into one 64-bit key when the indices fit in 21 bits.
-  std::vector<char> drop(triangles.size(), 0);
   std::vector<std::array<int, 3>> sorted_corners;
   if (options.check_duplicates) sorted_corners.reserve(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i) {
     const auto& t = triangles[i];
-    for (int k = 0; k < 3; ++k) GVKIT_CHECK(t[k] >= 0 && t[k] < n, "triangle index out of range");
     if (options.check_duplicates) {
       std::array<int, 3> key = t;
       std::sort(key.begin(), key.end());
       sorted_corners.push_back(key);
     }
+    if (drop[i]) continue;
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] ||
         ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).sqrnorm() == 0.0) {
       ++r.degenerate_faces;
@@ -268,15 +279,30 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   }
   sorted_corners.clear();
   sorted_corners.shrink_to_fit();
-  // The faces not dropped (the caller's triangles themselves when none is).
-  std::vector<std::array<int, 3>> remaining;
-  const bool any_dropped = std::find(drop.begin(), drop.end(), 1) != drop.end();
-  if (any_dropped) {
-    remaining.reserve(triangles.size());
-    for (size_t i = 0; i < triangles.size(); ++i)
-      if (!drop[i]) remaining.push_back(triangles[i]);
+  if (options.resolve_non_manifold_edges) {
+    const FinReport fins = drop_non_manifold_fins(triangles, &drop);
+    r.non_manifold_edges = fins.non_manifold_edges;
+    r.non_manifold_faces = fins.dropped_faces;
   }
-  const std::vector<std::array<int, 3>>& faces = any_dropped ? remaining : triangles;
+  // The faces not dropped (the caller's triangles themselves when none is and none is flipped),
+  // with their input indices.
+  std::vector<std::array<int, 3>> remaining;
+  std::vector<int> remaining_index;
+  const bool any_dropped = std::find(drop.begin(), drop.end(), 1) != drop.end();
+  const bool copied = any_dropped || options.orient_faces;
+  if (copied) {
+    remaining.reserve(triangles.size());
+    remaining_index.reserve(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i)
+      if (!drop[i]) {
+        remaining.push_back(triangles[i]);
+        remaining_index.push_back(static_cast<int>(i));
+      }
+  }
+  if (options.orient_faces)
+    r.flipped_faces = orient_triangles(&remaining, std::vector<char>(remaining.size(), 0));
+  const std::vector<std::array<int, 3>>& faces = copied ? remaining : triangles;
+  auto input_face = [&](size_t i) { return copied ? remaining_index[i] : static_cast<int>(i); };
 
   // Components (union-find over face corners), keep the largest by face count.
   std::vector<int> parent(n);
@@ -294,21 +320,33 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   r.components = static_cast<int>(
       std::count_if(faces_per_root.begin(), faces_per_root.end(), [](int c) { return c > 0; }));
   int keep_root = -1;
-  if (options.keep_largest_component && r.components > 1)
+  if (options.keep_largest_component && r.components > 1) {
     keep_root = static_cast<int>(std::max_element(faces_per_root.begin(), faces_per_root.end()) -
                                  faces_per_root.begin());
+    double kept_area = 0.0, total_area = 0.0;
+    for (const auto& t : faces) {
+      const double area = ((points[t[1]] - points[t[0]]) % (points[t[2]] - points[t[0]])).norm();
+      total_area += area;
+      if (parent[t[0]] == keep_root) kept_area += area;
+    }
+    r.kept_area_share = total_area > 0 ? kept_area / total_area : 0.0;
+  }
 
   // Kept faces on compact vertex indices (in order of first use).
   std::vector<int> compact(n, -1);
   std::vector<int> original;
   original.reserve(n);
   std::vector<std::array<int, 3>> kept;
+  std::vector<int> kept_face;
   kept.reserve(faces.size());
-  for (const auto& t : faces) {
+  if (original_face) kept_face.reserve(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto& t = faces[i];
     if (keep_root >= 0 && parent[t[0]] != keep_root) {
       ++r.removed_component_faces;
       continue;
     }
+    if (original_face) kept_face.push_back(input_face(i));
     std::array<int, 3> c;
     for (int k = 0; k < 3; ++k) {
       if (compact[t[k]] < 0) {
@@ -321,6 +359,8 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   }
   remaining.clear();
   remaining.shrink_to_fit();
+  remaining_index.clear();
+  remaining_index.shrink_to_fit();
 
   const bool with_colors = !colors.empty();
   GVKIT_CHECK(!with_colors || colors.size() == points.size(), "one colour per point");
@@ -337,7 +377,8 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   } else if (!options.check_duplicates) {
     MeshRepairOptions checked = options;
     checked.check_duplicates = true;
-    mesh_from_triangles(points, colors, triangles, checked, out, report, original_index);
+    mesh_from_triangles(points, colors, triangles, checked, out, report, original_index,
+                        original_face);
     return;
   } else {
     // The reference: OpenMesh's add_face, which refuses faces that would make an edge
@@ -351,11 +392,17 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
       const auto v = mesh.add_vertex(points[original[i]]);
       if (with_colors) mesh.set_color(v, colors[original[i]]);
     }
-    for (const auto& t : kept)
+    std::vector<int> added_face;
+    for (size_t i = 0; i < kept.size(); ++i) {
+      const auto& t = kept[i];
       if (!mesh.add_face(Mesh::VertexHandle(t[0]), Mesh::VertexHandle(t[1]),
                          Mesh::VertexHandle(t[2]))
                .is_valid())
         ++r.non_manifold_faces;
+      else if (original_face)
+        added_face.push_back(kept_face[i]);
+    }
+    if (original_face) kept_face = std::move(added_face);
     // Vertices whose only faces were refused.
     bool any_isolated = false;
     for (auto v : mesh.vertices())
@@ -376,6 +423,7 @@ void mesh_from_triangles(const std::vector<Mesh::Point>& points,
   }
   r.removed_vertices = n - static_cast<int>(mesh.n_vertices());
   if (original_index) *original_index = std::move(original);
+  if (original_face) *original_face = std::move(kept_face);
 }
 
 namespace {

@@ -50,23 +50,9 @@ bool inside_polygon(const cv::Vec2d& p, const std::vector<cv::Vec2d>& poly) {
 
 }  // namespace
 
-SyntheticFaceScan render_synthetic_face_scan(const IctFaceModel& model,
-                                             const std::vector<cv::Vec3d>& positions_mm,
-                                             const SyntheticFaceScanOptions& options) {
-  const int n = options.size_px;
-  const double s = options.pixel_mm;
+std::vector<double> ict_vertex_albedo(const IctFaceModel& model,
+                                      const std::vector<cv::Vec3d>& positions_mm) {
   const auto& lm = model.landmark_vertices();
-  // Image centre on the middle of the landmarks (x) and between brows and chin (y).
-  cv::Vec3d center(0, 0, 0);
-  for (int v : lm) center += positions_mm[v];
-  center /= 68.0;
-  auto to_camera = [&](const cv::Vec3d& p) {
-    return cv::Vec3d(p[0] - center[0], -(p[1] - center[1]), options.distance_mm - p[2]);
-  };
-  auto to_pixel = [&](const cv::Vec3d& c) {
-    return cv::Vec2d(c[0] / s + (n - 1) / 2.0, c[1] / s + (n - 1) / 2.0);
-  };
-
   // Per-vertex albedo: by region, then lips and brows from the landmark contours.
   std::vector<cv::Vec2d> lips;
   for (int i = 48; i < 60; ++i) lips.emplace_back(positions_mm[lm[i]][0], positions_mm[lm[i]][1]);
@@ -86,6 +72,27 @@ SyntheticFaceScan render_synthetic_face_scan(const IctFaceModel& model,
         albedo[v] = 0.25;
     }
   }
+  return albedo;
+}
+
+SyntheticFaceScan render_synthetic_face_scan(const IctFaceModel& model,
+                                             const std::vector<cv::Vec3d>& positions_mm,
+                                             const SyntheticFaceScanOptions& options) {
+  const int n = options.size_px;
+  const double s = options.pixel_mm;
+  const auto& lm = model.landmark_vertices();
+  // Image centre on the middle of the landmarks (x) and between brows and chin (y).
+  cv::Vec3d center(0, 0, 0);
+  for (int v : lm) center += positions_mm[v];
+  center /= 68.0;
+  auto to_camera = [&](const cv::Vec3d& p) {
+    return cv::Vec3d(p[0] - center[0], -(p[1] - center[1]), options.distance_mm - p[2]);
+  };
+  auto to_pixel = [&](const cv::Vec3d& c) {
+    return cv::Vec2d(c[0] / s + (n - 1) / 2.0, c[1] / s + (n - 1) / 2.0);
+  };
+
+  const std::vector<double> albedo = ict_vertex_albedo(model, positions_mm);
 
   SyntheticFaceScan out;
   RangeScan& scan = out.scan;

@@ -5,13 +5,16 @@
 // step); planes and streams coded with 8x8 / 16x16 residuals decode to the encoder's
 // reconstruction bit for bit (I, P and B, both presets), smooth planes take the larger
 // transforms and get cheaper, and bad frame syntax is rejected with a message.
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "codec_round_trip.hpp"
+#include "forward_transform16x16_simd.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -65,6 +68,43 @@ TEST(Transform16x16, ButterfliesEqualTheMatrixProducts) {
     inverse_transform16x16_reference(d, x_ref);
     ASSERT_EQ(std::memcmp(x, x_ref, sizeof x), 0) << "inverse, trial " << t;
   }
+}
+
+// The 32-bit forward transform (portable and AVX2) against the reference, up to the largest
+// input it takes: random blocks, and the sign patterns that drive every basis function's sum to
+// its extreme (|r| = the bound, signs following a row and a column of the matrix).
+TEST(Transform16x16, The32BitForwardPathsEqualTheReferenceUpToTheirBound) {
+  constexpr int32_t kMax = detail::kForward16x16MaxInput32;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> u(-kMax, kMax);
+  std::vector<std::array<int32_t, 256>> blocks;
+  for (int t = 0; t < 40; ++t) {
+    std::array<int32_t, 256> r;
+    for (int32_t& v : r) v = u(rng);
+    blocks.push_back(r);
+  }
+  for (int k = 0; k < 16; ++k)
+    for (int l = 0; l < 16; ++l) {
+      std::array<int32_t, 256> r;
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+          r[y * 16 + x] = (kTransform16[k][x] < 0) == (kTransform16[l][y] < 0) ? kMax : -kMax;
+      blocks.push_back(r);
+    }
+  for (const auto& r : blocks) {
+    ASSERT_TRUE(detail::forward_transform16x16_fits_32(r.data()));
+    int32_t c_ref[256], c32[256], c_avx2[256], c[256];
+    forward_transform16x16_reference(r.data(), c_ref);
+    detail::forward_transform16x16_32(r.data(), c32);
+    detail::forward_transform16x16_32_avx2(r.data(), c_avx2);
+    forward_transform16x16(r.data(), c);
+    ASSERT_EQ(std::memcmp(c32, c_ref, sizeof c), 0);
+    ASSERT_EQ(std::memcmp(c_avx2, c_ref, sizeof c), 0);
+    ASSERT_EQ(std::memcmp(c, c_ref, sizeof c), 0);
+  }
+  std::array<int32_t, 256> over{};
+  over[37] = kMax + 1;
+  EXPECT_FALSE(detail::forward_transform16x16_fits_32(over.data()));
 }
 
 TEST(Transform16x16, ForwardIsTwoToTheEightTimesTheOrthonormalDct) {

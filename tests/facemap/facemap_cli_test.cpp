@@ -50,6 +50,20 @@ TEST(FacemapCli, MapsAnIctSequenceWithBothMethodsAndCompares) {
   auto eip_image = read_geometry_image_exr(dir / "eip" / "frame_000001.exr");
   ASSERT_TRUE(plain_image.is_ok() && eip_image.is_ok());
   EXPECT_GT(cv::norm(plain_image->xyz_mm, eip_image->xyz_mm, cv::NORM_INF), 0.0);
+  // The multigrid solves (the default from 100K vertices on) give the direct solves' map; each
+  // frame records the map's steps' CPU time.
+  r = testing::run_gvkit("facemap map " + faces + " -o " + (dir / "multigrid").string() +
+                         " --size 64x64 --same-vertices --solver multigrid");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto multigrid_stats = read_json(dir / "multigrid" / "stats.json");
+  ASSERT_TRUE(multigrid_stats.is_ok());
+  EXPECT_EQ((*multigrid_stats)["options"]["solver"], "multigrid");
+  EXPECT_EQ((*eip_stats)["options"]["solver"], "auto");
+  EXPECT_GT((*multigrid_stats)["frames"][0]["cpu_ms"]["total"].get<double>(), 0.0);
+  EXPECT_EQ((*multigrid_stats)["summary"]["flipped_total"], 0);
+  auto multigrid_image = read_geometry_image_exr(dir / "multigrid" / "frame_000001.exr");
+  ASSERT_TRUE(multigrid_image.is_ok());
+  EXPECT_LT(cv::norm(multigrid_image->xyz_mm, eip_image->xyz_mm, cv::NORM_INF), 1e-3);
   r = testing::run_gvkit("facemap compare " + (dir / "eip").string() + " " + (dir / "hm").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("temporal MSE mean"), std::string::npos) << r.output;
@@ -72,6 +86,11 @@ TEST(FacemapCli, BadOptionsAndMissingInputFailWithAMessage) {
                          " --rim sideways");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--rim must be arclength, angle or flow"), std::string::npos) << r.output;
+  r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string() +
+                         " --solver lu");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--solver must be auto, direct or multigrid"), std::string::npos)
+      << r.output;
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 // `gvkit facemap clean` as a user runs it: ICT meshes and a synthetic scan in, 4-boundary faces
-// out; a bad frame is reported and skipped; bad options are rejected.
+// out; landmarks from a folder of other tools' files; a bad frame is reported and skipped; bad
+// options are rejected.
 #include <gtest/gtest.h>
 
+#include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/frame_files.hpp"
@@ -9,6 +11,7 @@
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/mesh_topology.hpp"
+#include "gvkit/core/npy_io.hpp"
 #include "gvkit/facemap/synthetic_face_scan.hpp"
 #include "support/test_support.hpp"
 
@@ -30,11 +33,12 @@ TEST(CliFacemapClean, MeshesInFacesOutBadFrameSkipped) {
     ASSERT_TRUE(
         write_face_landmarks(frame_path(in.path(), i, ".landmarks.json"), landmarks).is_ok());
   }
-  // Frame 2: a mesh without its landmarks file.
+  // Frame 2: a mesh without its landmarks file, and detection off (--no-detect).
   ASSERT_TRUE(
       write_mesh(frame_path(in.path(), 2, ".ply"), model->face_mesh(model->neutral_mm())).is_ok());
 
-  auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string());
+  auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string() +
+                     " --no-detect");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("frame_000002.landmarks.json"), std::string::npos) << r.output;
   for (int i = 0; i < 2; ++i) {
@@ -55,6 +59,46 @@ TEST(CliFacemapClean, MeshesInFacesOutBadFrameSkipped) {
   EXPECT_EQ((*stats)["summary"]["failed"], 1);
   EXPECT_EQ((*stats)["frames"][2]["ok"], false);
   EXPECT_TRUE((*stats)["options"].contains("radius_mm"));
+}
+
+TEST(CliFacemapClean, MeshLandmarksFromAFolderInOtherFormats) {
+  GVKIT_REQUIRE_SHARED_DATA(data);
+  auto model = IctFaceModel::load(data / "ict-facekit", {"jawOpen"});
+  ASSERT_TRUE(model.is_ok()) << model.status().message();
+  TempDir in, marks, out;
+  // Frame 0: all 68 points as a float32 .npy; frame 1: the 51 without the jaw as a .csv.
+  for (int i = 0; i < 2; ++i) {
+    const auto positions = model->evaluate({{"jawOpen", 0.3 * i}});
+    ASSERT_TRUE(write_mesh(frame_path(in.path(), i, ".obj"), model->face_mesh(positions)).is_ok());
+    std::vector<double> values;
+    std::string csv = "x,y,z\n";
+    for (int k = 0; k < 68; ++k) {
+      const cv::Vec3d& p = positions[model->landmark_vertices()[k]];
+      values.insert(values.end(), {p[0], p[1], p[2]});
+      if (k >= 17)
+        csv +=
+            std::to_string(p[0]) + "," + std::to_string(p[1]) + "," + std::to_string(p[2]) + "\n";
+    }
+    if (i == 0)
+      ASSERT_TRUE(write_npy(frame_path(marks.path(), i, ".npy"), {68, 3}, values, NpyType::kFloat32)
+                      .is_ok());
+    else
+      ASSERT_TRUE(write_file_atomically(frame_path(marks.path(), i, ".csv"), csv).is_ok());
+  }
+  auto r = run_gvkit("facemap clean " + in.path().string() + " -o " + out.path().string() +
+                     " --landmarks " + marks.path().string() + " --no-detect");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto stats = read_json(out / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["summary"]["ok"], 2);
+  EXPECT_EQ((*stats)["frames"][0]["mesh_input"]["landmarks"]["file"], "frame_000000.npy");
+  EXPECT_EQ((*stats)["frames"][1]["mesh_input"]["landmarks"]["file"], "frame_000001.csv");
+  EXPECT_EQ((*stats)["frames"][1]["mesh_input"]["landmarks"]["points"], 51);
+  for (int i = 0; i < 2; ++i) {
+    auto mesh = read_mesh(frame_path(out.path(), i, ".ply"));
+    ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
+    EXPECT_EQ(mesh_topology(*mesh).boundary_loops, 4);
+  }
 }
 
 TEST(CliFacemapClean, SyntheticScanWithDetectedLandmarks) {

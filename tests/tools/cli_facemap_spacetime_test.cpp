@@ -1,5 +1,6 @@
-// The Spacetime faces through `facemap landmarks` and `facemap clean --same-vertices`: landmarks
-// from a shaded render of real meshes without any, one output vertex layout for both frames;
+// The Spacetime faces through `facemap landmarks`, `facemap clean --same-vertices` and `facemap
+// map`: landmarks from a shaded render of real meshes without any, one output vertex layout for
+// both frames, no flipped triangle in either map;
 // a mesh without a face is an error naming it.
 #include <filesystem>
 
@@ -56,6 +57,15 @@ TEST(CliFacemapSpacetime, LandmarksThenCleanWithSameVertices) {
   double moved = 0.0;
   for (auto v : a->vertices()) moved = std::max(moved, (a->point(v) - b->point(v)).norm());
   EXPECT_GT(moved, 2.0);
+  // Both frames map onto the canonical domain without a flipped triangle.
+  const fs::path map = out.path() / "map";
+  r = run_gvkit("facemap map " + out.path().string() + " -o " + map.string() +
+                " --size 48x48 --same-vertices");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto map_stats = read_json(map / "stats.json");
+  ASSERT_TRUE(map_stats.is_ok());
+  EXPECT_EQ((*map_stats)["summary"]["mapped"], 2);
+  EXPECT_EQ((*map_stats)["summary"]["flipped_total"], 0);
 }
 
 TEST(CliFacemapSpacetime, NoFaceIsAnErrorNamingTheMesh) {

@@ -205,6 +205,19 @@ struct EncoderOptions {
   // QPs -18..24; half resolution from QP 0 on), at 0.77-0.86x the encode speed at equal QP
   // (docs/benchmarks.md, format 1.14); kFull codes every frame at full resolution.
   Resolution resolution = Resolution::kAuto;
+  // Speed decisions of the slow preset (encoder only; the stream syntax does not change;
+  // docs/benchmarks.md, "Encoder speed"):
+  // - rdo_shortlist: the intra modes of every 4x4, 8x8 and 16x16 block (I and temporal-difference
+  //   prediction) are ranked by SATD + lambda x estimated mode bits, and only this many of the
+  //   cheapest are coded by RDO; 0 = every mode (the fast preset's I frames always code 2). 0..13.
+  //   3 by default: 1.57x at +0.23 % BD-rate on the main-job video, 1.48x at +0.01 % on the ICT
+  //   face (2: 1.89x at +1.03 %).
+  // - transform_early_exit: each candidate's residual is coded with the transform sizes from the
+  //   largest down, stopping once a size leaves no level or costs more than the larger one
+  //   (else every size up to max_transform is coded and the cheapest kept). Off by default: 1.20x
+  //   at +1.48 % BD-rate on the main-job video (1.27x at -0.13 % on the ICT face).
+  int rdo_shortlist = 3;
+  bool transform_early_exit = false;
   int threads = 1;  // planes encoded in parallel (1..16); the output does not depend on it
 
   // Ok when every value is in range; the message names the option.

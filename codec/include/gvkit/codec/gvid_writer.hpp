@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,7 +37,9 @@ class GvidWriter {
   // Takes the next frame (display order) and appends the packets it completes. Returns the
   // decoder's reconstructions of the frames completed, in display order, continuing where the
   // last call's ended: the frame itself without B frames; with B frames nothing while it waits
-  // as a B-frame candidate, then at the next anchor the candidates and the anchor.
+  // as a B-frame candidate, then at the next anchor the candidates and the anchor (with frame
+  // threads, SequenceEncoder, a step later: each reconstruction once every frame before it in
+  // display order is coded).
   Result<std::vector<GeometryImage>> write(const GeometryImage& frame);
   // Codes the frames still waiting (as P frames), writes the seek index and trailer, closes and
   // renames the file into place; returns the reconstructions of the frames it coded, in display
@@ -75,6 +78,10 @@ class GvidWriter {
   std::vector<int> frame_qp_;
   std::vector<FrameCodingStats> frame_stats_;
   std::vector<format::FrameType> frame_types_;
+  // Reconstructions coded but not yet returned (a frame before them in display order is not
+  // coded yet), by display number; the next display number to return.
+  std::map<uint32_t, GeometryImage> held_;
+  uint32_t next_display_ = 0;
   uint64_t offset_ = 0;
   int64_t header_bytes_ = 0;
   bool finished_ = false;

@@ -78,6 +78,10 @@ struct PlaneCodingParams {
   // instead of the intra rounding and the inter dead zone.
   bool rdoq = false;
   bool rdo = true;  // encoder only: SSD + lambda * bits (else SATD-based decisions)
+  // Encoder only, with rdo and larger transforms: a residual's transform sizes are tried from
+  // the largest down, and the smaller ones are skipped once a size leaves no level or costs
+  // more than the larger one.
+  bool transform_early_exit = false;
   // Encoder only, with rdo: 4x4 intra blocks and I16x16 macroblocks code only this many modes,
   // those of the lowest SATD-based costs (0 = every mode).
   int intra_rdo_shortlist = 0;

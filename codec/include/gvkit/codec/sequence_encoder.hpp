@@ -5,9 +5,15 @@
 // predicted from both (format 1.5). Coded frames leave in decode order: an anchor, then the B
 // frames before it. Candidates still waiting at the end (no anchor follows) are coded as P
 // frames by flush(). With bframes = 0 every frame is coded when it arrives, as in format 1.4.
+//
+// Frame-level threads (options.threads > 1, constant QP, B frames on): the B frames between two
+// anchors depend on those anchors only, so they are coded on a second thread while this one codes
+// the next anchor; they then leave with that anchor's push (before it, in decode order). The
+// stream is the same byte for byte as with one thread; only the frames leave one push later.
 
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,9 +47,11 @@ class SequenceEncoder {
   // sequence's bit depth (QualityController::create), naming the option.
   static Result<std::unique_ptr<SequenceEncoder>> create(const SequenceInfo& info,
                                                          const EncoderOptions& options);
+  ~SequenceEncoder();  // waits for the background B frames
 
   // Takes the next frame in display order; returns the frames this completes, in decode order
-  // (none while it waits as a B-frame candidate). Fails naming the frame on bad input.
+  // (none while it waits as a B-frame candidate; with frame threads, an anchor's B frames leave
+  // with the next anchor or flush()). Fails naming the frame on bad input.
   Result<std::vector<SequenceFrame>> push(const GeometryImage& frame);
   // Codes the frames still waiting, as P frames, in display order.
   Result<std::vector<SequenceFrame>> flush();
@@ -56,28 +64,39 @@ class SequenceEncoder {
   const QualityController* quality_controller() const { return quality_.get(); }
 
  private:
+  using Planes = std::vector<SamplePlane>;
   SequenceEncoder(const SequenceInfo& info, const EncoderOptions& options);
+  // Codes `frame` as an I frame (intra), a P frame from `reference` (and the older anchors), or
+  // a B frame from `reference` (list 0) and `reference1` (list 1); the reconstructed planes go
+  // to *planes_out when given. `options` may differ from options_ in its thread count only.
   Result<SequenceFrame> code(const GeometryImage& frame, uint32_t number, bool intra,
-                             const std::vector<SamplePlane>* reference1,
-                             std::vector<SamplePlane>* planes_out);
+                             const Planes* reference, const Planes* reference1,
+                             const EncoderOptions& options, Planes* planes_out);
+  // Whether B frames are coded on a second thread while the next anchor is coded.
+  bool frame_threads() const;
+  // The frames the background B-frame batch coded (none when there is none); waits for it.
+  Result<std::vector<SequenceFrame>> collect_b_frames();
 
   SequenceInfo info_;
   EncoderOptions options_;
   std::unique_ptr<RateController> rate_;
   std::unique_ptr<QualityController> quality_;
-  std::vector<SamplePlane> anchor_;  // the last anchor's reconstructed planes
+  std::shared_ptr<const Planes> anchor_;  // the last anchor's reconstructed planes
   // options.reference_frames() > 1: the anchors before anchor_ since the last I frame, nearest
   // first (at most refs - 1).
-  std::deque<std::vector<SamplePlane>> older_anchors_;
-  // The anchors' interpolated planes, made once and kept while frames predict from them.
+  std::deque<std::shared_ptr<const Planes>> older_anchors_;
+  // The anchors' interpolated planes, made once and kept while frames predict from them (shared
+  // by the background B frames, which reach the same plane objects through shared pointers).
   ReferenceInterpolationCache interpolation_;
   // Makes `planes` (frame `number`, an anchor) the last anchor.
-  void set_anchor(std::vector<SamplePlane> planes, uint32_t number);
+  void set_anchor(std::shared_ptr<const Planes> planes, uint32_t number);
   struct Pending {
     uint32_t number;
     GeometryImage frame;
   };
   std::vector<Pending> pending_;  // B-frame candidates after the last anchor, display order
+  // With frame threads: the B frames between the last two anchors, being coded.
+  std::future<Result<std::vector<SequenceFrame>>> b_frames_;
   uint32_t next_number_ = 0;
 };
 

@@ -23,8 +23,10 @@ extern const int8_t kTransform16[16][16];
 extern const std::array<uint16_t, 256> kZigzag16x16;
 
 // Partial-butterfly forward / inverse transforms (the reference versions below give the same
-// values, bit for bit).
+// values, bit for bit). The forward transform takes 32-bit vectorised arithmetic where every
+// |residual| <= 16000 (nearly always), else forward_transform16x16_butterfly64.
 void forward_transform16x16(const int32_t* residual, int32_t* coeffs);
+void forward_transform16x16_butterfly64(const int32_t* residual, int32_t* coeffs);
 void inverse_transform16x16(const int64_t* coeffs, int32_t* residual);
 // forward_transform4x4, forward_transform8x8 or forward_transform16x16 by n (4, 8 or 16).
 void forward_transform(int n, const int32_t* residual, int32_t* coeffs);

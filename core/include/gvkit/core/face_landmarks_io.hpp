@@ -1,6 +1,8 @@
 #pragma once
 // Landmarks as JSON: {"points_px": [[x, y], ...], "points_mm": [[x, y, z], ...]}, 68 entries
-// each (either list may be absent or empty). Written atomically.
+// each (either list may be absent or empty). An absent jaw point (0-16, landmarks from a 51-point
+// set) is written and read as null; any other point must be finite. Written atomically. Files of
+// other tools: landmark_points_io.hpp.
 
 #include <filesystem>
 

@@ -11,6 +11,7 @@
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/face_annulus.hpp"
 #include "gvkit/facemap/geodesic_distance.hpp"
+#include "gvkit/facemap/harmonic_field.hpp"
 #include "gvkit/facemap/mapped_face.hpp"
 
 namespace gvkit::facemap {
@@ -18,6 +19,8 @@ namespace gvkit::facemap {
 struct EipOptions {
   FaceAnnulusOptions annulus;
   bool measure_quality = true;  // distortion and flips (forward map of every triangle)
+  // How f and psi are solved (see flow_coordinates()); kAuto: multigrid on large faces.
+  HarmonicSolver solver = HarmonicSolver::kAuto;
   Status check() const { return annulus.check(); }
 };
 

@@ -46,6 +46,15 @@ struct FlowCoordinates {
   int flipped = 0;  // triangles whose (s, t) image has the minority orientation or zero area
   // Free vertices moved by untangle_flow_coordinates (0 when nothing was flipped).
   int untangled_vertices = 0;
+  // What f and psi were solved with (kAuto resolved on the number of vertices; under kAuto a
+  // multigrid iteration that fails falls back to the factorization, not recorded here).
+  HarmonicSolver solver = HarmonicSolver::kDirect;
+  // CPU time of the steps (ms, this thread): the Laplacian, its elimination order, f, psi, the
+  // boundary correspondence and s, the untangling.
+  struct Timing {
+    double laplacian_ms = 0, order_ms = 0, f_ms = 0, psi_ms = 0, correspondence_ms = 0,
+           untangle_ms = 0;
+  } timing;
 };
 
 // Triangles whose (s, t) image has the minority orientation or zero area.
@@ -78,9 +87,12 @@ int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>
 // changes the flux distribution of grad f).
 // min_cotan_weight: the floor of the Laplacian's edge weights (cotan_laplacian()); -infinity
 // solves with the plain cotangent weights (the seed's; the reference).
+// solver: how f and psi are solved (harmonic_field.hpp); kAuto decides on the annulus's number
+// of vertices. The multigrid solution equals the direct one to about 1e-10.
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u = {},
                                          RimCorrespondence rim = RimCorrespondence::kAngle,
-                                         double min_cotan_weight = kDefaultMinCotanWeight);
+                                         double min_cotan_weight = kDefaultMinCotanWeight,
+                                         HarmonicSolver solver = HarmonicSolver::kDirect);
 
 }  // namespace gvkit::facemap

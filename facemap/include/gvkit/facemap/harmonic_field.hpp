@@ -29,14 +29,26 @@ Eigen::SparseMatrix<double> cotan_laplacian(
 // order serves every system of one surface instead of an AMD ordering per system.
 std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& laplacian);
 
+// How the systems below are solved. kDirect: a sparse LDL' factorization (the reference).
+// kMultigrid: conjugate gradients with an algebraic multigrid preconditioner (MultigridSolver,
+// relative residual 1e-10), about linear in the number of unknowns: faster from about 100K
+// vertices on. kAuto: kMultigrid from kMultigridMinVertices free vertices on, else kDirect; when
+// the multigrid iteration fails (does not converge) kAuto factorizes instead, kMultigrid fails.
+enum class HarmonicSolver { kAuto, kDirect, kMultigrid };
+inline constexpr int kMultigridMinVertices = 100000;
+// The solver kAuto picks for a system of n_free unknowns (others are returned as given).
+HarmonicSolver resolve_harmonic_solver(HarmonicSolver solver, int n_free);
+
 // Solves L f = 0 at free vertices with f = value at the fixed ones (fixed[i] >= 0 marks vertex
 // i fixed to value[i]). order: laplacian_elimination_order(laplacian), or empty to order the
-// reduced system on its own (the reference; same solution up to round-off). Fails when the
-// factorization fails (a singular system).
+// reduced system on its own (the reference; same solution up to round-off); the direct solver's
+// only. Fails when the factorization fails (a singular system) or the multigrid iteration does
+// not converge.
 Result<std::vector<double>> solve_dirichlet(const Eigen::SparseMatrix<double>& laplacian,
                                             const std::vector<char>& fixed,
                                             const std::vector<double>& value,
-                                            const std::vector<int>& order = {});
+                                            const std::vector<int>& order = {},
+                                            HarmonicSolver solver = HarmonicSolver::kDirect);
 
 // How well a discrete harmonic field keeps the maximum principle.
 struct HarmonicFieldReport {
@@ -54,12 +66,13 @@ HarmonicFieldReport check_harmonic_field(const TriSurface& surface,
 // derivative on both boundaries and jumps by 1 across a seam from inner_loop[0] to the outer
 // boundary, so it is single-valued per triangle. Its values increase by exactly 1 around inner_loop
 // in loop order. laplacian: any symmetric Laplacian with weights on the surface's edges (e.g.
-// cotan_laplacian with any floor); the seam's jump enters through those same weights. order: as
-// for solve_dirichlet.
+// cotan_laplacian with any floor); the seam's jump enters through those same weights. order,
+// solver: as for solve_dirichlet.
 Result<std::vector<double>> harmonic_conjugate(const TriSurface& surface,
                                                const Eigen::SparseMatrix<double>& laplacian,
                                                const std::vector<int>& inner_loop,
                                                const std::vector<int>& outer_loop,
-                                               const std::vector<int>& order = {});
+                                               const std::vector<int>& order = {},
+                                               HarmonicSolver solver = HarmonicSolver::kDirect);
 
 }  // namespace gvkit::facemap

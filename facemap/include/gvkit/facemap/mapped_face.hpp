@@ -41,6 +41,15 @@ struct MappedFace {
   int st_flipped = 0;      // triangles flipped in the flow coordinates (s, t) before resampling
   int st_untangled = 0;    // vertices moved to remove flips in (s, t) (EIP)
   std::string cut_method;  // EIP: "descent" or "edge_path" (FaceAnnulus::cut_method)
+  // EIP: CPU time of the steps (ms, this thread). annulus_ms includes cut_distance_ms (the
+  // geodesic distances the cuts follow); fields_ms is f, psi, s and the untangling, split in
+  // the f_ms ... untangle_ms that follow it; resample_ms the geometry image; landmarks_ms the
+  // landmarks' and keys' pixels; quality_ms the distortion measure.
+  struct Timing {
+    double annulus_ms = 0, cut_distance_ms = 0, fields_ms = 0, laplacian_ms = 0, order_ms = 0,
+           f_ms = 0, psi_ms = 0, correspondence_ms = 0, untangle_ms = 0, resample_ms = 0,
+           landmarks_ms = 0, quality_ms = 0, total_ms = 0;
+  } timing;
   std::vector<std::string> warnings;
 };
 

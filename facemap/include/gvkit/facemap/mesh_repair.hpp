@@ -2,7 +2,10 @@
 // Repair of triangle meshes from the world (scans, PLY/OBJ files): degenerate and duplicate faces
 // are removed, faces that would make an edge non-manifold (a third face on an edge) or a vertex
 // complex are dropped, unreferenced vertices are removed, and optionally only the largest
-// connected component is kept. Every change is counted in the report.
+// connected component is kept. Triangle soups read as the file has them (core/triangle_soup.hpp)
+// also need the repairs of triangle_soup_repair.hpp, which MeshRepairOptions switches on: faces
+// on non-finite points dropped, fins resolved, winding made consistent. Every change is counted
+// in the report.
 
 #include <array>
 #include <string>
@@ -14,12 +17,16 @@ namespace gvkit::facemap {
 
 struct MeshRepairReport {
   int pinch_faces = 0;         // removed to open boundary pinches (mesh_from_scan)
+  int non_finite_faces = 0;    // a corner at a NaN or infinite point
   int degenerate_faces = 0;    // a repeated vertex or zero area
   int duplicate_faces = 0;     // the same three vertices as an earlier face
-  int non_manifold_faces = 0;  // dropped: non-manifold edge or complex vertex
+  int non_manifold_edges = 0;  // edges with more than two faces (resolve_non_manifold_edges)
+  int non_manifold_faces = 0;  // dropped: fins of those edges, or refused as non-manifold
+  int flipped_faces = 0;       // winding reversed to agree with their neighbours (orient_faces)
   int components = 0;          // connected components before keeping the largest
   int removed_component_faces = 0;
-  int removed_vertices = 0;  // unreferenced vertices dropped
+  double kept_area_share = 1.0;  // the kept component's share of the surface area
+  int removed_vertices = 0;      // unreferenced vertices dropped (those of removed faces too)
   bool changed() const;
   std::string summary() const;  // e.g. "3 duplicate faces, 2 components (kept the largest)"
 };
@@ -32,23 +39,30 @@ struct MeshRepairOptions {
   // false: the caller guarantees no two triangles share their three corners (saves a sort of
   // all faces); if the direct build finds otherwise, duplicates are checked after all.
   bool check_duplicates = true;
+  // Triangle soups from files (off by default: meshes built by gvkit or read through OpenMesh
+  // need neither): keep two faces per edge, dropping fins (drop_non_manifold_fins), and make the
+  // winding consistent (orient_triangles). Faces on non-finite points are always dropped.
+  bool resolve_non_manifold_edges = false;
+  bool orient_faces = false;
 };
 
 // A manifold mesh from a triangle soup: points (mm), optional per-point colours (same size or
 // empty), triangles as point indices. `original_index` (if given) receives each output vertex's
-// input point index.
+// input point index, `original_face` each output face's input triangle index.
 Mesh mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<Mesh::Color>& colors,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, MeshRepairReport* report,
-                         std::vector<int>* original_index = nullptr);
+                         std::vector<int>* original_index = nullptr,
+                         std::vector<int>* original_face = nullptr);
 
 // The same, into `mesh` (OpenMesh meshes have no move constructor: this avoids a copy).
 void mesh_from_triangles(const std::vector<Mesh::Point>& points,
                          const std::vector<Mesh::Color>& colors,
                          const std::vector<std::array<int, 3>>& triangles,
                          const MeshRepairOptions& options, Mesh* mesh, MeshRepairReport* report,
-                         std::vector<int>* original_index = nullptr);
+                         std::vector<int>* original_index = nullptr,
+                         std::vector<int>* original_face = nullptr);
 
 // Writes the half-edge structure of `mesh` (vertices 0..n_vertices-1, positions left to the
 // caller) directly from triangles that are edge-manifold and consistently oriented, without

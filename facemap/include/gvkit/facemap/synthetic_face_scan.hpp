@@ -27,6 +27,11 @@ struct SyntheticFaceScan {
   FaceLandmarks landmarks;  // ground truth: points_px and points_mm (camera frame)
 };
 
+// Per vertex of the model: its albedo in [0, 1] by region (skin, dark mouth socket, bright
+// sclera and teeth, dark iris), with darker lips and brows found from the landmark contours.
+std::vector<double> ict_vertex_albedo(const IctFaceModel& model,
+                                      const std::vector<cv::Vec3d>& positions_mm);
+
 // Renders the model at the given vertex positions (model frame, mm; e.g. model.evaluate(...)).
 SyntheticFaceScan render_synthetic_face_scan(const IctFaceModel& model,
                                              const std::vector<cv::Vec3d>& positions_mm,
