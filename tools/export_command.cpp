@@ -1,10 +1,18 @@
 // gvkit export INPUT --format ply|obj|exr -o DIR: writes each frame of a geometry video as a
-// triangle mesh (PLY/OBJ through OpenMesh) or as a geometry-image EXR.
+// triangle mesh (PLY/OBJ through OpenMesh) or as a geometry-image EXR; frames are decoded in
+// order and meshed and written on worker threads.
+#include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,12 +37,108 @@ struct ExportCommandOptions {
   std::string input, output, format = "ply", frames = ":";
   bool ascii = false, partial_quads = true;
   double max_edge_mm = 0;
+  int threads = 0;  // 0 = the machine's hardware threads, at most 4
+};
+
+// One decoded frame's file, written on a worker: its stats.json entry, or why it failed
+// (fatal: a write error, which stops the export as before).
+struct ExportResult {
+  int64_t index = 0;
+  nlohmann::json stats;
+  std::string failure;
+  Status fatal = Status::ok();
+};
+
+ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCommandOptions& o,
+                          const GeometryImageMeshOptions& mesh_options,
+                          const MeshWriteOptions& write_options) {
+  ExportResult r;
+  r.index = i;
+  r.stats = {{"index", i}};
+  if (o.format == "exr") {
+    r.fatal = write_geometry_image_exr(frame_path(o.output, i, ".exr"), image);
+    r.stats["domain_pixels"] = cv::countNonZero(image.domain_mask);
+    return r;
+  }
+  const MeshBuffers buffers = mesh_buffers_from_geometry_image(image, mesh_options);
+  int dropped = 0;
+  const Mesh mesh = mesh_from_buffers(buffers, &dropped);
+  if (mesh.n_faces() == 0) {
+    r.failure = "frame " + std::to_string(i) + ": no triangles (empty domain)";
+    return r;
+  }
+  r.fatal = write_mesh(frame_path(o.output, i, "." + o.format), mesh, write_options);
+  r.stats["vertices"] = mesh.n_vertices();
+  r.stats["faces"] = mesh.n_faces();
+  r.stats["non_manifold_faces_dropped"] = dropped;
+  return r;
+}
+
+// Frames are decoded in order on the calling thread (P and B frames need the frames before
+// them) and meshed and written on `threads` workers, at most 2 x threads frames in flight.
+class ExportWorkers {
+ public:
+  ExportWorkers(int threads, std::function<ExportResult(int64_t, const GeometryImage&)> work)
+      : work_(std::move(work)) {
+    for (int t = 0; t < threads; ++t) threads_.emplace_back([this] { run(); });
+    capacity_ = 2 * static_cast<size_t>(threads);
+  }
+  ~ExportWorkers() { finish(); }
+
+  void push(int64_t index, GeometryImage image) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    space_.wait(lock, [&] { return jobs_.size() < capacity_; });
+    jobs_.push_back({index, std::move(image)});
+    ready_.notify_one();
+  }
+  // Waits for every job; returns the results in frame order.
+  std::vector<ExportResult> finish() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+    }
+    ready_.notify_all();
+    for (std::thread& t : threads_) t.join();
+    threads_.clear();
+    std::sort(results_.begin(), results_.end(),
+              [](const ExportResult& a, const ExportResult& b) { return a.index < b.index; });
+    return std::move(results_);
+  }
+
+ private:
+  void run() {
+    for (;;) {
+      std::pair<int64_t, GeometryImage> job;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait(lock, [&] { return closed_ || !jobs_.empty(); });
+        if (jobs_.empty()) return;
+        job = std::move(jobs_.front());
+        jobs_.pop_front();
+        space_.notify_one();
+      }
+      ExportResult r = work_(job.first, job.second);
+      std::lock_guard<std::mutex> lock(mutex_);
+      results_.push_back(std::move(r));
+    }
+  }
+
+  std::function<ExportResult(int64_t, const GeometryImage&)> work_;
+  std::vector<std::thread> threads_;
+  std::mutex mutex_;
+  std::condition_variable ready_, space_;
+  std::deque<std::pair<int64_t, GeometryImage>> jobs_;
+  std::vector<ExportResult> results_;
+  size_t capacity_ = 2;
+  bool closed_ = false;
 };
 
 void run_export(const ExportCommandOptions& o) {
   if (o.format != "ply" && o.format != "obj" && o.format != "exr")
     throw CommandFailed(
         invalid_argument("--format must be ply, obj or exr, got '" + o.format + "'"));
+  if (o.threads < 0 || o.threads > 64)
+    throw CommandFailed(invalid_argument("--threads must be 0..64 (0 = automatic)"));
   GeometryImageMeshOptions mesh_options;
   mesh_options.max_edge_mm = o.max_edge_mm;
   mesh_options.partial_quads = o.partial_quads;
@@ -46,11 +150,16 @@ void run_export(const ExportCommandOptions& o) {
   MeshWriteOptions write_options;
   write_options.binary = !o.ascii;
   write_options.vertex_normals = true;
-
+  const int threads =
+      o.threads > 0 ? o.threads
+                    : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
   std::vector<std::string> failures;
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("export", static_cast<int64_t>(indices.size()));
   const auto start = std::chrono::steady_clock::now();
+  ExportWorkers workers(threads, [&](int64_t i, const GeometryImage& image) {
+    return export_frame(i, image, o, mesh_options, write_options);
+  });
   for (int64_t i : indices) {
     progress.advance();
     auto image = seq->frame(i);
@@ -59,45 +168,40 @@ void run_export(const ExportCommandOptions& o) {
       failures.push_back(image.status().message());
       continue;
     }
-    nlohmann::json fj = {{"index", i}};
-    if (o.format == "exr") {
-      throw_if_error(write_geometry_image_exr(frame_path(o.output, i, ".exr"), *image));
-      fj["domain_pixels"] = cv::countNonZero(image->domain_mask);
-    } else {
-      const MeshBuffers buffers = mesh_buffers_from_geometry_image(*image, mesh_options);
-      int dropped = 0;
-      const Mesh mesh = mesh_from_buffers(buffers, &dropped);
-      if (mesh.n_faces() == 0) {
-        failures.push_back("frame " + std::to_string(i) + ": no triangles (empty domain)");
-        continue;
-      }
-      throw_if_error(write_mesh(frame_path(o.output, i, "." + o.format), mesh, write_options));
-      fj["vertices"] = mesh.n_vertices();
-      fj["faces"] = mesh.n_faces();
-      fj["non_manifold_faces_dropped"] = dropped;
+    workers.push(i, std::move(image).value());
+  }
+  for (ExportResult& r : workers.finish()) {
+    throw_if_error(r.fatal);
+    if (!r.failure.empty()) {
+      failures.push_back(r.failure);
+      continue;
     }
-    per_frame.push_back(fj);
+    per_frame.push_back(std::move(r.stats));
   }
   progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  throw_if_error(write_json(std::filesystem::path(o.output) / "stats.json",
-                            {{"input", o.input},
-                             {"frames", per_frame},
-                             {"summary",
-                              {{"written", per_frame.size()},
-                               {"failed", failures.size()},
-                               {"failures", failures},
-                               {"seconds", seconds}}},
-                             {"options",
-                              {{"format", o.format},
-                               {"frames", o.frames},
-                               {"ascii", o.ascii},
-                               {"max_edge_mm", o.max_edge_mm},
-                               {"partial_quads", o.partial_quads},
-                               {"fps", seq->fps()}}}}));
-  std::printf("exported %zu of %zu frames as %s to %s\n", per_frame.size(), indices.size(),
-              o.format.c_str(), o.output.c_str());
+  throw_if_error(
+      write_json(std::filesystem::path(o.output) / "stats.json",
+                 {{"input", o.input},
+                  {"frames", per_frame},
+                  {"summary",
+                   {{"written", per_frame.size()},
+                    {"failed", failures.size()},
+                    {"failures", failures},
+                    {"seconds", seconds},
+                    {"frames_per_second", seconds > 0 ? per_frame.size() / seconds : 0.0}}},
+                  {"options",
+                   {{"format", o.format},
+                    {"frames", o.frames},
+                    {"ascii", o.ascii},
+                    {"max_edge_mm", o.max_edge_mm},
+                    {"partial_quads", o.partial_quads},
+                    {"threads", threads},
+                    {"fps", seq->fps()}}}}));
+  std::printf("exported %zu of %zu frames as %s to %s in %.2f s (%.1f frames/s)\n",
+              per_frame.size(), indices.size(), o.format.c_str(), o.output.c_str(), seconds,
+              seconds > 0 ? per_frame.size() / seconds : 0.0);
   throw_if_error(failures_status(failures, indices.size()));
 }
 
@@ -119,6 +223,10 @@ void add_export_command(CLI::App& app) {
                   "Drop triangles with an edge longer than this (mm)");
   cmd->add_flag("!--no-partial-quads", o->partial_quads,
                 "Triangulate only quads with all four pixels in the domain");
+  cmd->add_option("--threads", o->threads,
+                  "Frames meshed and written in parallel (0 = the hardware threads, at most 4; "
+                  "the files do not depend on it)")
+      ->capture_default_str();
   cmd->callback([o] { run_export(*o); });
 }
 

@@ -1,11 +1,18 @@
 // gvkit render INPUT -o OUT.mp4 | OUT_DIR: draws a geometry video offscreen (EGL, no display
-// needed) into an MP4 or a folder of PNG frames, and optionally a contact sheet.
+// needed) into an MP4 or a folder of PNG frames, and optionally a contact sheet. Frames are
+// decoded and meshed ahead on a worker (FramePrefetcher) and encoded behind on another
+// (PictureWriter) while the calling thread draws.
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +29,7 @@
 #include "gvkit/player/frame_range.hpp"
 #include "gvkit/player/frame_sequence.hpp"
 #include "gvkit/player/geometry_error.hpp"
+#include "gvkit/player/mesh_level_of_detail.hpp"
 #include "gvkit/player/renderer.hpp"
 #include "tool_support.hpp"
 
@@ -35,7 +43,8 @@ struct RenderCommandOptions {
   std::string view = "front", size = "640x480", shading = "lit", frames = ":";
   double fps = 0;           // 0 = the sequence's
   double error_max_mm = 0;  // 0 = automatic (99th percentile of the first frame's errors)
-  int contact_frames = 8, contact_columns = 4, msaa = 4, mesh_stride = 1;
+  int contact_frames = 8, contact_columns = 4, msaa = 4;
+  std::string mesh_stride = "auto";  // or 1..16
 };
 
 bool is_video_path(const fs::path& p) {
@@ -64,6 +73,56 @@ float percentile(std::vector<float> values, double q) {
   return values[k];
 }
 
+// Encodes the rendered pictures (MP4 through FFmpeg, or PNG files) on a thread of its own, so
+// that the next frame is drawn meanwhile; at most `capacity` pictures wait. The first failure
+// is kept and returned by finish().
+class PictureWriter {
+ public:
+  explicit PictureWriter(size_t capacity) : capacity_(capacity), thread_([this] { run(); }) {}
+  ~PictureWriter() { static_cast<void>(finish()); }
+
+  void push(std::function<Status()> write) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    space_.wait(lock, [&] { return jobs_.size() < capacity_; });
+    jobs_.push_back(std::move(write));
+    ready_.notify_one();
+  }
+  Status finish() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closed_ = true;
+    }
+    ready_.notify_all();
+    if (thread_.joinable()) thread_.join();
+    return status_;
+  }
+
+ private:
+  void run() {
+    for (;;) {
+      std::function<Status()> job;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait(lock, [&] { return closed_ || !jobs_.empty(); });
+        if (jobs_.empty()) return;
+        job = std::move(jobs_.front());
+        jobs_.pop_front();
+        space_.notify_one();
+      }
+      Status s = status_.is_ok() ? job() : Status::ok();
+      if (!s.is_ok()) status_ = s;
+    }
+  }
+
+  size_t capacity_;
+  std::mutex mutex_;
+  std::condition_variable ready_, space_;
+  std::deque<std::function<Status()>> jobs_;
+  bool closed_ = false;
+  Status status_ = Status::ok();
+  std::thread thread_;
+};
+
 void run_render(const RenderCommandOptions& o) {
   if (o.output.empty() && o.contact_sheet.empty())
     throw CommandFailed(invalid_argument("render: give -o OUT.mp4|OUT_DIR and/or --contact-sheet"));
@@ -78,7 +137,17 @@ void run_render(const RenderCommandOptions& o) {
   if (o.contact_frames < 1 || o.contact_columns < 1)
     throw CommandFailed(invalid_argument("--contact-frames and --contact-columns must be >= 1"));
   GeometryImageMeshOptions mesh_options;
-  mesh_options.stride = o.mesh_stride;
+  const bool auto_stride = o.mesh_stride == "auto";
+  if (!auto_stride) {
+    try {
+      size_t used = 0;
+      mesh_options.stride = std::stoi(o.mesh_stride, &used);
+      if (used != o.mesh_stride.size()) throw std::invalid_argument(o.mesh_stride);
+    } catch (const std::exception&) {
+      throw CommandFailed(
+          invalid_argument("--mesh-stride must be auto or 1..16, got '" + o.mesh_stride + "'"));
+    }
+  }
   throw_if_error(mesh_options.check());
   if (o.fps < 0) throw CommandFailed(invalid_argument("--fps must be > 0"));
   const bool video = !o.output.empty() && is_video_path(o.output);
@@ -97,19 +166,39 @@ void run_render(const RenderCommandOptions& o) {
   logger().info("render: {} -> {} frames with {}", seq->name(), indices.size(),
                 renderer->description());
 
+  std::unique_ptr<ViewCamera> camera;
+  if (auto_stride && !indices.empty()) {
+    // The first frame at full detail frames the camera (as every stride-1 render does), and its
+    // grid step in the picture sets the stride for the whole video.
+    auto first = seq->frame(indices.front());
+    if (first.is_ok()) {
+      const MeshBuffers full = mesh_buffers_from_geometry_image(*first);
+      camera = std::make_unique<ViewCamera>(scene_frame(full));
+      camera->set_preset(view, 0.0);
+      mesh_options.stride =
+          auto_mesh_stride(full, *camera, render_options.width, render_options.height);
+      logger().info(
+          "render: mesh stride {} (grid step {:.2f} px at full detail)", mesh_options.stride,
+          projected_grid_step_px(full, *camera, render_options.width, render_options.height));
+    }
+  }
   PrefetchOptions prefetch;
   prefetch.loop = false;
-  prefetch.mesh.stride = o.mesh_stride;
+  prefetch.mesh.stride = mesh_options.stride;
   FramePrefetcher frames(seq, prefetch);
   if (!o.output.empty() && !video) throw_if_error(ensure_directory(o.output));
   cv::VideoWriter writer;
   std::string codec;
+  if (video) {  // opened here: the writer thread only writes
+    const cv::Size picture_size(render_options.width, render_options.height);
+    codec = value_or_throw(open_video(writer, o.output, fps, picture_size));
+  }
+  PictureWriter picture_writer(4);
   const std::vector<size_t> sheet_positions = evenly_spaced(indices.size(), o.contact_frames);
   std::vector<cv::Mat> sheet_tiles;
   std::vector<std::string> sheet_labels;
   std::vector<std::string> failures;
   nlohmann::json per_frame = nlohmann::json::array();
-  std::unique_ptr<ViewCamera> camera;
   float error_max = static_cast<float>(o.error_max_mm);
   Progress progress("render", static_cast<int64_t>(indices.size()));
   const auto start = std::chrono::steady_clock::now();
@@ -158,11 +247,13 @@ void run_render(const RenderCommandOptions& o) {
     const cv::Mat picture = value_or_throw(renderer->render(*camera, style));
     ++rendered;
     if (video) {
-      if (!writer.isOpened())
-        codec = value_or_throw(open_video(writer, o.output, fps, picture.size()));
-      writer.write(picture);
+      picture_writer.push([&writer, picture] {
+        writer.write(picture);
+        return Status::ok();
+      });
     } else if (!o.output.empty()) {
-      throw_if_error(write_image(frame_path(o.output, i, ".png"), picture));
+      picture_writer.push(
+          [path = frame_path(o.output, i, ".png"), picture] { return write_image(path, picture); });
     }
     if (std::find(sheet_positions.begin(), sheet_positions.end(), k) != sheet_positions.end()) {
       sheet_tiles.push_back(picture);
@@ -170,6 +261,7 @@ void run_render(const RenderCommandOptions& o) {
     }
     per_frame.push_back(fj);
   }
+  throw_if_error(picture_writer.finish());
   progress.finish();
   writer.release();
   const double seconds =
@@ -197,6 +289,8 @@ void run_render(const RenderCommandOptions& o) {
                             {"reference", o.reference},
                             {"error_max_mm", error_max},
                             {"msaa", o.msaa},
+                            {"mesh_stride", o.mesh_stride},
+                            {"mesh_stride_used", mesh_options.stride},
                             {"contact_sheet", o.contact_sheet}}}};
   if (!o.output.empty()) {
     const fs::path stats_path = video ? fs::path(o.output).replace_extension(".stats.json")
@@ -230,7 +324,9 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--fps", o->fps, "MP4 frame rate (default: the sequence's)");
   cmd->add_option("--msaa", o->msaa, "Multisample anti-aliasing samples (0..16)")
       ->capture_default_str();
-  cmd->add_option("--mesh-stride", o->mesh_stride, "Use every Nth pixel of the geometry image")
+  cmd->add_option("--mesh-stride", o->mesh_stride,
+                  "Use every Nth pixel of the geometry image (1..16), or auto: about one grid "
+                  "step per picture pixel (fewer triangles where they would be sub-pixel)")
       ->capture_default_str();
   cmd->add_option("--contact-sheet", o->contact_sheet, "Also write a PNG grid of frames here");
   cmd->add_option("--contact-frames", o->contact_frames, "Frames on the contact sheet")

@@ -1,13 +1,22 @@
+// CabacDecoder is inline (cabac_decoder.hpp); this is its plain reference.
 #include "gvkit/codec/cabac_decoder.hpp"
 
 namespace gvkit::codec {
 
-CabacDecoder::CabacDecoder(std::string_view data)
+CabacDecoderReference::CabacDecoderReference(std::string_view data)
     : data_(data), data_bits_(static_cast<uint64_t>(data.size()) * 8) {
-  offset_ = read_bits(9);
+  for (int i = 0; i < 9; ++i) offset_ = (offset_ << 1) | read_bit();
 }
 
-int CabacDecoder::decode(CabacContext& ctx) {
+uint32_t CabacDecoderReference::read_bit() {
+  const uint64_t byte = bit_pos_ / 8;
+  const uint32_t bit =
+      byte < data_.size() ? (static_cast<uint8_t>(data_[byte]) >> (7 - bit_pos_ % 8)) & 1u : 0u;
+  ++bit_pos_;
+  return bit;
+}
+
+int CabacDecoderReference::decode(CabacContext& ctx) {
   const uint32_t lps = kCabacRangeLps[ctx.state][(range_ >> 6) & 3];
   range_ -= lps;
   int bin;
@@ -19,12 +28,15 @@ int CabacDecoder::decode(CabacContext& ctx) {
     bin = ctx.mps;
   }
   cabac_update(ctx, bin);
-  renormalize();
+  while (range_ < 256) {
+    range_ <<= 1;
+    offset_ = (offset_ << 1) | read_bit();
+  }
   return bin;
 }
 
-int CabacDecoder::decode_bypass() {
-  offset_ = (offset_ << 1) | read_bits(1);
+int CabacDecoderReference::decode_bypass() {
+  offset_ = (offset_ << 1) | read_bit();
   if (offset_ >= range_) {
     offset_ -= range_;
     return 1;
@@ -32,10 +44,13 @@ int CabacDecoder::decode_bypass() {
   return 0;
 }
 
-int CabacDecoder::decode_terminate() {
+int CabacDecoderReference::decode_terminate() {
   range_ -= 2;
   if (offset_ >= range_) return 1;
-  renormalize();
+  while (range_ < 256) {
+    range_ <<= 1;
+    offset_ = (offset_ << 1) | read_bit();
+  }
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "cross_plane_residual.hpp"
+#include "gvkit/codec/inverse_residual.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
 
@@ -63,17 +64,7 @@ void macroblock_residual(const MacroblockData& mb, const PlaneCodingParams& p, i
       const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
       for (int i = 0; i < count; ++i) r[i] = static_cast<int32_t>(levels[i] * step);
     } else {
-      int64_t coeffs[256];
-      if (n == 16) {
-        dequantize16x16(levels, p.qp_prime, coeffs);
-        inverse_transform16x16(coeffs, r);
-      } else {
-        dequantize(n, levels, p.qp_prime, coeffs);
-        if (n == 4)
-          inverse_transform4x4(coeffs, r);
-        else
-          inverse_transform8x8(coeffs, r);
-      }
+      inverse_residual(n, levels, p.qp_prime, r);
     }
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) out[(y0 + y) * 16 + x0 + x] = r[y * n + x];

@@ -494,13 +494,10 @@ Result<int> packet_reference_count(std::string_view packet) {
   return ref_count;
 }
 
-Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
-                                          int64_t frame_number,
-                                          const std::vector<SamplePlane>* reference,
-                                          std::vector<SamplePlane>* planes_out,
-                                          const std::vector<SamplePlane>* reference1,
-                                          const std::vector<const std::vector<SamplePlane>*>* older,
-                                          bool texture_qp_offset) {
+Result<std::vector<SamplePlane>> decode_frame_planes(
+    std::string_view packet, const SequenceInfo& info, const std::vector<SamplePlane>* reference,
+    const std::vector<SamplePlane>* reference1,
+    const std::vector<const std::vector<SamplePlane>*>* older, bool texture_qp_offset) {
   GVKIT_ASSIGN_OR_RETURN(const format::PacketHeader header, format::read_packet_header(packet));
   if (packet.size() - header.header_size < header.payload_size)
     return corrupt_data("payload truncated");
@@ -701,8 +698,25 @@ Result<GeometryImage> decode_frame_packet(std::string_view packet, const Sequenc
   }
   if (r.remaining() != 0) return corrupt_data("trailing bytes after the planes");
   for (SamplePlane& plane : planes) plane.half_resolution = half;
-  GeometryImage image =
-      dequantize_geometry(half ? upsample_planes(planes, info) : planes, info, frame_number);
+  return planes;
+}
+
+GeometryImage decoded_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                               int64_t frame_number) {
+  GVKIT_CHECK(planes.size() >= 3);
+  if (!planes[0].half_resolution) return dequantize_geometry(planes, info, frame_number);
+  return dequantize_geometry(upsample_planes(planes, info), info, frame_number);
+}
+
+Result<GeometryImage> decode_frame_packet(
+    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
+    const std::vector<SamplePlane>* reference, std::vector<SamplePlane>* planes_out,
+    const std::vector<SamplePlane>* reference1,
+    const std::vector<const std::vector<SamplePlane>*>* older, bool texture_qp_offset) {
+  GVKIT_ASSIGN_OR_RETURN(
+      std::vector<SamplePlane> planes,
+      decode_frame_planes(packet, info, reference, reference1, older, texture_qp_offset));
+  GeometryImage image = decoded_geometry(planes, info, frame_number);
   if (planes_out) *planes_out = std::move(planes);
   return image;
 }

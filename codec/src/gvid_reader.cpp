@@ -85,17 +85,6 @@ void GvidReader::sort_display_order() {
   });
 }
 
-namespace {
-
-GeometryImage deep_copy(const GeometryImage& image) {
-  GeometryImage copy = image;
-  copy.xyz_mm = image.xyz_mm.clone();
-  if (!image.texture.empty()) copy.texture = image.texture.clone();
-  return copy;
-}
-
-}  // namespace
-
 Result<int64_t> GvidReader::neighbour_anchor(int64_t index, int direction,
                                              const std::string& where) const {
   for (int64_t j = index + direction; j >= 0 && j < frame_count(); j += direction) {
@@ -110,10 +99,9 @@ Result<int64_t> GvidReader::neighbour_anchor(int64_t index, int direction,
   return int64_t{-1};
 }
 
-Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* ref0,
-                                                const Decoded* ref1,
-                                                std::vector<SamplePlane>* planes,
-                                                const std::vector<const Decoded*>& older) const {
+Result<std::vector<SamplePlane>> GvidReader::decode_packet(
+    int64_t index, const Decoded* ref0, const Decoded* ref1,
+    const std::vector<const Decoded*>& older) const {
   std::vector<const std::vector<SamplePlane>*> older_planes;
   for (const Decoded* d : older) older_planes.push_back(&d->planes);
   const format::IndexEntry& e = entry(index);
@@ -130,7 +118,7 @@ Result<GeometryImage> GvidReader::decode_packet(int64_t index, const Decoded* re
       payload = payload.substr(0, header->payload_size);
     GVKIT_RETURN_IF_ERROR(format::check_packet_conformance(format_, *header, payload));
   }
-  return decode_frame_packet(packet, info_, index, ref0 ? &ref0->planes : nullptr, planes,
+  return decode_frame_planes(packet, info_, ref0 ? &ref0->planes : nullptr,
                              ref1 ? &ref1->planes : nullptr,
                              older_planes.empty() ? nullptr : &older_planes, format_.major >= 2);
 }
@@ -183,12 +171,12 @@ Result<std::shared_ptr<const GvidReader::Decoded>> GvidReader::decode_anchor(
     }
     const Decoded* ref0 = !intra && q + 1 < chain.size() ? held[q + 1].get() : nullptr;
     if (!intra && !ref0) return corrupt_data(where + ": no intra frame before it");
-    auto frame = decode_packet(j, ref0, nullptr, &d->planes, older);
-    if (!frame.is_ok()) {
-      if (j == requested) return frame.status().with_context(where);
-      return frame.status().with_context(where + ": reference frame " + std::to_string(j));
+    auto planes = decode_packet(j, ref0, nullptr, older);
+    if (!planes.is_ok()) {
+      if (j == requested) return planes.status().with_context(where);
+      return planes.status().with_context(where + ": reference frame " + std::to_string(j));
     }
-    d->image = std::move(frame).value();
+    d->planes = std::move(planes).value();
     anchors_.push_back(d);
     if (anchors_.size() > kCachedAnchors) anchors_.pop_front();
     held[q] = std::move(d);
@@ -204,9 +192,9 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   if (is_anchor(index)) {
     GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> d,
                            decode_anchor(index, index, where));
-    return deep_copy(d->image);
+    return decoded_geometry(d->planes, info_, index);
   }
-  if (last_b_ && last_b_->index == index) return deep_copy(last_b_->image);
+  if (last_b_ && last_b_->index == index) return decoded_geometry(last_b_->planes, info_, index);
   GVKIT_ASSIGN_OR_RETURN(const int64_t before, neighbour_anchor(index, -1, where));
   GVKIT_ASSIGN_OR_RETURN(const int64_t after, neighbour_anchor(index, 1, where));
   if (before < 0) return corrupt_data(where + ": B frame without an anchor frame before it");
@@ -218,11 +206,11 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
                          decode_anchor(before, index, where));
   auto d = std::make_shared<Decoded>();
   d->index = index;
-  auto frame = decode_packet(index, ref0.get(), ref1.get(), nullptr);
-  if (!frame.is_ok()) return frame.status().with_context(where);
-  d->image = std::move(frame).value();
+  auto planes = decode_packet(index, ref0.get(), ref1.get());
+  if (!planes.is_ok()) return planes.status().with_context(where);
+  d->planes = std::move(planes).value();
   last_b_ = d;
-  return deep_copy(d->image);
+  return decoded_geometry(d->planes, info_, index);
 }
 
 int GvidReader::frame_references(int64_t index) const {

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "cpu_features.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 
 namespace gvkit::codec {
@@ -15,10 +16,13 @@ int padded(int n) { return (n + 15) / 16 * 16; }
 
 // Repeats the last coded column and row into the padding.
 void pad_plane(SamplePlane& p, int width, int height) {
-  for (int y = 0; y < p.height; ++y)
-    for (int x = 0; x < p.width; ++x)
-      if (x >= width || y >= height)
-        p.at(x, y) = p.at(std::min(x, width - 1), std::min(y, height - 1));
+  for (int y = 0; y < height; ++y) {
+    uint16_t* row = &p.samples[static_cast<size_t>(y) * p.width];
+    std::fill(row + width, row + p.width, row[width - 1]);
+  }
+  const uint16_t* last = &p.samples[static_cast<size_t>(height - 1) * p.width];
+  for (int y = height; y < p.height; ++y)
+    std::copy(last, last + p.width, &p.samples[static_cast<size_t>(y) * p.width]);
 }
 
 // Tap k (0..3) of full-resolution pixel `out` and the half-resolution sample it weighs (clamped
@@ -106,7 +110,8 @@ class LeastSquaresHalving {
 
 }  // namespace
 
-SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, int bit_depth) {
+SamplePlane upsample_half_plane_reference(const SamplePlane& half, int width, int height,
+                                          int bit_depth) {
   const int w = half_size(width), h = half_size(height);
   GVKIT_CHECK(half.width >= w && half.height >= h);
   // The four taps of every output column and row, computed once.
@@ -139,6 +144,100 @@ SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, 
   }
   pad_plane(out, width, height);
   return out;
+}
+
+#if defined(GVKIT_X86_SIMD)
+namespace {
+
+// AVX2, bit for bit the reference: both passes are exact integer sums, and 32 bits hold them
+// (|horizontal| <= 76 x 65535, |vertical| <= 76^2 x 65535 < 2^29; 76 = the sum of |taps|).
+GVKIT_TARGET_AVX2 SamplePlane upsample_half_plane_avx2(const SamplePlane& half, int width,
+                                                       int height, int bit_depth) {
+  const int w = half_size(width), h = half_size(height);
+  GVKIT_CHECK(half.width >= w && half.height >= h);
+  const int w8 = (w + 7) / 8 * 8;
+  // Horizontal pass, x64: output pixels 2i and 2i + 1 of input sample i, eight i at a time from
+  // a row with its edge samples repeated (2 before, the rest after), so that no index clamps.
+  const int row_stride = (2 * w + 15) / 16 * 16;  // >= width, whole vectors
+  std::vector<int32_t> rows(static_cast<size_t>(row_stride) * h);
+  std::vector<int32_t> padded_row(static_cast<size_t>(w8) + 8);
+  const __m256i t0 = _mm256_set1_epi32(kHalfUpsampleTaps[0]),
+                t1 = _mm256_set1_epi32(kHalfUpsampleTaps[1]),
+                t2 = _mm256_set1_epi32(kHalfUpsampleTaps[2]),
+                t3 = _mm256_set1_epi32(kHalfUpsampleTaps[3]);
+  for (int y = 0; y < h; ++y) {
+    const uint16_t* in = &half.samples[static_cast<size_t>(y) * half.width];
+    int32_t* pr = padded_row.data();  // pr[j + 2] = in[clamp(j)]
+    pr[0] = pr[1] = in[0];
+    for (int j = 0; j < w; ++j) pr[j + 2] = in[j];
+    for (int j = w + 2; j < w8 + 8; ++j) pr[j] = in[w - 1];
+    int32_t* out = &rows[static_cast<size_t>(y) * row_stride];
+    for (int i = 0; i < w; i += 8) {
+      // Samples i - 2 + k .. i + 5 + k for k = 0..4.
+      const __m256i* v = reinterpret_cast<const __m256i*>(pr + i);
+      const __m256i am2 = _mm256_loadu_si256(v),
+                    am1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pr + i + 1)),
+                    a0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pr + i + 2)),
+                    a1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pr + i + 3)),
+                    a2 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pr + i + 4));
+      // Pixel 2i: taps 3, 2, 1, 0 over samples i - 2 .. i + 1; pixel 2i + 1: taps 0..3 over
+      // samples i - 1 .. i + 2.
+      const __m256i even = _mm256_add_epi32(
+          _mm256_add_epi32(_mm256_mullo_epi32(am2, t3), _mm256_mullo_epi32(am1, t2)),
+          _mm256_add_epi32(_mm256_mullo_epi32(a0, t1), _mm256_mullo_epi32(a1, t0)));
+      const __m256i odd = _mm256_add_epi32(
+          _mm256_add_epi32(_mm256_mullo_epi32(am1, t0), _mm256_mullo_epi32(a0, t1)),
+          _mm256_add_epi32(_mm256_mullo_epi32(a1, t2), _mm256_mullo_epi32(a2, t3)));
+      const __m256i lo = _mm256_unpacklo_epi32(even, odd), hi = _mm256_unpackhi_epi32(even, odd);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 2 * i),
+                          _mm256_permute2x128_si256(lo, hi, 0x20));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 2 * i + 8),
+                          _mm256_permute2x128_si256(lo, hi, 0x31));
+    }
+  }
+  // Vertical pass: rounded, clamped, eight pixels at a time (the last vector of a row may write
+  // into the padding, which pad_plane overwrites).
+  SamplePlane out;
+  out.width = padded(width);
+  out.height = padded(height);
+  out.samples.resize(static_cast<size_t>(out.width) * out.height);
+  const auto row_taps = taps_of(height, h);
+  const __m256i round = _mm256_set1_epi32(2048), zero = _mm256_setzero_si256(),
+                max_value = _mm256_set1_epi32((1 << bit_depth) - 1);
+  for (int y = 0; y < height; ++y) {
+    const std::array<Tap, 4>& t = row_taps[y];
+    const int32_t* r[4];
+    __m256i wt[4];
+    for (int k = 0; k < 4; ++k) {
+      r[k] = &rows[static_cast<size_t>(t[k].sample) * row_stride];
+      wt[k] = _mm256_set1_epi32(t[k].weight);
+    }
+    uint16_t* o = &out.samples[static_cast<size_t>(y) * out.width];
+    for (int x = 0; x < width; x += 8) {
+      __m256i term[4];
+      for (int k = 0; k < 4; ++k)
+        term[k] = _mm256_mullo_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r[k] + x)),
+                                     wt[k]);
+      __m256i sum =
+          _mm256_add_epi32(_mm256_add_epi32(term[0], term[1]), _mm256_add_epi32(term[2], term[3]));
+      sum = _mm256_srai_epi32(_mm256_add_epi32(sum, round), 12);
+      sum = _mm256_min_epi32(_mm256_max_epi32(sum, zero), max_value);
+      const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi32(sum, sum), 0x08);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(o + x), _mm256_castsi256_si128(packed));
+    }
+  }
+  pad_plane(out, width, height);
+  return out;
+}
+
+}  // namespace
+#endif
+
+SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, int bit_depth) {
+#if defined(GVKIT_X86_SIMD)
+  if (detail::cpu_has_avx2()) return upsample_half_plane_avx2(half, width, height, bit_depth);
+#endif
+  return upsample_half_plane_reference(half, width, height, bit_depth);
 }
 
 SamplePlane downsample_plane(const SamplePlane& full, int width, int height, int bit_depth) {

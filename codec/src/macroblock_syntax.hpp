@@ -18,9 +18,11 @@
 #include "gvkit/codec/cross_plane.hpp"
 #include "gvkit/codec/cross_plane_contexts.hpp"
 #include "gvkit/codec/intra_prediction.hpp"
+#include "gvkit/codec/inverse_residual.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
 #include "gvkit/codec/quadratic_intra.hpp"
+#include "gvkit/codec/reconstruction_store.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
 #include "partition_syntax.hpp"
@@ -419,7 +421,13 @@ inline int most_probable_mode(PlaneState& st, int gx, int gy, bool for_8x8) {
 }
 
 inline bool any_nonzero(const int32_t* v, int n) {
-  for (int i = 0; i < n; ++i)
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {  // sixteen at a time (the loop vectorizes), then the verdict
+    int32_t any = 0;
+    for (int k = 0; k < 16; ++k) any |= v[i + k];
+    if (any) return true;
+  }
+  for (; i < n; ++i)
     if (v[i]) return true;
   return false;
 }
@@ -905,45 +913,32 @@ inline bool is_coded(int px, int py, int width, int mb_x, int mb_y, int block) {
   return zorder_index((px % 16) / 4, (py % 16) / 4) < block;
 }
 
-// Prediction + residual -> reconstructed samples of an n x n block at (x0, y0).
+// Prediction + residual -> reconstructed samples of an n x n block at (x0, y0); pred's rows are
+// pred_stride apart.
 inline void reconstruct_block(int n, const int32_t* pred, const int32_t* levels,
                               const PlaneCodingParams& p, uint16_t* plane, int stride, int x0,
-                              int y0) {
+                              int y0, int pred_stride = 0) {
   const int count = n * n;
   const int max_value = (1 << p.bit_depth) - 1;
-  // Writes value(i) for the block's raster positions i, clipped to the sample range.
-  const auto store = [&](const auto& value) {
-    for (int y = 0; y < n; ++y) {
-      uint16_t* row = plane + static_cast<size_t>(y0 + y) * stride + x0;
-      for (int x = 0; x < n; ++x) {
-        const int64_t v = value(y * n + x);
-        row[x] = static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
-      }
-    }
-  };
+  if (pred_stride == 0) pred_stride = n;
+  uint16_t* dst = plane + static_cast<size_t>(y0) * stride + x0;
   // No residual: the clipped prediction.
-  if (!any_nonzero(levels, count)) return store([&](int i) { return int64_t{pred[i]}; });
-  int64_t residual[256];
+  if (!any_nonzero(levels, count))
+    return store_reconstruction(n, pred, pred_stride, nullptr, max_value, dst, stride);
   if (p.lossless) {
     // Near-lossless: a level counts 2 near + 1 samples (|level| < 2^24, so no overflow).
     const int64_t step = 2 * static_cast<int64_t>(p.near_lossless) + 1;
-    for (int i = 0; i < count; ++i) residual[i] = levels[i] * step;
-  } else {
-    int64_t coeffs[256];
-    int32_t transformed[256];
-    if (n == 16) {
-      dequantize16x16(levels, p.qp_prime, coeffs);
-      inverse_transform16x16(coeffs, transformed);
-    } else {
-      dequantize(n, levels, p.qp_prime, coeffs);
-      if (n == 4)
-        inverse_transform4x4(coeffs, transformed);
-      else
-        inverse_transform8x8(coeffs, transformed);
-    }
-    std::copy(transformed, transformed + count, residual);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int64_t v = pred[y * pred_stride + x] + levels[y * n + x] * step;
+        dst[static_cast<size_t>(y) * stride + x] =
+            static_cast<uint16_t>(v < 0 ? 0 : (v > max_value ? max_value : v));
+      }
+    return;
   }
-  store([&](int i) { return pred[i] + residual[i]; });
+  int32_t residual[256];
+  inverse_residual(n, levels, p.qp_prime, residual);
+  store_reconstruction(n, pred, pred_stride, residual, max_value, dst, stride);
 }
 
 // The residual of an inter or I16x16 macroblock added to its 16x16 prediction pred16 at
@@ -956,14 +951,16 @@ inline void reconstruct_macroblock_residual(const int32_t* pred16, const Macrobl
     return;
   }
   const int n = mb.transform == 8 ? 8 : 4;
+  const bool levels =
+      n == 8 ? any_nonzero(&mb.levels8[0][0], 256) : any_nonzero(&mb.levels[0][0], 256);
+  if (!levels)  // the clipped prediction, in one store
+    return store_reconstruction(16, pred16, 16, nullptr, (1 << p.bit_depth) - 1,
+                                plane + static_cast<size_t>(y0) * stride + x0, stride);
   for (int b = 0; b < (n == 8 ? 4 : 16); ++b) {
     const int bx = n == 8 ? (b & 1) * 8 : block_x(b) * 4,
               by = n == 8 ? (b >> 1) * 8 : block_y(b) * 4;
-    int32_t sub[64];
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) sub[y * n + x] = pred16[(by + y) * 16 + bx + x];
-    reconstruct_block(n, sub, n == 8 ? mb.levels8[b] : mb.levels[b], p, plane, stride, x0 + bx,
-                      y0 + by);
+    reconstruct_block(n, pred16 + by * 16 + bx, n == 8 ? mb.levels8[b] : mb.levels[b], p, plane,
+                      stride, x0 + bx, y0 + by, 16);
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "cpu_features.hpp"
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -107,6 +108,133 @@ void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int 
       pred[y * w + x] = motion_sample(ref, x0 + x, y0 + y, mv_x, mv_y, quarter_pel, bit_depth);
 }
 
+#if defined(GVKIT_X86_SIMD)
+namespace {
+
+// The quarter-sample path of predict_motion_block with eight 32-bit lanes: the same window, the
+// same half-sample planes over (w + 1) x (h + 1) and the same integer arithmetic (every 6-tap sum
+// fits 32 bits, as in the plain loops), so the same samples. Rows are padded to whole vectors:
+// the window to 32 columns (the taps of 24 columns), the planes to 24.
+constexpr int kWinStride = 32, kPlaneStride = 24;
+
+GVKIT_TARGET_AVX2 inline __m256i tap6_avx2(__m256i e, __m256i f, __m256i g, __m256i h, __m256i i,
+                                           __m256i j) {
+  // e - 5 f + 20 g + 20 h - 5 i + j, with shifts: 20 x = 16 x + 4 x, 5 x = 4 x + x.
+  const __m256i gh = _mm256_add_epi32(g, h), fi = _mm256_add_epi32(f, i);
+  const __m256i twenty = _mm256_add_epi32(_mm256_slli_epi32(gh, 4), _mm256_slli_epi32(gh, 2));
+  const __m256i five = _mm256_add_epi32(_mm256_slli_epi32(fi, 2), fi);
+  return _mm256_add_epi32(_mm256_add_epi32(e, j), _mm256_sub_epi32(twenty, five));
+}
+
+GVKIT_TARGET_AVX2 inline __m256i load8(const int32_t* p) {
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+}
+
+GVKIT_TARGET_AVX2 void predict_quarter_block_avx2(const SamplePlane& ref, int x0, int y0, int w,
+                                                  int h, int mv_x, int mv_y, int bit_depth,
+                                                  int32_t* pred) {
+  const int fx = mv_x & 3, fy = mv_y & 3;
+  const int xi = x0 + (mv_x >> 2) - 2, yi = y0 + (mv_y >> 2) - 2;
+  alignas(32) int32_t win[(kMaxMotionBlock + 6) * kWinStride];
+  if (xi >= 0 && yi >= 0 && xi + kWinStride <= ref.width && yi + h + 6 <= ref.height) {
+    for (int y = 0; y < h + 6; ++y) {
+      const uint16_t* row = &ref.samples[static_cast<size_t>(yi + y) * ref.width + xi];
+      for (int x = 0; x < kWinStride; x += 16) {
+        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + x));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(win + y * kWinStride + x),
+                           _mm256_cvtepu16_epi32(_mm256_castsi256_si128(v)));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(win + y * kWinStride + x + 8),
+                           _mm256_cvtepu16_epi32(_mm256_extracti128_si256(v, 1)));
+      }
+    }
+  } else {
+    for (int y = 0; y < h + 6; ++y) {
+      const int sy = std::clamp(yi + y, 0, ref.height - 1);
+      const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
+      for (int x = 0; x < kWinStride; ++x)
+        win[y * kWinStride + x] = row[std::clamp(xi + x, 0, ref.width - 1)];
+    }
+  }
+  const int phase = fy * 4 + fx;
+  const bool need_b = (0xE0EE >> phase) & 1, need_h = (0xBBB0 >> phase) & 1,
+             need_j = (0x4E40 >> phase) & 1;
+  // Columns computed: up to 8 past the start of each row's last output vector (whose lanes read
+  // one column right at most), so that no lane reads an unset value.
+  const int vectors = (w - 1) / 8 + 2;
+  const __m256i zero = _mm256_setzero_si256(), max_value = _mm256_set1_epi32((1 << bit_depth) - 1);
+  const __m256i r16 = _mm256_set1_epi32(16), r512 = _mm256_set1_epi32(512);
+  alignas(32) int32_t b1[(kMaxMotionBlock + 6) * kPlaneStride];
+  alignas(32) int32_t b[(kMaxMotionBlock + 1) * kPlaneStride],
+      hh[(kMaxMotionBlock + 1) * kPlaneStride], j[(kMaxMotionBlock + 1) * kPlaneStride];
+  if (need_b || need_j) {
+    const int first = need_j ? 0 : 2, last = need_j ? h + 6 : h + 3;
+    for (int y = first; y < last; ++y)
+      for (int v = 0; v < vectors; ++v) {
+        const int32_t* s = win + y * kWinStride + 8 * v;
+        _mm256_store_si256(reinterpret_cast<__m256i*>(b1 + y * kPlaneStride + 8 * v),
+                           tap6_avx2(load8(s), load8(s + 1), load8(s + 2), load8(s + 3),
+                                     load8(s + 4), load8(s + 5)));
+      }
+  }
+  for (int y = 0; y <= h; ++y)
+    for (int v = 0; v < vectors; ++v) {
+      const int o = y * kPlaneStride + 8 * v;
+      if (need_b) {
+        const __m256i t =
+            _mm256_srai_epi32(_mm256_add_epi32(load8(b1 + (y + 2) * kPlaneStride + 8 * v), r16), 5);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(b + o),
+                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+      }
+      if (need_h) {
+        const int32_t* s = win + y * kWinStride + 8 * v + 2;
+        const __m256i t = _mm256_srai_epi32(
+            _mm256_add_epi32(tap6_avx2(load8(s), load8(s + kWinStride), load8(s + 2 * kWinStride),
+                                       load8(s + 3 * kWinStride), load8(s + 4 * kWinStride),
+                                       load8(s + 5 * kWinStride)),
+                             r16),
+            5);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(hh + o),
+                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+      }
+      if (need_j) {
+        const int32_t* s = b1 + y * kPlaneStride + 8 * v;
+        const __m256i t = _mm256_srai_epi32(
+            _mm256_add_epi32(tap6_avx2(load8(s), load8(s + kPlaneStride),
+                                       load8(s + 2 * kPlaneStride), load8(s + 3 * kPlaneStride),
+                                       load8(s + 4 * kPlaneStride), load8(s + 5 * kPlaneStride)),
+                             r512),
+            10);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(j + o),
+                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+      }
+    }
+  const int32_t* const plane_of[4] = {&win[2 * kWinStride + 2], b, hh, j};
+  const int stride_of[4] = {kWinStride, kPlaneStride, kPlaneStride, kPlaneStride};
+  const PhaseTaps& t = kPhaseTaps[phase];
+  const int s1 = stride_of[t.plane1];
+  const int32_t* p1 = plane_of[t.plane1] + t.dy1 * s1 + t.dx1;
+  const int s2 = t.plane2 < 0 ? 0 : stride_of[t.plane2];
+  const int32_t* p2 = t.plane2 < 0 ? nullptr : plane_of[t.plane2] + t.dy2 * s2 + t.dx2;
+  const __m256i one = _mm256_set1_epi32(1);
+  // The last vector of a row keeps its first w % 8 lanes.
+  const __m256i tail =
+      _mm256_cmpgt_epi32(_mm256_set1_epi32(w % 8), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; x += 8) {
+      __m256i v = load8(p1 + y * s1 + x);
+      if (p2)
+        v = _mm256_srai_epi32(_mm256_add_epi32(_mm256_add_epi32(v, load8(p2 + y * s2 + x)), one),
+                              1);
+      if (x + 8 <= w)
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(pred + y * w + x), v);
+      else
+        _mm256_maskstore_epi32(pred + y * w + x, tail, v);
+    }
+}
+
+}  // namespace
+#endif
+
 void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, int mv_x, int mv_y,
                           bool quarter_pel, int bit_depth, int32_t* pred) {
   GVKIT_CHECK(w > 0 && h > 0 && w <= kMaxMotionBlock && h <= kMaxMotionBlock);
@@ -127,6 +255,10 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
     }
     return;
   }
+#if defined(GVKIT_X86_SIMD)
+  if (detail::cpu_has_avx2())
+    return predict_quarter_block_avx2(ref, x0, y0, w, h, mv_x, mv_y, bit_depth, pred);
+#endif
   // Every sample of the block has the same fractional phase: gather the clamped integer window
   // (2 samples left / above, 3 right / below of the (w + 1) x (h + 1) area the positions touch)
   // once, then the half-sample planes b, h, j over that area, then the phase's combination.

@@ -389,7 +389,16 @@ class MacroblockReader {
     return Status::ok();
   }
 
+  // On a local copy of the decoder, whose state the compiler can then keep in registers: the
+  // context updates (byte stores) could otherwise alias it and force it through memory.
   Status read_residual(int32_t* levels, int n) {
+    CabacDecoder dec = dec_;
+    const Status status = read_residual_with(dec, levels, n);
+    dec_ = dec;
+    return status;
+  }
+
+  Status read_residual_with(CabacDecoder& dec_, int32_t* levels, int n) {
     const int count = n * n, cat = residual_category(n);
     int sig_pos[256];
     int num_sig = 0;

@@ -204,8 +204,10 @@ int quantization_numerators16x16(const int32_t* coeffs, int qp, int64_t* numer) 
   return kQuantShift + qp / 6;
 }
 
+int64_t dequantization_scale16x16(int qp) { return int64_t{kStep16[qp % 6]} << (qp / 6); }
+
 void dequantize16x16(const int32_t* levels, int qp, int64_t* coeffs) {
-  const int64_t scale = int64_t{kStep16[qp % 6]} << (qp / 6);
+  const int64_t scale = dequantization_scale16x16(qp);
   for (int k = 0; k < 256; ++k) coeffs[k] = levels[k] * scale;
 }
 

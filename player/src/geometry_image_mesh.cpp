@@ -122,6 +122,11 @@ Mesh mesh_from_buffers(const MeshBuffers& buffers, int* dropped_faces) {
   const bool grey = !buffers.grey.empty();
   if (grey) mesh.request_vertex_colors();
   const size_t n = buffers.vertex_count();
+  // Room for every element at once (a disc with b holes has vertices + faces - 1 + b edges;
+  // the slack covers many holes), instead of the kernel's arrays and properties growing by
+  // doubling.
+  const size_t faces = buffers.triangle_count();
+  mesh.reserve(n, n + faces + n / 8 + 64, faces);
   std::vector<Mesh::VertexHandle> handles(n);
   for (size_t i = 0; i < n; ++i) {
     const float* p = &buffers.positions_mm[3 * i];

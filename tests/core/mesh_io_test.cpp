@@ -87,6 +87,33 @@ TEST(MeshIo, PlyAndObjRoundTrip) {
   }
 }
 
+// gvkit's binary PLY serializer writes OpenMesh's bytes: with and without normals, texture
+// coordinates and colours, and on a mesh where OpenMesh rejected a non-manifold face.
+TEST(MeshIo, DirectBinaryPlyEqualsOpenMeshsWriter) {
+  TempDir dir;
+  Mesh mesh = grid_mesh(9);
+  mesh.request_vertex_normals();
+  mesh.request_face_normals();
+  mesh.update_normals();
+  // A fan whose apex already has two separate boundary gaps: OpenMesh refuses a face that would
+  // close a third one at a complex vertex, and keeps the rest.
+  const auto extra = mesh.add_vertex(Mesh::Point(-3, -3, 1));
+  mesh.add_face(Mesh::VertexHandle(0), extra, Mesh::VertexHandle(9));
+  for (int combo = 0; combo < 8; ++combo) {
+    MeshWriteOptions direct;
+    direct.vertex_normals = combo & 1;
+    direct.vertex_texcoords = combo & 2;
+    direct.vertex_colors = combo & 4;
+    MeshWriteOptions openmesh = direct;
+    openmesh.openmesh_writer = true;
+    ASSERT_TRUE(write_mesh(dir / "direct.ply", mesh, direct).is_ok());
+    ASSERT_TRUE(write_mesh(dir / "openmesh.ply", mesh, openmesh).is_ok());
+    const auto a = read_file(dir / "direct.ply"), b = read_file(dir / "openmesh.ply");
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_EQ(a.value(), b.value()) << "options " << combo;
+  }
+}
+
 TEST(MeshIo, ScaleOptionConvertsUnits) {
   TempDir dir;
   ASSERT_TRUE(write_mesh(dir / "m.ply", grid_mesh(3)).is_ok());

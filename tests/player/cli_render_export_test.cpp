@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/videoio.hpp>
 
+#include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
@@ -149,11 +150,29 @@ TEST_F(CliPlayer, CompareRejectsMismatchesAndBadOptions) {
     EXPECT_NE(r.exit_code, 0) << bad;
     EXPECT_NE(r.output.find(named), std::string::npos) << bad << ": " << r.output;
   }
+
+// --mesh-stride auto (the default) picks the stride from the picture size and records it.
+TEST_F(CliPlayer, RenderChoosesTheMeshStrideForThePictureSize) {
+  for (const auto& [size, stride] : {std::pair{"24x24", 2}, std::pair{"256x256", 1}}) {
+    const fs::path out = tmp_ / (std::string("auto_") + size);
+    const auto r =
+        run_gvkit("render " + seq() + " -o " + out.string() + " --size " + size + " --frames 1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto stats = read_json(out / "stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["mesh_stride"], "auto");
+    EXPECT_EQ((*stats)["options"]["mesh_stride_used"], stride) << size;
+  }
+  const auto fixed = run_gvkit("render " + seq() + " -o " + (tmp_ / "fixed").string() +
+                               " --size 24x24 --frames 1 --mesh-stride 1");
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
+  EXPECT_EQ((*read_json(tmp_ / "fixed" / "stats.json"))["options"]["mesh_stride_used"], 1);
 }
 
 TEST_F(CliPlayer, RenderRejectsBadOptions) {
   for (const char* bad : {"--size 0x3", "--size big", "--view top", "--shading glossy",
-                          "--frames 3:1", "--frames 9:", "--size 63x48 -o x.mp4"}) {
+                          "--frames 3:1", "--frames 9:", "--size 63x48 -o x.mp4",
+                          "--mesh-stride fine", "--mesh-stride 0", "--mesh-stride 2x"}) {
     const auto r =
         run_gvkit("render " + seq() + " --contact-sheet " + (tmp_ / "s.png").string() + " " + bad);
     EXPECT_NE(r.exit_code, 0) << bad;
@@ -187,6 +206,29 @@ TEST_F(CliPlayer, ExportPlyObjAndExr) {
   auto stats = read_json(tmp_ / "exr" / "stats.json");
   ASSERT_TRUE(stats.is_ok());
   EXPECT_EQ((*stats)["summary"]["written"], 4);
+}
+
+// Frames are meshed and written on worker threads: the files are the same with one or several.
+TEST_F(CliPlayer, ExportFilesDoNotDependOnThreads) {
+  for (const char* threads : {"1", "3"}) {
+    const auto r =
+        run_gvkit("export " + seq() + " --format ply -o " +
+                  (tmp_ / (std::string("t") + threads)).string() + " --threads " + threads);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  for (int i = 0; i < 4; ++i) {
+    const auto a = read_file(frame_path(tmp_ / "t1", i, ".ply")),
+               b = read_file(frame_path(tmp_ / "t3", i, ".ply"));
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_EQ(a.value(), b.value()) << i;
+  }
+  auto stats = read_json(tmp_ / "t3" / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["threads"], 3);
+  ASSERT_EQ((*stats)["frames"].size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ((*stats)["frames"][i]["index"], i);  // in frame order
+  EXPECT_NE(
+      run_gvkit("export " + seq() + " -o " + (tmp_ / "x").string() + " --threads -1").exit_code, 0);
 }
 
 TEST_F(CliPlayer, ExportRejectsBadFormatAndMissingInput) {

@@ -42,7 +42,11 @@ int64_t deblocking_step16(int qp_prime);
 // Filters `plane` in place (width and height multiples of 8; strengths of its 4x4 blocks) with
 // the thresholds of qp_prime and params (deblocking_params.hpp), samples kept in [0, 2^bit_depth -
 // 1].
+// Uses AVX2 where the processor has it (eight lines at a time); the same samples as
+// deblock_plane_reference, the plain line-by-line filter.
 void deblock_plane(SamplePlane& plane, const DeblockingStrengths& strengths, int qp_prime,
                    int bit_depth, const DeblockingParams& params);
+void deblock_plane_reference(SamplePlane& plane, const DeblockingStrengths& strengths, int qp_prime,
+                             int bit_depth, const DeblockingParams& params);
 
 }  // namespace gvkit::codec

@@ -74,4 +74,20 @@ Result<GeometryImage> decode_frame_packet(
     const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
     bool texture_qp_offset = true);
 
+// decode_frame_packet without the geometry image: the frame's decoded planes (at half
+// resolution when the packet codes it so), each carrying what a later packet predicts from.
+// Fails as decode_frame_packet does.
+Result<std::vector<SamplePlane>> decode_frame_planes(
+    std::string_view packet, const SequenceInfo& info,
+    const std::vector<SamplePlane>* reference = nullptr,
+    const std::vector<SamplePlane>* reference1 = nullptr,
+    const std::vector<const std::vector<SamplePlane>*>* older = nullptr,
+    bool texture_qp_offset = true);
+
+// The geometry image of a frame's decoded planes (decode_frame_planes' result): upsampled to
+// the header's size when they are at half resolution, then dequantized (dequantize_geometry).
+// decode_frame_packet returns exactly this. Preconditions: at least 3 planes, of info's sizes.
+GeometryImage decoded_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                               int64_t frame_number);
+
 }  // namespace gvkit::codec

@@ -20,6 +20,10 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
 // texture = q / 255, the header's domain mask; index and timestamp from frame_number and fps.
 GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
                                   int64_t frame_number);
+// The plain version of dequantize_geometry (which uses AVX2 where the processor has it and
+// returns the same values bit for bit).
+GeometryImage dequantize_geometry_reference(const std::vector<SamplePlane>& planes,
+                                            const SequenceInfo& info, int64_t frame_number);
 
 // width x height values (row-major) as a plane: rounded (halves away from zero), clamped to
 // [0, max_value], padded to multiples of 16 by repeating the last row and column.

@@ -70,10 +70,12 @@ class GvidReader {
   bool is_anchor(int64_t index) const {
     return entry(index).type != format::FrameType::kBidirectional;
   }
+  // A decoded frame's planes (as coded: at half resolution when the packet says so); its
+  // geometry image is made from them when the frame is asked for (decoded_geometry), so that a
+  // frame decoded only as a reference costs no image and a returned image needs no copy.
   struct Decoded {
     int64_t index = -1;  // display order
     std::vector<SamplePlane> planes;
-    GeometryImage image;
   };
   // The decoded anchor `index` (I or P frame) and the chain of anchors it needs; `where` names
   // frame `requested` (the one asked for) in messages, which name any other failing frame as a
@@ -84,9 +86,9 @@ class GvidReader {
   // between them is missing (a packet lost from a rebuilt index).
   Result<int64_t> neighbour_anchor(int64_t index, int direction, const std::string& where) const;
   // `older` (P frames): the anchors before ref0 since the last intra frame, nearest first.
-  Result<GeometryImage> decode_packet(int64_t index, const Decoded* ref0, const Decoded* ref1,
-                                      std::vector<SamplePlane>* planes,
-                                      const std::vector<const Decoded*>& older = {}) const;
+  Result<std::vector<SamplePlane>> decode_packet(
+      int64_t index, const Decoded* ref0, const Decoded* ref1,
+      const std::vector<const Decoded*>& older = {}) const;
 
   std::string bytes_, name_;
   SequenceInfo info_;

@@ -27,6 +27,10 @@ inline constexpr int kHalfUpsampleTaps[4] = {-4, 54, 16, -2};
 // vertical one rounds ((sum + 2^11) >> 12) and clamps to [0, 2^bit_depth - 1]. Returns a
 // width x height plane padded to multiples of 16 by repeating the last row and column.
 SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, int bit_depth);
+// The plain version of upsample_half_plane (which uses AVX2 where the processor has it and
+// returns the same samples).
+SamplePlane upsample_half_plane_reference(const SamplePlane& half, int width, int height,
+                                          int bit_depth);
 
 // The encoder's downsampling (not normative): the half-resolution samples whose upsampling is
 // closest to `full`'s first width x height samples in least squares (separable: the 1-D

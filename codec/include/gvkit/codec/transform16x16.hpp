@@ -42,5 +42,7 @@ void quantize16x16(const int32_t* coeffs, int qp_prime, bool inter_dead_zone, in
 // qbits (numer / 2^qbits is the unrounded magnitude in quantizer steps).
 int quantization_numerators16x16(const int32_t* coeffs, int qp_prime, int64_t* numer);
 void dequantize16x16(const int32_t* levels, int qp_prime, int64_t* coeffs);
+// dequantize16x16's factor: coeffs[k] = levels[k] x dequantization_scale16x16(qp_prime).
+int64_t dequantization_scale16x16(int qp_prime);
 
 }  // namespace gvkit::codec

@@ -23,6 +23,9 @@ struct MeshWriteOptions {
   bool vertex_colors = true;  // written when the mesh has them
   bool vertex_texcoords = true;
   bool vertex_normals = false;
+  // Binary PLY is written by gvkit's own serializer (OpenMesh's layout, the same bytes, several
+  // times faster); true uses OpenMesh's writer (kept to check it).
+  bool openmesh_writer = false;
 };
 Status write_mesh(const std::filesystem::path& path, const Mesh& mesh,
                   const MeshWriteOptions& options = {});
