@@ -708,11 +708,13 @@ GeometryImage decoded_geometry(const std::vector<SamplePlane>& planes, const Seq
   return dequantize_geometry(upsample_planes(planes, info), info, frame_number);
 }
 
-Result<GeometryImage> decode_frame_packet(
-    std::string_view packet, const SequenceInfo& info, int64_t frame_number,
-    const std::vector<SamplePlane>* reference, std::vector<SamplePlane>* planes_out,
-    const std::vector<SamplePlane>* reference1,
-    const std::vector<const std::vector<SamplePlane>*>* older, bool texture_qp_offset) {
+Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,
+                                          int64_t frame_number,
+                                          const std::vector<SamplePlane>* reference,
+                                          std::vector<SamplePlane>* planes_out,
+                                          const std::vector<SamplePlane>* reference1,
+                                          const std::vector<const std::vector<SamplePlane>*>* older,
+                                          bool texture_qp_offset) {
   GVKIT_ASSIGN_OR_RETURN(
       std::vector<SamplePlane> planes,
       decode_frame_planes(packet, info, reference, reference1, older, texture_qp_offset));
