@@ -22,6 +22,8 @@
 //                            [--temporal-contexts-only [--temporal-contexts-preset fast|slow]]
 //                            [--merge-only] [--td16-only] [--quadratic-intra-only]
 //                            [--resolution-only]
+//                            [--speed-only [--speed-preset fast|slow]]
+//                            [--threads-only [--threads-preset fast|slow]]
 //                            [--qps Q1,Q2,...]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
@@ -49,6 +51,11 @@
 // --resolution-only: format 1.14 half resolution, --resolution full / auto in both presets;
 // --quadratic-intra-only: format 1.13 quadratic intra off / on in both presets, and lossless
 // (fast) off / on;
+// --speed-only: the slow preset's speed decisions (encoder only) off, one at a time and
+// together: encode frames per CPU second over all frames of each curve and the BD-rate against
+// the decisions off; --threads-only: wall-clock encode rates with one and two threads (frame-level
+// threads), three alternating rounds per preset and QP (default -10, 0, 12), bytes identical;
+// --no-texture: a --gv folder's X, Y, Z only;
 // --write-streams DIR: also write every stream
 // of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark;
 // --qps: the QPs of our curves instead of the report's own, e.g. -18,...,24 for x265's whole
@@ -907,6 +914,51 @@ void report_rate_and_threads(const Material& m, const EncoderOptions& base) {
   }
 }
 
+// Thread scaling (--threads-only): per preset and QP, the wall-clock encode rate with one and
+// with two threads (frame-level threads: B frames beside the next anchor; planes in parallel),
+// measured in `rounds` alternating rounds, and whether the bytes are the same.
+void report_thread_scaling(const Material& m, const EncoderOptions& base,
+                           const std::vector<int>& qps, const std::vector<Preset>& presets,
+                           int rounds) {
+  std::printf(
+      "\n| preset | QP | 1 thread fps (wall, per round) | 2 threads fps (wall, per round) | "
+      "speed-up (median rounds) | bytes identical |\n|---|---|---|---|---|---|\n");
+  for (const Preset preset : presets)
+    for (const int qp : qps) {
+      std::vector<double> fps[2];
+      bool same = true;
+      for (int round = 0; round < rounds; ++round) {
+        std::string one;
+        for (const int threads : {1, 2}) {
+          EncoderOptions o = base;
+          o.preset = preset;
+          o.qp = qp;
+          o.threads = threads;
+          const double t0 = wall_now();
+          auto bytes = encode_gvid(m.frames, m.info, o).value();
+          fps[threads - 1].push_back(static_cast<double>(m.frames.size()) / (wall_now() - t0));
+          if (threads == 1)
+            one = std::move(bytes);
+          else
+            same = same && bytes == one;
+        }
+      }
+      const auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+      };
+      const auto list = [](const std::vector<double>& v) {
+        std::string text;
+        for (double x : v) text += (text.empty() ? "" : " / ") + std::to_string(x).substr(0, 5);
+        return text;
+      };
+      std::printf("| %s | %d | %s | %s | %.2fx | %s |\n", preset_name(preset), qp,
+                  list(fps[0]).c_str(), list(fps[1]).c_str(), median(fps[1]) / median(fps[0]),
+                  same ? "yes" : "NO");
+      std::fflush(stdout);
+    }
+}
+
 // P- and B-frame QP offsets with every other option at its default, in one preset, over QP
 // -18 .. 24 (the x265 points reach down to 54 dB, below the lowest PSNR of QP 12): curves and
 // BD-rates against the default offsets and against x265.
@@ -961,7 +1013,7 @@ int main(int argc, char** argv) {
        qp_offsets_only = false, ctx_only = false, partitions_only = false, rdoq_only = false,
        deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
        td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false,
-       no_texture = false;
+       threads_only = false, no_texture = false;
   DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
@@ -1005,6 +1057,8 @@ int main(int argc, char** argv) {
       temporal_only = true;
     else if (a == "--speed-only")
       speed_only = true;
+    else if (a == "--threads-only")
+      threads_only = true;
     else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--td16-only")
@@ -1046,7 +1100,7 @@ int main(int argc, char** argv) {
       refs_only = true;
     else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
               a == "--deblock-preset" || a == "--temporal-contexts-preset" ||
-              a == "--speed-preset") &&
+              a == "--speed-preset" || a == "--threads-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -1161,6 +1215,11 @@ int main(int argc, char** argv) {
                   set);
     return 0;
   };
+  if (threads_only) {
+    report_thread_scaling(m, base, qp_list.empty() ? std::vector<int>{-10, 0, 12} : qp_list,
+                          refs_presets, 3);
+    return 0;
+  }
   if (speed_only) {
     // Each variant sets every decision.
     const auto set = [](EncoderOptions& o, int shortlist, bool early_exit) {
