@@ -10,10 +10,39 @@
 
 namespace gvkit::codec {
 
+BlockDistortionMemo::BlockDistortionMemo() : slots_(kSlots) {}
+
+uint64_t BlockDistortionMemo::key_of(int ref, int x0, int y0, int mx, int my) {
+  // 8 + 14 + 14 bits of reference and 8x8 block position (in 8-sample units, below 2^14), 14 + 14
+  // of vector components (|v| < 2^13 vector units): unique for every argument the search gives.
+  return (uint64_t(uint8_t(ref)) << 56) | (uint64_t(uint32_t(x0 / 8) & 0x3fffu) << 42) |
+         (uint64_t(uint32_t(y0 / 8) & 0x3fffu) << 28) | (uint64_t(uint32_t(mx) & 0x3fffu) << 14) |
+         uint64_t(uint32_t(my) & 0x3fffu);
+}
+
+int64_t BlockDistortionMemo::find(int ref, int x0, int y0, int mx, int my) const {
+  const uint64_t key = key_of(ref, x0, y0, mx, my);
+  for (size_t i = (key * 0x9E3779B97F4A7C15ull) >> 54, n = 0; n < 8;
+       ++n, i = (i + 1) & (kSlots - 1))
+    if (slots_[i].generation == generation_ && slots_[i].key == key) return slots_[i].value;
+  return -1;
+}
+
+void BlockDistortionMemo::store(int ref, int x0, int y0, int mx, int my, int64_t distortion) {
+  const uint64_t key = key_of(ref, x0, y0, mx, my);
+  for (size_t i = (key * 0x9E3779B97F4A7C15ull) >> 54, n = 0; n < 8;
+       ++n, i = (i + 1) & (kSlots - 1))
+    if (slots_[i].generation != generation_) {
+      slots_[i] = {key, generation_, distortion};
+      return;
+    }
+}
+
 PartitionVector search_partition_motion(const SamplePlane& src, const InterpolatedReference& ref,
                                         int x0, int y0, int w, int h, int px, int py,
                                         std::span<const int> starts,
-                                        const PartitionSearchParams& params) {
+                                        const PartitionSearchParams& params,
+                                        BlockDistortionMemo* memo, int ref_id) {
   GVKIT_CHECK((w == 8 || w == 16) && (h == 8 || h == 16) && starts.size() >= 2 &&
               starts.size() % 2 == 0);
   const bool qpel = params.subpel != 0;
@@ -24,9 +53,17 @@ PartitionVector search_partition_motion(const SamplePlane& src, const Interpolat
     int32_t pred[64];
     for (int by = 0; by < h; by += 8)
       for (int bx = 0; bx < w; bx += 8) {
+        const int64_t known = memo ? memo->find(ref_id, x0 + bx, y0 + by, mx, my) : -1;
+        if (known >= 0) {
+          d += known;
+          continue;
+        }
         ref.predict(x0 + bx, y0 + by, 8, 8, mx, my, qpel, pred);
         const uint16_t* s = &src.samples[static_cast<size_t>(y0 + by) * src.width + x0 + bx];
-        d += params.lossless ? sad_block(8, s, src.width, pred) : satd_block(8, s, src.width, pred);
+        const int64_t block =
+            params.lossless ? sad_block(8, s, src.width, pred) : satd_block(8, s, src.width, pred);
+        if (memo) memo->store(ref_id, x0 + bx, y0 + by, mx, my, block);
+        d += block;
       }
     return static_cast<double>(d) +
            params.lambda * (signed_exp_golomb_bits(mx - px) + signed_exp_golomb_bits(my - py));

@@ -105,6 +105,7 @@ class MacroblockEncoder {
   MacroblockData encode(int mb_x, int mb_y, const ContextSet& ctx) {
     mb_x_ = mb_x;
     mb_y_ = mb_y;
+    partition_memo_.clear();
     own_.fill(Searched{});
     cur_ref_ = 0;
     if (ref_) {  // the skip vector and (format 1.11) the merge candidates, for every candidate
@@ -701,8 +702,8 @@ class MacroblockEncoder {
           int px, py;
           partition_mv_predictor(st_.grid, mb_x_, mb_y_, t, k, ref, &px, &py);
           const int starts[4] = {own_[ref].mv_x, own_[ref].mv_y, px, py};
-          const PartitionVector v =
-              search_partition_motion(src_, interp(ref), bx, by, w, h, px, py, starts, search);
+          const PartitionVector v = search_partition_motion(src_, interp(ref), bx, by, w, h, px, py,
+                                                            starts, search, &partition_memo_, ref);
           const double cost = v.cost + search.lambda * ref_bits(ref);
           if (cost < best_cost) {
             best_cost = cost;
@@ -1415,6 +1416,8 @@ class MacroblockEncoder {
   int skip_mv_x_ = 0, skip_mv_y_ = 0;
   int merge_cand_[kMergeCandidates][2] = {};
   int merge_count_ = 0;
+  // The partition searches' 8x8 distortions of the current macroblock (by reference index).
+  BlockDistortionMemo partition_memo_;
   // keep_mode_residual's samples and coded-block flags of the current macroblock.
   std::array<uint16_t, 256> kept_recon_{};
   std::array<uint8_t, 16> kept_cbf_{};

@@ -7,7 +7,9 @@
 // lossless) of the 8x8 blocks of the partition + lambda * the Exp-Golomb bits of the vector
 // difference to the predictor. Vectors in the stream's units (quarter samples when subpel != 0).
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/plane_coding.hpp"
@@ -27,11 +29,39 @@ struct PartitionVector {
   double cost = 0;  // distortion + lambda * bits of the chosen vector
 };
 
+// The distortions (SATD or SAD) of 8x8 blocks at vectors already measured, so that the searches
+// of the partitions of one macroblock (16x8, 8x16 and 8x8 all cover the same four 8x8 blocks,
+// from similar starts) measure each block at each vector once. Keyed by the block's position,
+// the reference (an opaque id the caller gives) and the vector; clear() between macroblocks or
+// whenever the source or a reference changes. A fixed-size table: when it is full, values are
+// measured again (the results never depend on it).
+class BlockDistortionMemo {
+ public:
+  BlockDistortionMemo();
+  void clear() { ++generation_; }
+  // The stored distortion, or -1 when none is.
+  int64_t find(int ref, int x0, int y0, int mx, int my) const;
+  void store(int ref, int x0, int y0, int mx, int my, int64_t distortion);
+
+ private:
+  struct Slot {
+    uint64_t key = 0;
+    uint32_t generation = 0;
+    int64_t value = 0;
+  };
+  static uint64_t key_of(int ref, int x0, int y0, int mx, int my);
+  static constexpr size_t kSlots = 1024;  // a power of two
+  std::vector<Slot> slots_;
+  uint32_t generation_ = 1;
+};
+
 // The w x h block at (x0, y0) of src (w, h in {8, 16}; inside src, the size of the reference);
 // (px, py) is the partition's vector predictor; starts holds at least one vector (x, y pairs).
+// With a memo (and ref_id naming `ref` in it), 8x8 distortions measured before are reused.
 PartitionVector search_partition_motion(const SamplePlane& src, const InterpolatedReference& ref,
                                         int x0, int y0, int w, int h, int px, int py,
                                         std::span<const int> starts,
-                                        const PartitionSearchParams& params);
+                                        const PartitionSearchParams& params,
+                                        BlockDistortionMemo* memo = nullptr, int ref_id = 0);
 
 }  // namespace gvkit::codec
