@@ -132,8 +132,11 @@ TEST_F(CompactScan, DamagedPayloadIsFoundAndNamesItsFrame) {
                                               ": payload CRC mismatch"),
               std::string::npos)
         << damaged.status().message();
-    for (int64_t f = 0; f < 4; ++f)
-      if (f != frame) EXPECT_TRUE(reader->decode_frame(f).is_ok()) << f;
+    for (int64_t f = 0; f < 4; ++f) {
+      if (f != frame) {
+        EXPECT_TRUE(reader->decode_frame(f).is_ok()) << f;
+      }
+    }
   }
 }
 

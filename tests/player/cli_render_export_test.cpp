@@ -150,96 +150,96 @@ TEST_F(CliPlayer, CompareRejectsMismatchesAndBadOptions) {
     EXPECT_NE(r.exit_code, 0) << bad;
     EXPECT_NE(r.output.find(named), std::string::npos) << bad << ": " << r.output;
   }
+}
 
-  // --mesh-stride auto (the default) picks the stride from the picture size and records it.
-  TEST_F(CliPlayer, RenderChoosesTheMeshStrideForThePictureSize) {
-    for (const auto& [size, stride] : {std::pair{"24x24", 2}, std::pair{"256x256", 1}}) {
-      const fs::path out = tmp_ / (std::string("auto_") + size);
-      const auto r =
-          run_gvkit("render " + seq() + " -o " + out.string() + " --size " + size + " --frames 1");
-      ASSERT_EQ(r.exit_code, 0) << r.output;
-      auto stats = read_json(out / "stats.json");
-      ASSERT_TRUE(stats.is_ok());
-      EXPECT_EQ((*stats)["options"]["mesh_stride"], "auto");
-      EXPECT_EQ((*stats)["options"]["mesh_stride_used"], stride) << size;
-    }
-    const auto fixed = run_gvkit("render " + seq() + " -o " + (tmp_ / "fixed").string() +
-                                 " --size 24x24 --frames 1 --mesh-stride 1");
-    ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
-    EXPECT_EQ((*read_json(tmp_ / "fixed" / "stats.json"))["options"]["mesh_stride_used"], 1);
+// --mesh-stride auto (the default) picks the stride from the picture size and records it.
+TEST_F(CliPlayer, RenderChoosesTheMeshStrideForThePictureSize) {
+  for (const auto& [size, stride] : {std::pair{"24x24", 2}, std::pair{"256x256", 1}}) {
+    const fs::path out = tmp_ / (std::string("auto_") + size);
+    const auto r =
+        run_gvkit("render " + seq() + " -o " + out.string() + " --size " + size + " --frames 1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto stats = read_json(out / "stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["options"]["mesh_stride"], "auto");
+    EXPECT_EQ((*stats)["options"]["mesh_stride_used"], stride) << size;
   }
+  const auto fixed = run_gvkit("render " + seq() + " -o " + (tmp_ / "fixed").string() +
+                               " --size 24x24 --frames 1 --mesh-stride 1");
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
+  EXPECT_EQ((*read_json(tmp_ / "fixed" / "stats.json"))["options"]["mesh_stride_used"], 1);
+}
 
-  TEST_F(CliPlayer, RenderRejectsBadOptions) {
-    for (const char* bad : {"--size 0x3", "--size big", "--view top", "--shading glossy",
-                            "--frames 3:1", "--frames 9:", "--size 63x48 -o x.mp4",
-                            "--mesh-stride fine", "--mesh-stride 0", "--mesh-stride 2x"}) {
-      const auto r = run_gvkit("render " + seq() + " --contact-sheet " + (tmp_ / "s.png").string() +
-                               " " + bad);
-      EXPECT_NE(r.exit_code, 0) << bad;
-      EXPECT_NE(r.output.find("error"), std::string::npos) << bad << ": " << r.output;
-    }
+TEST_F(CliPlayer, RenderRejectsBadOptions) {
+  for (const char* bad : {"--size 0x3", "--size big", "--view top", "--shading glossy",
+                          "--frames 3:1", "--frames 9:", "--size 63x48 -o x.mp4",
+                          "--mesh-stride fine", "--mesh-stride 0", "--mesh-stride 2x"}) {
+    const auto r =
+        run_gvkit("render " + seq() + " --contact-sheet " + (tmp_ / "s.png").string() + " " + bad);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << bad << ": " << r.output;
   }
+}
 #endif
 
-  TEST_F(CliPlayer, ExportPlyObjAndExr) {
-    auto ply = run_gvkit("export " + seq() + " --format ply -o " + (tmp_ / "ply").string() +
-                         " --frames 0:2");
-    ASSERT_EQ(ply.exit_code, 0) << ply.output;
-    auto mesh = read_mesh(frame_path(tmp_ / "ply", 1, ".ply"));
-    ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
-    const GeometryImage source = testing::make_face_like_image(32, 1);
-    EXPECT_EQ(mesh->n_vertices(), static_cast<size_t>(cv::countNonZero(source.domain_mask)));
-    EXPECT_GT(mesh->n_faces(), mesh->n_vertices());
-    EXPECT_FALSE(fs::exists(frame_path(tmp_ / "ply", 2, ".ply")));
+TEST_F(CliPlayer, ExportPlyObjAndExr) {
+  auto ply = run_gvkit("export " + seq() + " --format ply -o " + (tmp_ / "ply").string() +
+                       " --frames 0:2");
+  ASSERT_EQ(ply.exit_code, 0) << ply.output;
+  auto mesh = read_mesh(frame_path(tmp_ / "ply", 1, ".ply"));
+  ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
+  const GeometryImage source = testing::make_face_like_image(32, 1);
+  EXPECT_EQ(mesh->n_vertices(), static_cast<size_t>(cv::countNonZero(source.domain_mask)));
+  EXPECT_GT(mesh->n_faces(), mesh->n_vertices());
+  EXPECT_FALSE(fs::exists(frame_path(tmp_ / "ply", 2, ".ply")));
 
-    auto obj = run_gvkit("export " + seq() + " --format obj -o " + (tmp_ / "obj").string() +
-                         " --frames 3");
-    ASSERT_EQ(obj.exit_code, 0) << obj.output;
-    EXPECT_TRUE(read_mesh(frame_path(tmp_ / "obj", 3, ".obj")).is_ok());
+  auto obj =
+      run_gvkit("export " + seq() + " --format obj -o " + (tmp_ / "obj").string() + " --frames 3");
+  ASSERT_EQ(obj.exit_code, 0) << obj.output;
+  EXPECT_TRUE(read_mesh(frame_path(tmp_ / "obj", 3, ".obj")).is_ok());
 
-    auto exr = run_gvkit("export " + seq() + " --format exr -o " + (tmp_ / "exr").string());
-    ASSERT_EQ(exr.exit_code, 0) << exr.output;
-    auto back = read_geometry_image_exr(frame_path(tmp_ / "exr", 2, ".exr"));
-    ASSERT_TRUE(back.is_ok());
-    const GeometryImage expected = testing::make_face_like_image(32, 2);
-    EXPECT_EQ(cv::norm(back->xyz_mm, expected.xyz_mm, cv::NORM_INF, expected.domain_mask), 0.0);
-    auto stats = read_json(tmp_ / "exr" / "stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["summary"]["written"], 4);
+  auto exr = run_gvkit("export " + seq() + " --format exr -o " + (tmp_ / "exr").string());
+  ASSERT_EQ(exr.exit_code, 0) << exr.output;
+  auto back = read_geometry_image_exr(frame_path(tmp_ / "exr", 2, ".exr"));
+  ASSERT_TRUE(back.is_ok());
+  const GeometryImage expected = testing::make_face_like_image(32, 2);
+  EXPECT_EQ(cv::norm(back->xyz_mm, expected.xyz_mm, cv::NORM_INF, expected.domain_mask), 0.0);
+  auto stats = read_json(tmp_ / "exr" / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["summary"]["written"], 4);
+}
+
+// Frames are meshed and written on worker threads: the files are the same with one or several.
+TEST_F(CliPlayer, ExportFilesDoNotDependOnThreads) {
+  for (const char* threads : {"1", "3"}) {
+    const auto r =
+        run_gvkit("export " + seq() + " --format ply -o " +
+                  (tmp_ / (std::string("t") + threads)).string() + " --threads " + threads);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-
-  // Frames are meshed and written on worker threads: the files are the same with one or several.
-  TEST_F(CliPlayer, ExportFilesDoNotDependOnThreads) {
-    for (const char* threads : {"1", "3"}) {
-      const auto r =
-          run_gvkit("export " + seq() + " --format ply -o " +
-                    (tmp_ / (std::string("t") + threads)).string() + " --threads " + threads);
-      ASSERT_EQ(r.exit_code, 0) << r.output;
-    }
-    for (int i = 0; i < 4; ++i) {
-      const auto a = read_file(frame_path(tmp_ / "t1", i, ".ply")),
-                 b = read_file(frame_path(tmp_ / "t3", i, ".ply"));
-      ASSERT_TRUE(a.is_ok() && b.is_ok());
-      EXPECT_EQ(a.value(), b.value()) << i;
-    }
-    auto stats = read_json(tmp_ / "t3" / "stats.json");
-    ASSERT_TRUE(stats.is_ok());
-    EXPECT_EQ((*stats)["options"]["threads"], 3);
-    ASSERT_EQ((*stats)["frames"].size(), 4u);
-    for (int i = 0; i < 4; ++i) EXPECT_EQ((*stats)["frames"][i]["index"], i);  // in frame order
-    EXPECT_NE(
-        run_gvkit("export " + seq() + " -o " + (tmp_ / "x").string() + " --threads -1").exit_code,
-        0);
+  for (int i = 0; i < 4; ++i) {
+    const auto a = read_file(frame_path(tmp_ / "t1", i, ".ply")),
+               b = read_file(frame_path(tmp_ / "t3", i, ".ply"));
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_EQ(a.value(), b.value()) << i;
   }
+  auto stats = read_json(tmp_ / "t3" / "stats.json");
+  ASSERT_TRUE(stats.is_ok());
+  EXPECT_EQ((*stats)["options"]["threads"], 3);
+  ASSERT_EQ((*stats)["frames"].size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ((*stats)["frames"][i]["index"], i);  // in frame order
+  EXPECT_NE(
+      run_gvkit("export " + seq() + " -o " + (tmp_ / "x").string() + " --threads -1").exit_code, 0);
+}
 
-  TEST_F(CliPlayer, ExportRejectsBadFormatAndMissingInput) {
-    auto r = run_gvkit("export " + seq() + " --format stl -o " + (tmp_ / "x").string());
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find("ply, obj or exr"), std::string::npos) << r.output;
-    r = run_gvkit("export " + (tmp_ / "nothing").string() + " -o " + (tmp_ / "x").string());
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.output.find("nothing"), std::string::npos) << r.output;
-  }
+TEST_F(CliPlayer, ExportRejectsBadFormatAndMissingInput) {
+  auto r = run_gvkit("export " + seq() + " --format stl -o " + (tmp_ / "x").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("ply, obj or exr"), std::string::npos) << r.output;
+  r = run_gvkit("export " + (tmp_ / "nothing").string() + " -o " + (tmp_ / "x").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nothing"), std::string::npos) << r.output;
+}
 
 }  // namespace
 }  // namespace gvkit::player
