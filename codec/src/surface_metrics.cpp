@@ -49,7 +49,13 @@ double point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, con
 
 // The triangles of an image's fixed grid triangulation: the quad with top-left pixel (x, y)
 // splits along (x, y)-(x+1, y+1) when its four pixels are valid, and gives the one triangle of
-// its three valid pixels when one is not. Each triangle with a bounding sphere for pruning.
+// its three valid pixels when one is not. Each triangle, and each quad, with a bounding sphere
+// for pruning.
+struct Sphere {
+  Vec3 centre;
+  double radius = -1;  // < 0: empty (a quad without triangles)
+};
+
 struct Triangle {
   Vec3 a, b, c;
   Vec3 centre;
@@ -60,8 +66,10 @@ class GridTriangles {
  public:
   GridTriangles(const cv::Mat& xyz_mm, const cv::Mat& valid)
       : cols_(std::max(0, xyz_mm.cols - 1)),
-        first_(static_cast<size_t>(cols_) * std::max(0, xyz_mm.rows - 1) + 1, 0) {
+        first_(static_cast<size_t>(cols_) * std::max(0, xyz_mm.rows - 1) + 1, 0),
+        quad_spheres_(first_.size() - 1) {
     const int rows = std::max(0, xyz_mm.rows - 1);
+    triangles_.reserve(2 * quad_spheres_.size());
     const auto at = [&](int x, int y) { return Vec3(xyz_mm.at<cv::Vec3f>(y, x)); };
     const auto ok = [&](int x, int y) { return valid.at<uint8_t>(y, x) != 0; };
     for (int y = 0; y < rows; ++y)
@@ -80,6 +88,15 @@ class GridTriangles {
           if (v01) corners.push_back(at(x, y + 1));
           add(corners[0], corners[1], corners[2]);
         }
+        Sphere& q = quad_spheres_[static_cast<size_t>(y) * cols_ + x];
+        const Triangle* t0 = triangles_.data() + first_[static_cast<size_t>(y) * cols_ + x];
+        const Triangle* t1 = triangles_.data() + triangles_.size();
+        if (t0 == t1) continue;
+        for (const Triangle* t = t0; t != t1; ++t) q.centre += t->centre;
+        q.centre *= 1.0 / static_cast<double>(t1 - t0);
+        for (const Triangle* t = t0; t != t1; ++t)
+          q.radius = std::max(
+              q.radius, std::sqrt((t->centre - q.centre).dot(t->centre - q.centre)) + t->radius);
       }
     first_.back() = static_cast<int32_t>(triangles_.size());
   }
@@ -92,6 +109,10 @@ class GridTriangles {
   }
   const Triangle* end(int x, int y) const {
     return triangles_.data() + first_[static_cast<size_t>(y) * cols_ + x + 1];
+  }
+  // A sphere around every triangle of quad (x, y).
+  const Sphere& quad_sphere(int x, int y) const {
+    return quad_spheres_[static_cast<size_t>(y) * cols_ + x];
   }
 
  private:
@@ -106,6 +127,7 @@ class GridTriangles {
   int cols_;
   std::vector<int32_t> first_;  // per quad (row-major), its first triangle; one past the end
   std::vector<Triangle> triangles_;
+  std::vector<Sphere> quad_spheres_;  // per quad (row-major)
 };
 
 // Whether valid pixel (x, y) lies on the outline: a 4-neighbour outside the image or invalid.
@@ -129,17 +151,29 @@ void directed_distances(const cv::Mat& from, const cv::Mat& to_xyz, const GridTr
       // Upper bound first: the other surface's vertex at the same pixel (valid in both).
       const Vec3 same(to_xyz.at<cv::Vec3f>(y, x));
       double best2 = (p - same).dot(p - same);
+      double best = std::sqrt(best2);
       const int qx0 = std::max(0, x - window),
                 qx1 = std::min(to.quad_columns() - 1, x + window - 1);
       const int qy0 = std::max(0, y - window), qy1 = std::min(to.quad_rows() - 1, y + window - 1);
+      // A triangle can only come closer than `best` when p lies within radius + best of its
+      // centre: compared squared, so the square root is taken only when the bound improves.
       for (int qy = qy0; qy <= qy1; ++qy)
-        for (int qx = qx0; qx <= qx1; ++qx)
+        for (int qx = qx0; qx <= qx1; ++qx) {
+          const Sphere& q = to.quad_sphere(qx, qy);
+          const Vec3 pq = p - q.centre;
+          if (q.radius < 0 || pq.dot(pq) >= (q.radius + best) * (q.radius + best)) continue;
           for (const Triangle* t = to.begin(qx, qy); t != to.end(qx, qy); ++t) {
-            const double dc = std::sqrt((p - t->centre).dot(p - t->centre)) - t->radius;
-            if (dc > 0 && dc * dc >= best2) continue;
-            best2 = std::min(best2, point_triangle_distance2(p, t->a, t->b, t->c));
+            const Vec3 pc = p - t->centre;
+            const double reach = t->radius + best;
+            if (pc.dot(pc) >= reach * reach) continue;
+            const double d2 = point_triangle_distance2(p, t->a, t->b, t->c);
+            if (d2 < best2) {
+              best2 = d2;
+              best = std::sqrt(d2);
+            }
           }
-      const double d = std::sqrt(best2);
+        }
+      const double d = best;
       if (map) map->at<float>(y, x) = static_cast<float>(d);
       max_mm = std::max(max_mm, d);
       if (on_outline(valid, x, y)) e.outline_hausdorff_mm = std::max(e.outline_hausdorff_mm, d);

@@ -110,7 +110,7 @@ struct EncoderOptions {
   // frames, P and B frames and half resolution shifting it as they shift the frame QP (coded as
   // the texture's plane QP offset, docs/bitstream.md 2.1); -1 = the frame QP itself. 24 by
   // default: at the default geometry QP (-10) the texture would otherwise be coded near
-  // losslessly, 58 % of the main job's stream (docs/benchmarks.md, "Texture QP").
+  // losslessly, 58 % of the main job's stream (docs/benchmarks.md, "Texture QP in format 2.0").
   int texture_qp = 24;
   // Added to qp in P frames (a finer I frame is a better reference), 0..12. 4 since format 1.14
   // (was 6): -1.10 % BD-rate slow, -2.53 % fast on the ICT face (docs/benchmarks.md, format 1.14).
