@@ -123,7 +123,9 @@ TEST(Partitions, DecoderReproducesTheEncoderInEveryConfiguration) {
                                  std::to_string(mode) + " bframes " + std::to_string(bframes);
         const int64_t partitioned = expect_round_trip(frames, info, o, what);
         // (Lossless: TD prediction takes the inter macroblocks of this video.)
-        if (preset == Preset::kSlow && mode != 2) EXPECT_GT(partitioned, 0) << what;
+        if (preset == Preset::kSlow && mode != 2) {
+          EXPECT_GT(partitioned, 0) << what;
+        }
       }
 }
 
@@ -335,9 +337,10 @@ TEST(Partitions, CorruptSyntaxIsRejected) {
   // then decodes differently or fails, but never as partitions.
   p.partitions = false;
   auto plain = decode_plane(bytes, 16, 16, p, &ref);
-  if (!plain.is_ok())
+  if (!plain.is_ok()) {
     EXPECT_EQ(plain.status().message().find("partition"), std::string::npos)
         << plain.status().message();
+  }
 }
 
 }  // namespace
