@@ -26,6 +26,7 @@
 #include "command.hpp"
 #include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/landmark_points_io.hpp"
@@ -78,8 +79,7 @@ struct Frame {
 std::vector<FrameFile> input_frames(const fs::path& input, InputKind* kind) {
   std::error_code ec;
   if (fs::is_regular_file(input, ec)) {
-    std::string ext = input.extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = lower_extension(input);
     if (ext == ".exr")
       *kind = InputKind::kScans;
     else if (ext == ".ply" || ext == ".obj")

@@ -12,6 +12,7 @@
 #include "gvkit/codec/gvid_reader.hpp"
 #include "gvkit/core/calibration_io.hpp"
 #include "gvkit/core/exr_io.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/mesh_topology.hpp"
@@ -19,13 +20,6 @@
 namespace gvkit::tools {
 namespace {
 namespace fs = std::filesystem;
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // Finite min/max/mean and the count of non-finite values of a CV_32F plane.
 void print_plane_range(const std::string& name, const cv::Mat& plane) {

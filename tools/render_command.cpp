@@ -19,6 +19,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "command.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
@@ -48,8 +49,7 @@ struct RenderCommandOptions {
 };
 
 bool is_video_path(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  const std::string ext = lower_extension(p);
   return ext == ".mp4" || ext == ".mkv" || ext == ".avi";
 }
 

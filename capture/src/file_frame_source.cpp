@@ -9,6 +9,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "gvkit/capture/session_reader.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
@@ -26,15 +27,9 @@ struct ListedFrame {
   std::optional<Timestamp> timestamp;
 };
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 bool is_image_file(const fs::path& path) {
   static const char* kExtensions[] = {".png", ".pgm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg"};
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = lower_extension(path);
   return std::any_of(std::begin(kExtensions), std::end(kExtensions),
                      [&](const char* e) { return ext == e; });
 }

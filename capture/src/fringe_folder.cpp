@@ -6,6 +6,7 @@
 #include <cctype>
 #include <map>
 
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/image_io.hpp"
 
 namespace gvkit::capture {
@@ -14,9 +15,8 @@ namespace {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
-bool is_image_extension(std::string ext) {
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+bool is_image_extension(const std::string& extension) {
+  const std::string ext = ascii_lower(extension);
   for (const char* known : {".png", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".jpg", ".jpeg"})
     if (ext == known) return true;
   return false;

@@ -172,17 +172,8 @@ class GrayCodePattern : public PatternSet {
         abs[x] = phase[x] + two_pi * std::ceil((centre - phase[x]) / two_pi - 0.5f);
       }
     }
-    settle_uncertain(absolute, valid, uncertain);
-    correct_period_order(absolute, valid);
-    clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
-    PhaseMap out;
-    out.phase = absolute;
-    out.quality = w.modulation;
-    out.texture = w.mean;
-    out.valid = valid;
-    out.pitch_px = pitch_px(projector_width);
-    out.absolute = true;
-    return out;
+    return absolute_phase_map(absolute, valid, uncertain, w, pitch_px(projector_width),
+                              projector_width);
   }
 
  private:

@@ -75,17 +75,8 @@ class HeterodynePattern : public PatternSet {
     }
     cv::Mat absolute = unwrap_temporal(beat, static_cast<double>(p[0]) / beat_periods, w[0].phase,
                                        options_.unwrap_tolerance, valid, &uncertain);
-    settle_uncertain(absolute, valid, uncertain);
-    correct_period_order(absolute, valid);
-    clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
-    PhaseMap out;
-    out.phase = absolute;
-    out.quality = w[0].modulation;
-    out.texture = w[0].mean;
-    out.valid = valid;
-    out.pitch_px = pitch_px(projector_width);
-    out.absolute = true;
-    return out;
+    return absolute_phase_map(absolute, valid, uncertain, w[0], pitch_px(projector_width),
+                              projector_width);
   }
 
  private:

@@ -50,17 +50,8 @@ class MultiFrequencyPattern : public PatternSet {
           unwrap_temporal(i == levels - 2 ? smoothed_single_period(absolute, valid) : absolute,
                           static_cast<double>(periods_[i]) / periods_[i + 1], w[i].phase,
                           options_.unwrap_tolerance, valid, &uncertain);
-    settle_uncertain(absolute, valid, uncertain);
-    correct_period_order(absolute, valid);
-    clear_outside_projector(absolute, valid, pitch_px(projector_width), projector_width);
-    PhaseMap out;
-    out.phase = absolute;
-    out.quality = w[0].modulation;
-    out.texture = w[0].mean;
-    out.valid = valid;
-    out.pitch_px = pitch_px(projector_width);
-    out.absolute = true;
-    return out;
+    return absolute_phase_map(absolute, valid, uncertain, w[0], pitch_px(projector_width),
+                              projector_width);
   }
 
  private:

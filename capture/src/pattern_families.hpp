@@ -66,4 +66,11 @@ cv::Mat valid_from(const WrappedPhase& w, const PatternSetOptions& options);
 PhaseMap spatially_unwrapped(const WrappedPhase& w, double pitch_px, cv::Mat valid,
                              const PatternSetOptions& options);
 
+// Fills a PhaseMap from an absolute phase of the finest pattern `finest` (pitch_px per period,
+// temporally unwrapped or numbered by a code): settles the `uncertain` pixels (CV_8U, may be
+// empty), corrects isolated period-order errors and clears pixels that map outside the
+// projector's `projector_width` columns.
+PhaseMap absolute_phase_map(cv::Mat absolute, cv::Mat valid, const cv::Mat& uncertain,
+                            const WrappedPhase& finest, double pitch_px, int projector_width);
+
 }  // namespace gvkit::capture::detail

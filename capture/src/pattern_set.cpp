@@ -219,5 +219,20 @@ PhaseMap spatially_unwrapped(const WrappedPhase& w, double pitch_px, cv::Mat val
   return out;
 }
 
+PhaseMap absolute_phase_map(cv::Mat absolute, cv::Mat valid, const cv::Mat& uncertain,
+                            const WrappedPhase& finest, double pitch_px, int projector_width) {
+  settle_uncertain(absolute, valid, uncertain);
+  correct_period_order(absolute, valid);
+  clear_outside_projector(absolute, valid, pitch_px, projector_width);
+  PhaseMap out;
+  out.phase = absolute;
+  out.quality = finest.modulation;
+  out.texture = finest.mean;
+  out.valid = valid;
+  out.pitch_px = pitch_px;
+  out.absolute = true;
+  return out;
+}
+
 }  // namespace detail
 }  // namespace gvkit::capture

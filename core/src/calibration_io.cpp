@@ -9,16 +9,11 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/file_extension.hpp"
 
 namespace gvkit {
 namespace fs = std::filesystem;
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 std::string size_text(cv::Size s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
@@ -56,7 +51,7 @@ class KeySource {
       for (size_t f = 0; f < keys_.size(); ++f) {
         if (only >= 0 && static_cast<int>(f) != only) continue;
         for (const std::string& k : keys_[f])
-          if (pass == 0 ? k == key : lower(k) == lower(key)) return static_cast<int>(f);
+          if (pass == 0 ? k == key : ascii_lower(k) == ascii_lower(key)) return static_cast<int>(f);
       }
     return -1;
   }
@@ -67,7 +62,7 @@ class KeySource {
     if (f < 0) return cv::FileNode();
     for (int pass = 0; pass < 2; ++pass)
       for (const std::string& k : keys_[f])
-        if (pass == 0 ? k == key : lower(k) == lower(key)) return (*storages_[f])[k];
+        if (pass == 0 ? k == key : ascii_lower(k) == ascii_lower(key)) return (*storages_[f])[k];
     return cv::FileNode();
   }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/json_io.hpp"
 #include "gvkit/core/npy_io.hpp"
 
@@ -15,13 +16,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kJawPoints = 17;  // points 0-16; a 51-point set starts at 17
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // Rows of `dims` numbers (as read, NaN for an absent gvkit jaw point) -> LandmarkPoints.
 Result<LandmarkPoints> from_rows(const std::string& name, const std::vector<cv::Vec3d>& rows,

@@ -12,19 +12,13 @@
 #include <vector>
 
 #include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/mesh.hpp"
 #include "ply_header.hpp"
 
 namespace gvkit {
 namespace fs = std::filesystem;
 namespace {
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // OpenMesh's IO manager and its readers/writers are process-wide singletons with per-call state:
 // concurrent reads or writes corrupt each other, so every OpenMesh I/O call holds this lock.

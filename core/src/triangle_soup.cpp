@@ -9,19 +9,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "triangle_soup_readers.hpp"
 
 namespace gvkit {
 namespace fs = std::filesystem;
 namespace {
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 double squared_length(const Mesh::Point& a, const Mesh::Point& b) { return (a - b).sqrnorm(); }
 
