@@ -31,6 +31,7 @@
 #include "gvkit/player/renderer.hpp"
 #include "surface_error_json.hpp"
 #include "tool_support.hpp"
+#include "video_file.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -52,17 +53,6 @@ struct CompareOptions {
 
 nlohmann::json psnr_json(double psnr) {
   return std::isfinite(psnr) ? nlohmann::json(psnr) : nlohmann::json("inf");
-}
-
-// Opens an MP4 writer: H.264 ('avc1') where this OpenCV/FFmpeg has it, else MPEG-4 ('mp4v').
-Result<std::string> open_video(cv::VideoWriter& writer, const fs::path& path, double fps,
-                               cv::Size size) {
-  for (const char* cc : {"avc1", "mp4v"}) {
-    if (writer.open(path.string(), cv::CAP_FFMPEG,
-                    cv::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]), fps, size))
-      return std::string(cc);
-  }
-  return io_error(path.string() + ": cannot open a video writer (FFmpeg: avc1 and mp4v failed)");
 }
 
 // The normal error of each vertex of mesh (degrees; NaN where undefined), from the per-pixel

@@ -33,6 +33,7 @@
 #include "gvkit/player/mesh_level_of_detail.hpp"
 #include "gvkit/player/renderer.hpp"
 #include "tool_support.hpp"
+#include "video_file.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -51,17 +52,6 @@ struct RenderCommandOptions {
 bool is_video_path(const fs::path& p) {
   const std::string ext = lower_extension(p);
   return ext == ".mp4" || ext == ".mkv" || ext == ".avi";
-}
-
-// Opens an MP4 writer: H.264 ('avc1') where this OpenCV/FFmpeg has it, else MPEG-4 ('mp4v').
-Result<std::string> open_video(cv::VideoWriter& writer, const fs::path& path, double fps,
-                               cv::Size size) {
-  for (const char* cc : {"avc1", "mp4v"}) {
-    if (writer.open(path.string(), cv::CAP_FFMPEG,
-                    cv::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]), fps, size))
-      return std::string(cc);
-  }
-  return io_error(path.string() + ": cannot open a video writer (FFmpeg: avc1 and mp4v failed)");
 }
 
 float percentile(std::vector<float> values, double q) {
