@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "gvkit/facemap/flow_coordinates.hpp"
+#include "ring_annulus.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -17,30 +18,7 @@ namespace {
 constexpr double kPlainWeights = -std::numeric_limits<double>::infinity();
 
 // A planar ring 1 <= r <= 3, rings x sectors vertices, triangles counter-clockwise.
-FaceAnnulus ring(int rings, int sectors) {
-  FaceAnnulus a;
-  TriSurface& s = a.surface;
-  for (int i = 0; i < rings; ++i)
-    for (int j = 0; j < sectors; ++j) {
-      const double r = 1.0 + 2.0 * i / (rings - 1), phi = 2 * M_PI * j / sectors;
-      s.xyz.emplace_back(r * std::cos(phi), r * std::sin(phi), 0.0);
-      s.source.push_back({{static_cast<int>(s.xyz.size()) - 1, 1.0}});
-      s.uncut_vertex.push_back(static_cast<int>(s.xyz.size()) - 1);
-    }
-  auto id = [&](int i, int j) { return i * sectors + (j % sectors); };
-  for (int i = 0; i + 1 < rings; ++i)
-    for (int j = 0; j < sectors; ++j) {
-      s.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
-    }
-  for (const auto& loop : tri_surface_boundary_loops(s)) {
-    if (s.xyz[loop[0]].norm() < 2)
-      a.inner_loop = loop;
-    else
-      a.outer_loop = loop;
-  }
-  return a;
-}
+FaceAnnulus ring(int rings, int sectors) { return testing::ring_annulus(rings, sectors); }
 
 TEST(HarmonicField, DirichletOnARingIsTheLogarithm) {
   const FaceAnnulus a = ring(17, 96);
@@ -220,7 +198,9 @@ TEST(HarmonicField, FlooredCotangentsKeepTheMaximumPrinciple) {
   const auto floored_l = cotan_laplacian(s, kDefaultMinCotanWeight);
   for (int k = 0; k < floored_l.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(floored_l, k); it; ++it)
-      if (it.row() != it.col()) EXPECT_LT(it.value(), 0.0);  // every weight positive
+      if (it.row() != it.col()) {
+        EXPECT_LT(it.value(), 0.0);  // every weight positive
+      }
   auto floored = solve_dirichlet(floored_l, fixed, value);
   ASSERT_TRUE(floored.is_ok());
   EXPECT_GT((*floored)[0], 0.0);

@@ -10,6 +10,7 @@
 
 #include "gvkit/facemap/flow_coordinates.hpp"
 #include "gvkit/facemap/harmonic_field.hpp"
+#include "ring_annulus.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -19,30 +20,12 @@ namespace {
 FaceAnnulus jittered_ring(int rings, int sectors, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  FaceAnnulus a;
-  TriSurface& s = a.surface;
-  for (int i = 0; i < rings; ++i)
-    for (int j = 0; j < sectors; ++j) {
-      const bool interior = i > 0 && i + 1 < rings;
-      const double r = 1.0 + 2.0 * (i + (interior ? jitter(rng) : 0.0)) / (rings - 1);
-      const double phi = 2 * M_PI * (j + (interior ? jitter(rng) : 0.0)) / sectors;
-      s.xyz.emplace_back(r * std::cos(phi), r * std::sin(phi), 0.05 * std::sin(3 * phi) * r);
-      s.source.push_back({{static_cast<int>(s.xyz.size()) - 1, 1.0}});
-      s.uncut_vertex.push_back(static_cast<int>(s.xyz.size()) - 1);
-    }
-  auto id = [&](int i, int j) { return i * sectors + (j % sectors); };
-  for (int i = 0; i + 1 < rings; ++i)
-    for (int j = 0; j < sectors; ++j) {
-      s.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
-    }
-  for (const auto& loop : tri_surface_boundary_loops(s)) {
-    if (s.xyz[loop[0]].norm() < 2)
-      a.inner_loop = loop;
-    else
-      a.outer_loop = loop;
-  }
-  return a;
+  return testing::ring_annulus(rings, sectors, [&](int i, int j) {
+    const bool interior = i > 0 && i + 1 < rings;
+    const double r = 1.0 + 2.0 * (i + (interior ? jitter(rng) : 0.0)) / (rings - 1);
+    const double phi = 2 * M_PI * (j + (interior ? jitter(rng) : 0.0)) / sectors;
+    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0.05 * std::sin(3 * phi) * r);
+  });
 }
 
 // The reduced Dirichlet system of f on the ring: the free vertices' rows and columns.
