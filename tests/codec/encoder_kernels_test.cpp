@@ -10,21 +10,12 @@
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/transform.hpp"
 
+#include "codec/random_sample_plane.hpp"
+
 namespace gvkit::codec {
 namespace {
 
-SamplePlane random_plane(int width, int height, int max_value, std::mt19937& rng) {
-  SamplePlane p;
-  p.width = width;
-  p.height = height;
-  p.samples.resize(static_cast<size_t>(width) * height);
-  std::uniform_int_distribution<int> u(0, max_value);
-  // Half the rows noise, half extremes (0 and max) to reach the clipping and overflow bounds.
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      p.at(x, y) = static_cast<uint16_t>(y % 4 < 2 ? u(rng) : ((x + y) % 3 ? max_value : 0));
-  return p;
-}
+using testing::random_plane;
 
 TEST(EncoderKernels, SadAndSatdEqualTheReference) {
   std::mt19937 rng(7);
