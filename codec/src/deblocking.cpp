@@ -37,6 +37,30 @@ int64_t deblocking_step16(int qp_prime) {
   return kStep16[qp_prime % 6] << (qp_prime / 6);
 }
 
+namespace {
+
+// The thresholds of a plane's filter at qp_prime: beta (second differences) and tc1 (the
+// clipping of boundary strength 1; strength bs clips at bs * tc1). Checks that the strengths
+// cover the plane's 4x4 blocks.
+struct DeblockingThresholds {
+  int64_t beta = 0, tc1 = 0;
+  bool filters() const { return beta > 0 && tc1 > 0; }
+};
+
+DeblockingThresholds deblocking_thresholds(const SamplePlane& plane,
+                                           const DeblockingStrengths& strengths, int qp_prime,
+                                           const DeblockingParams& params) {
+  GVKIT_CHECK(plane.width % 8 == 0 && plane.height % 8 == 0 &&
+              strengths.blocks_x == plane.width / 4 && strengths.blocks_y == plane.height / 4 &&
+              strengths.vertical.size() ==
+                  static_cast<size_t>(strengths.blocks_x) * strengths.blocks_y &&
+              strengths.horizontal.size() == strengths.vertical.size());
+  const int64_t step16 = deblocking_step16(qp_prime);
+  return {params.beta * step16 / 64, params.tc * step16 / 256};
+}
+
+}  // namespace
+
 #if defined(GVKIT_X86_SIMD)
 namespace {
 
@@ -191,15 +215,9 @@ void deblock_plane(SamplePlane& plane, const DeblockingStrengths& strengths, int
                    int bit_depth, const DeblockingParams& params) {
 #if defined(GVKIT_X86_SIMD)
   if (detail::cpu_has_avx2()) {
-    GVKIT_CHECK(plane.width % 8 == 0 && plane.height % 8 == 0 &&
-                strengths.blocks_x == plane.width / 4 && strengths.blocks_y == plane.height / 4 &&
-                strengths.vertical.size() ==
-                    static_cast<size_t>(strengths.blocks_x) * strengths.blocks_y &&
-                strengths.horizontal.size() == strengths.vertical.size());
-    const int64_t step16 = deblocking_step16(qp_prime);
-    const int64_t beta = params.beta * step16 / 64, tc1 = params.tc * step16 / 256;
-    if (beta <= 0 || tc1 <= 0) return;
-    deblock_plane_avx2(plane, strengths, static_cast<int32_t>(beta), static_cast<int32_t>(tc1),
+    const DeblockingThresholds t = deblocking_thresholds(plane, strengths, qp_prime, params);
+    if (!t.filters()) return;
+    deblock_plane_avx2(plane, strengths, static_cast<int32_t>(t.beta), static_cast<int32_t>(t.tc1),
                        (1 << bit_depth) - 1);
     return;
   }
@@ -209,14 +227,9 @@ void deblock_plane(SamplePlane& plane, const DeblockingStrengths& strengths, int
 
 void deblock_plane_reference(SamplePlane& plane, const DeblockingStrengths& strengths, int qp_prime,
                              int bit_depth, const DeblockingParams& params) {
-  GVKIT_CHECK(plane.width % 8 == 0 && plane.height % 8 == 0 &&
-              strengths.blocks_x == plane.width / 4 && strengths.blocks_y == plane.height / 4 &&
-              strengths.vertical.size() ==
-                  static_cast<size_t>(strengths.blocks_x) * strengths.blocks_y &&
-              strengths.horizontal.size() == strengths.vertical.size());
-  const int64_t step16 = deblocking_step16(qp_prime);
-  const int64_t beta = params.beta * step16 / 64, tc1 = params.tc * step16 / 256;
-  if (beta <= 0 || tc1 <= 0) return;
+  const DeblockingThresholds t = deblocking_thresholds(plane, strengths, qp_prime, params);
+  if (!t.filters()) return;
+  const int64_t beta = t.beta, tc1 = t.tc1;
   const int max_value = (1 << bit_depth) - 1;
   const int bx = strengths.blocks_x, by = strengths.blocks_y;
   const ptrdiff_t stride = plane.width;
