@@ -106,16 +106,24 @@ bool direct_ply_applies(const Mesh& mesh) {
   return true;
 }
 
-std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, bool colors) {
+// The header of a binary PLY with these vertex properties and triangle-list faces.
+std::string ply_binary_header(size_t vertices, size_t faces, bool normals, bool texcoords,
+                              bool colors) {
   std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex ";
-  header += std::to_string(mesh.n_vertices());
+  header += std::to_string(vertices);
   header += "\nproperty float x\nproperty float y\nproperty float z\n";
   if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
   if (texcoords) header += "property float u\nproperty float v\n";
   if (colors) header += "property float red\nproperty float green\nproperty float blue\n";
   header += "element face ";
-  header += std::to_string(mesh.n_faces());
+  header += std::to_string(faces);
   header += "\nproperty list uchar int vertex_indices\nend_header\n";
+  return header;
+}
+
+std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, bool colors) {
+  const std::string header =
+      ply_binary_header(mesh.n_vertices(), mesh.n_faces(), normals, texcoords, colors);
   const size_t floats = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0) + (colors ? 3 : 0);
   // Faces' vertex indices gathered first (one walk around each face).
   std::vector<int32_t> corners;
@@ -169,7 +177,62 @@ std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, boo
   return out;
 }
 
+std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, bool colors) {
+  const std::string header =
+      ply_binary_header(a.vertex_count, a.triangle_count, normals, texcoords, colors);
+  const size_t floats = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0) + (colors ? 3 : 0);
+  std::string out;
+  out.resize(header.size() + a.vertex_count * floats * 4 + a.triangle_count * 13);
+  char* p = out.data();
+  std::memcpy(p, header.data(), header.size());
+  p += header.size();
+  const auto put = [&p](const float* v, size_t count) {
+    std::memcpy(p, v, 4 * count);
+    p += 4 * count;
+  };
+  for (size_t i = 0; i < a.vertex_count; ++i) {
+    put(a.positions_mm + 3 * i, 3);
+    if (normals) put(a.normals + 3 * i, 3);
+    if (texcoords) put(a.texcoords + 2 * i, 2);
+    if (colors) {
+      const float g[3] = {a.grey[i], a.grey[i], a.grey[i]};
+      put(g, 3);
+    }
+  }
+  for (size_t t = 0; t < a.triangle_count; ++t) {
+    *p++ = 3;
+    std::memcpy(p, a.indices + 3 * t, 12);  // < 2^31 (checked): the same bytes as int32
+    p += 12;
+  }
+  return out;
+}
+
 }  // namespace
+
+Status write_mesh_arrays(const fs::path& path, const MeshArrays& arrays,
+                         const MeshWriteOptions& options) {
+  if (lower_extension(path) != ".ply")
+    return unsupported(path.string() + ": mesh arrays are written as binary PLY only (use .ply)");
+  if (!options.binary || options.openmesh_writer)
+    return unsupported(path.string() + ": mesh arrays are written as binary PLY by gvkit only");
+  if constexpr (std::endian::native != std::endian::little)
+    return unsupported(path.string() + ": binary PLY from arrays needs a little-endian machine");
+  if (arrays.vertex_count > 0 && !arrays.positions_mm)
+    return invalid_argument(path.string() + ": mesh arrays without positions");
+  if (arrays.triangle_count > 0 && !arrays.indices)
+    return invalid_argument(path.string() + ": mesh arrays without triangle indices");
+  if (arrays.vertex_count > static_cast<size_t>(INT32_MAX))
+    return invalid_argument(path.string() + ": too many vertices for PLY int indices");
+  for (size_t i = 0; i < 3 * arrays.triangle_count; ++i)
+    if (arrays.indices[i] >= arrays.vertex_count)
+      return invalid_argument(path.string() + ": triangle " + std::to_string(i / 3) +
+                              " names vertex " + std::to_string(arrays.indices[i]) + " of " +
+                              std::to_string(arrays.vertex_count));
+  const bool normals = options.vertex_normals && arrays.normals;
+  const bool texcoords = options.vertex_texcoords && arrays.texcoords;
+  const bool colors = options.vertex_colors && arrays.grey;
+  return write_file_atomically(path, ply_binary_bytes(arrays, normals, texcoords, colors));
+}
 
 Status write_mesh(const fs::path& path, const Mesh& mesh, const MeshWriteOptions& options) {
   silence_openmesh_logs();

@@ -115,6 +115,72 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
   return out;
 }
 
+bool mesh_buffers_manifold(const MeshBuffers& buffers) {
+  const size_t n = buffers.vertex_count(), triangles = buffers.triangle_count();
+  const uint32_t* idx = buffers.indices.data();
+  // Per vertex, the edges of its triangles opposite it (link edges, in the triangles' winding),
+  // gathered in compressed rows.
+  std::vector<uint32_t> offset(n + 1, 0);
+  for (size_t k = 0; k < 3 * triangles; ++k) {
+    if (idx[k] >= n) return false;
+    ++offset[idx[k] + 1];
+  }
+  for (size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
+  std::vector<std::array<uint32_t, 2>> link(3 * triangles);
+  std::vector<uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (size_t t = 0; t < triangles; ++t) {
+    const uint32_t a = idx[3 * t], b = idx[3 * t + 1], c = idx[3 * t + 2];
+    if (a == b || b == c || c == a) return false;
+    link[fill[a]++] = {b, c};
+    link[fill[b]++] = {c, a};
+    link[fill[c]++] = {a, b};
+  }
+  for (size_t v = 0; v < n; ++v) {
+    const std::array<uint32_t, 2>* e = link.data() + offset[v];
+    const size_t k = offset[v + 1] - offset[v];
+    if (k == 0) continue;
+    // A repeated start is a directed edge v -> start in two triangles, a repeated end one
+    // end -> v in two; then the link is one path or cycle iff a walk from the path's start (or,
+    // with no start, from any edge) follows all k edges.
+    size_t begin = 0, starts = 0;
+    for (size_t i = 0; i < k; ++i) {
+      bool is_end_of_another = false;
+      for (size_t j = 0; j < k; ++j) {
+        if (j == i) continue;
+        if (e[j][0] == e[i][0] || e[j][1] == e[i][1]) return false;
+        if (e[j][1] == e[i][0]) is_end_of_another = true;
+      }
+      if (!is_end_of_another) {
+        begin = i;
+        ++starts;
+      }
+    }
+    if (starts > 1) return false;
+    size_t walked = 1;
+    for (uint32_t at = e[begin][1]; walked < k; ++walked) {
+      size_t next = k;
+      for (size_t j = 0; j < k; ++j)
+        if (e[j][0] == at) next = j;
+      if (next == k || next == begin) break;
+      at = e[next][1];
+    }
+    if (walked != k) return false;
+  }
+  return true;
+}
+
+MeshArrays mesh_arrays(const MeshBuffers& buffers) {
+  MeshArrays a;
+  a.vertex_count = buffers.vertex_count();
+  a.positions_mm = buffers.positions_mm.data();
+  a.normals = buffers.normals.size() == 3 * a.vertex_count ? buffers.normals.data() : nullptr;
+  a.texcoords = buffers.texcoords.size() == 2 * a.vertex_count ? buffers.texcoords.data() : nullptr;
+  a.grey = buffers.grey.empty() ? nullptr : buffers.grey.data();
+  a.triangle_count = buffers.triangle_count();
+  a.indices = buffers.indices.data();
+  return a;
+}
+
 Mesh mesh_from_buffers(const MeshBuffers& buffers, int* dropped_faces) {
   Mesh mesh;
   mesh.request_vertex_normals();

@@ -1,11 +1,15 @@
 #include "gvkit/player/geometry_image_mesh.hpp"
 
 #include <cmath>
+#include <random>
 #include <set>
 
 #include <gtest/gtest.h>
 
+#include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/mesh_io.hpp"
 #include "player_test_data.hpp"
+#include "support/test_support.hpp"
 
 namespace gvkit::player {
 namespace {
@@ -167,6 +171,101 @@ TEST(GeometryImageMesh, CoreMeshMatchesTheBuffers) {
   EXPECT_FLOAT_EQ(mesh.texcoord2D(v)[1], b.texcoords[21]);
   EXPECT_DOUBLE_EQ(mesh.point(v)[2], b.positions_mm[32]);
   expect_triangles_inside_domain(b, image.domain_mask);
+}
+
+// Hand-made buffers: `n` vertices on a circle (positions only matter for the writer) and the
+// given triangles.
+MeshBuffers buffers_with(size_t n, const std::vector<uint32_t>& indices) {
+  MeshBuffers b;
+  for (size_t i = 0; i < n; ++i) {
+    b.pixel_index.push_back(static_cast<int32_t>(i));
+    b.positions_mm.insert(b.positions_mm.end(), {std::cos(0.5f * i), std::sin(0.5f * i), 0.1f * i});
+    b.normals.insert(b.normals.end(), {0.0f, 0.0f, -1.0f});
+    b.texcoords.insert(b.texcoords.end(), {0.1f * i, 0.2f});
+  }
+  b.indices = indices;
+  return b;
+}
+
+TEST(GeometryImageMesh, ManifoldCheckFindsTwoFansAtAVertexAndRepeatedEdges) {
+  EXPECT_TRUE(mesh_buffers_manifold(buffers_with(3, {0, 1, 2})));
+  EXPECT_TRUE(mesh_buffers_manifold(buffers_with(4, {})));  // isolated vertices only
+  // A closed fan around vertex 0 and an open one.
+  EXPECT_TRUE(mesh_buffers_manifold(buffers_with(5, {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1})));
+  EXPECT_TRUE(mesh_buffers_manifold(buffers_with(5, {0, 1, 2, 0, 2, 3, 0, 3, 4})));
+  // Bow tie: two triangles meeting only at vertex 0.
+  EXPECT_FALSE(mesh_buffers_manifold(buffers_with(5, {0, 1, 2, 0, 3, 4})));
+  // A closed fan and one more triangle at its apex.
+  EXPECT_FALSE(
+      mesh_buffers_manifold(buffers_with(7, {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1, 0, 5, 6})));
+  // The directed edge 0 -> 1 in two triangles; a repeated corner; an index out of range.
+  EXPECT_FALSE(mesh_buffers_manifold(buffers_with(4, {0, 1, 2, 0, 1, 3})));
+  EXPECT_FALSE(mesh_buffers_manifold(buffers_with(3, {0, 1, 1})));
+  EXPECT_FALSE(mesh_buffers_manifold(buffers_with(3, {0, 1, 3})));
+}
+
+// Over random domains (holes, partial quads, long edges dropped, with and without grey): where
+// the check says manifold, OpenMesh takes every triangle and the PLY written from the arrays
+// is byte for byte the PLY written from mesh_from_buffers; both outcomes occur.
+TEST(GeometryImageMesh, ManifoldBuffersWriteThePlyOfTheOpenMeshRoute) {
+  gvkit::testing::TempDir dir;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int manifold = 0, not_manifold = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int w = 6 + trial % 9, h = 5 + trial % 7;
+    const double keep = 0.45 + 0.5 * unit(rng);
+    GeometryImage image = make_image(w, h, [&](int x, int y) {
+      return cv::Vec3f(2.0f * x, 2.0f * y, static_cast<float>(100.0 + 3.0 * unit(rng)));
+    });
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (unit(rng) > keep) image.domain_mask.at<uint8_t>(y, x) = 0;
+    if (trial % 2) {
+      image.texture.create(h, w, CV_32F);
+      cv::randu(image.texture, 0.0, 1.0);
+    }
+    GeometryImageMeshOptions options;
+    options.partial_quads = trial % 3 != 0;
+    options.max_edge_mm = trial % 5 == 0 ? 3.5 : 0.0;
+    const MeshBuffers b = mesh_buffers_from_geometry_image(image, options);
+    int dropped = -1;
+    const Mesh mesh = mesh_from_buffers(b, &dropped);
+    if (!mesh_buffers_manifold(b)) {
+      ++not_manifold;
+      continue;
+    }
+    ++manifold;
+    ASSERT_EQ(dropped, 0) << "trial " << trial;
+    MeshWriteOptions options_written;
+    options_written.vertex_normals = trial % 4 != 1;
+    ASSERT_TRUE(write_mesh(dir / "mesh.ply", mesh, options_written).is_ok());
+    ASSERT_TRUE(write_mesh_arrays(dir / "arrays.ply", mesh_arrays(b), options_written).is_ok());
+    const auto a = read_file(dir / "mesh.ply"), c = read_file(dir / "arrays.ply");
+    ASSERT_TRUE(a.is_ok() && c.is_ok());
+    ASSERT_EQ(a.value(), c.value()) << "trial " << trial;
+  }
+  EXPECT_GT(manifold, 50);
+  EXPECT_GT(not_manifold, 20);
+}
+
+TEST(GeometryImageMesh, ArraysWriterRejectsOtherFormatsAndBadIndices) {
+  gvkit::testing::TempDir dir;
+  const MeshBuffers b = buffers_with(3, {0, 1, 2});
+  EXPECT_EQ(write_mesh_arrays(dir / "m.obj", mesh_arrays(b)).code(), StatusCode::kUnsupported);
+  MeshWriteOptions ascii;
+  ascii.binary = false;
+  EXPECT_FALSE(write_mesh_arrays(dir / "m.ply", mesh_arrays(b), ascii).is_ok());
+  const MeshBuffers bad = buffers_with(3, {0, 1, 3});
+  const Status s = write_mesh_arrays(dir / "bad.ply", mesh_arrays(bad));
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("bad.ply"), std::string::npos) << s.message();
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));
+  ASSERT_TRUE(write_mesh_arrays(dir / "good.ply", mesh_arrays(b)).is_ok());
+  const auto back = read_mesh(dir / "good.ply");
+  ASSERT_TRUE(back.is_ok()) << back.status().message();
+  EXPECT_EQ(back->n_vertices(), 3u);
+  EXPECT_EQ(back->n_faces(), 1u);
 }
 
 TEST(GeometryImageMesh, RangeScanBecomesAGeometryImageWithValidAsMask) {

@@ -2,6 +2,8 @@
 // PLY/OBJ mesh I/O through OpenMesh, with per-vertex colour (texture) and texture coordinates
 // where the file has them. Polygons are triangulated on load. Writes are atomic.
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 
 #include "gvkit/core/mesh.hpp"
@@ -29,5 +31,25 @@ struct MeshWriteOptions {
 };
 Status write_mesh(const std::filesystem::path& path, const Mesh& mesh,
                   const MeshWriteOptions& options = {});
+
+// A triangle mesh as flat arrays, for writers that need no Mesh (no connectivity is built).
+// Pointers are borrowed; optional arrays are null when absent.
+struct MeshArrays {
+  size_t vertex_count = 0;
+  const float* positions_mm = nullptr;  // 3 per vertex
+  const float* normals = nullptr;       // 3 per vertex, or null
+  const float* texcoords = nullptr;     // 2 per vertex (u, v), or null
+  const float* grey = nullptr;          // 1 per vertex in [0, 1], written as r = g = b; or null
+  size_t triangle_count = 0;
+  const uint32_t* indices = nullptr;  // 3 per triangle, each < vertex_count
+};
+
+// Writes `arrays` as binary PLY (atomically): the same bytes as write_mesh of the Mesh made by
+// adding the vertices and then every triangle in order, provided OpenMesh rejects none of them,
+// with the same options (normals, texture coordinates and grey written as write_mesh writes a
+// Mesh's normals, texture coordinates and colours). Fails with the path for a path that is not
+// .ply, options asking for ASCII or OpenMesh's writer, an index out of range, or a write error.
+Status write_mesh_arrays(const std::filesystem::path& path, const MeshArrays& arrays,
+                         const MeshWriteOptions& options = {});
 
 }  // namespace gvkit

@@ -10,6 +10,7 @@
 
 #include "gvkit/core/geometry_image.hpp"
 #include "gvkit/core/mesh.hpp"
+#include "gvkit/core/mesh_io.hpp"
 #include "gvkit/core/range_scan.hpp"
 #include "gvkit/core/status.hpp"
 
@@ -47,6 +48,18 @@ struct MeshBuffers {
 // Triangulates the domain pixels whose xyz is finite. image must pass image.check() (contract).
 MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
                                              const GeometryImageMeshOptions& options = {});
+
+// True when OpenMesh's add_face accepts every triangle of `buffers` in order, so that
+// mesh_from_buffers drops none and write_mesh_arrays(mesh_arrays(buffers)) writes the bytes
+// write_mesh writes for mesh_from_buffers(buffers): no triangle repeats a vertex, no directed
+// edge belongs to two triangles, and the triangles around each vertex form one fan (their edges
+// opposite the vertex chain into one path or one closed cycle). False where partial quads or
+// dropped triangles leave two fans touching at one pixel.
+bool mesh_buffers_manifold(const MeshBuffers& buffers);
+
+// The buffers seen as core MeshArrays (borrowed pointers: valid while `buffers` lives and is
+// not changed; grey null when the buffers have none).
+MeshArrays mesh_arrays(const MeshBuffers& buffers);
 
 // The core Mesh of the buffers: points (mm), vertex normals, texture coordinates, and grey
 // vertex colours when the buffers have grey. Triangles OpenMesh rejects as non-manifold
