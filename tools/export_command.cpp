@@ -1,7 +1,7 @@
 // gvkit export INPUT --format ply|obj|exr -o DIR: writes each frame of a geometry video as a
-// triangle mesh (PLY/OBJ; a manifold frame's binary PLY straight from its arrays, the rest
-// through OpenMesh) or as a geometry-image EXR; frames are decoded in order and meshed and
-// written on worker threads.
+// triangle mesh (PLY/OBJ; a manifold frame straight from its arrays, the rest through an
+// OpenMesh mesh) or as a geometry-image EXR; frames are decoded in order and meshed and written
+// on worker threads.
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
@@ -63,10 +63,9 @@ ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCom
   }
   const MeshBuffers buffers = mesh_buffers_from_geometry_image(image, mesh_options);
   const std::filesystem::path path = frame_path(o.output, i, "." + o.format);
-  if (o.format == "ply" && write_options.binary && buffers.triangle_count() > 0 &&
-      mesh_buffers_manifold(buffers)) {
-    // OpenMesh would take every triangle: the PLY is written from the arrays, without building
-    // the halfedge mesh (the same bytes; player/geometry_image_mesh.hpp).
+  if (buffers.triangle_count() > 0 && mesh_buffers_manifold(buffers)) {
+    // OpenMesh would take every triangle: the file is written from the arrays, without building
+    // the halfedge mesh (the same file; player/geometry_image_mesh.hpp).
     r.fatal = write_mesh_arrays(path, mesh_arrays(buffers), write_options);
     r.stats["vertices"] = buffers.vertex_count();
     r.stats["faces"] = buffers.triangle_count();

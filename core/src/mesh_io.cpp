@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <charconv>
 #include <cstring>
 #include <mutex>
 #include <string>
@@ -90,13 +91,8 @@ Result<Mesh> read_mesh(const fs::path& path, const MeshReadOptions& options) {
 
 namespace {
 
-// Binary PLY in the layout OpenMesh's writer gives it (the same bytes): x y z, then nx ny nz, u v
-// and red green blue as floats when written, then each face as a uchar count and int indices in
-// OpenMesh's face-vertex order. Built in memory and written with one call, without OpenMesh's
-// per-value stream writes and global lock. Only for meshes without deleted elements (false
-// otherwise: the caller uses OpenMesh's writer).
-bool direct_ply_applies(const Mesh& mesh) {
-  if constexpr (std::endian::native != std::endian::little) return false;
+// gvkit's serializers write meshes without deleted elements (with them: OpenMesh's writer).
+bool no_deleted_elements(const Mesh& mesh) {
   if (mesh.has_vertex_status())
     for (auto v : mesh.vertices())
       if (mesh.status(v).deleted()) return false;
@@ -106,10 +102,12 @@ bool direct_ply_applies(const Mesh& mesh) {
   return true;
 }
 
-// The header of a binary PLY with these vertex properties and triangle-list faces.
-std::string ply_binary_header(size_t vertices, size_t faces, bool normals, bool texcoords,
-                              bool colors) {
-  std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex ";
+// The header of a PLY (binary little endian or ASCII) with these vertex properties and
+// triangle-list faces.
+std::string ply_header(bool binary, size_t vertices, size_t faces, bool normals, bool texcoords,
+                       bool colors) {
+  std::string header = binary ? "ply\nformat binary_little_endian 1.0\nelement vertex "
+                              : "ply\nformat ascii 1.0\nelement vertex ";
   header += std::to_string(vertices);
   header += "\nproperty float x\nproperty float y\nproperty float z\n";
   if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -121,9 +119,13 @@ std::string ply_binary_header(size_t vertices, size_t faces, bool normals, bool 
   return header;
 }
 
+// Binary PLY in the layout OpenMesh's writer gives it (the same bytes): x y z, then nx ny nz, u v
+// and red green blue as floats when written, then each face as a uchar count and int indices in
+// OpenMesh's face-vertex order. Built in memory and written with one call, without OpenMesh's
+// per-value stream writes and global lock.
 std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, bool colors) {
   const std::string header =
-      ply_binary_header(mesh.n_vertices(), mesh.n_faces(), normals, texcoords, colors);
+      ply_header(true, mesh.n_vertices(), mesh.n_faces(), normals, texcoords, colors);
   const size_t floats = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0) + (colors ? 3 : 0);
   // Faces' vertex indices gathered first (one walk around each face).
   std::vector<int32_t> corners;
@@ -177,9 +179,16 @@ std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, boo
   return out;
 }
 
+// The colour of vertex i (r, g, b) of arrays with grey or colours.
+const float* vertex_color(const MeshArrays& a, size_t i, float (&grey)[3]) {
+  if (!a.grey) return a.colors + 3 * i;
+  grey[0] = grey[1] = grey[2] = a.grey[i];
+  return grey;
+}
+
 std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, bool colors) {
   const std::string header =
-      ply_binary_header(a.vertex_count, a.triangle_count, normals, texcoords, colors);
+      ply_header(true, a.vertex_count, a.triangle_count, normals, texcoords, colors);
   const size_t floats = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0) + (colors ? 3 : 0);
   std::string out;
   out.resize(header.size() + a.vertex_count * floats * 4 + a.triangle_count * 13);
@@ -190,14 +199,12 @@ std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, 
     std::memcpy(p, v, 4 * count);
     p += 4 * count;
   };
+  float grey[3];
   for (size_t i = 0; i < a.vertex_count; ++i) {
     put(a.positions_mm + 3 * i, 3);
     if (normals) put(a.normals + 3 * i, 3);
     if (texcoords) put(a.texcoords + 2 * i, 2);
-    if (colors) {
-      const float g[3] = {a.grey[i], a.grey[i], a.grey[i]};
-      put(g, 3);
-    }
+    if (colors) put(vertex_color(a, i, grey), 3);
   }
   for (size_t t = 0; t < a.triangle_count; ++t) {
     *p++ = 3;
@@ -207,16 +214,148 @@ std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, 
   return out;
 }
 
+// Text output with numbers in their shortest exact form (std::to_chars).
+class TextOut {
+ public:
+  explicit TextOut(size_t reserve) { out_.reserve(reserve); }
+  TextOut& text(const char* s) {
+    out_ += s;
+    return *this;
+  }
+  TextOut& number(float v) {
+    char buf[32];
+    out_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    return *this;
+  }
+  TextOut& number(uint64_t v) {
+    char buf[24];
+    out_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    return *this;
+  }
+  // " a b c" for count floats at v.
+  TextOut& numbers(const float* v, int count) {
+    for (int k = 0; k < count; ++k) text(" ").number(v[k]);
+    return *this;
+  }
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+std::string ply_ascii_text(const MeshArrays& a, bool normals, bool texcoords, bool colors) {
+  TextOut out(a.vertex_count * 120 + a.triangle_count * 24);
+  out.text(ply_header(false, a.vertex_count, a.triangle_count, normals, texcoords, colors).c_str());
+  float grey[3];
+  for (size_t i = 0; i < a.vertex_count; ++i) {
+    out.number(a.positions_mm[3 * i]).numbers(a.positions_mm + 3 * i + 1, 2);
+    if (normals) out.numbers(a.normals + 3 * i, 3);
+    if (texcoords) out.numbers(a.texcoords + 2 * i, 2);
+    if (colors) out.numbers(vertex_color(a, i, grey), 3);
+    out.text("\n");
+  }
+  for (size_t t = 0; t < a.triangle_count; ++t) {
+    out.text("3");
+    for (int k = 0; k < 3; ++k) out.text(" ").number(uint64_t{a.indices[3 * t + k]});
+    out.text("\n");
+  }
+  return out.take();
+}
+
+// OBJ: v, then vt and vn (one per vertex) when written, then f with 1-based v/vt/vn indices.
+std::string obj_text(const MeshArrays& a, bool normals, bool texcoords) {
+  TextOut out(a.vertex_count * 100 + a.triangle_count * 48);
+  out.text("# ").number(uint64_t{a.vertex_count}).text(" vertices, ");
+  out.number(uint64_t{a.triangle_count}).text(" faces\n");
+  for (size_t i = 0; i < a.vertex_count; ++i)
+    out.text("v").numbers(a.positions_mm + 3 * i, 3).text("\n");
+  if (texcoords)
+    for (size_t i = 0; i < a.vertex_count; ++i)
+      out.text("vt").numbers(a.texcoords + 2 * i, 2).text("\n");
+  if (normals)
+    for (size_t i = 0; i < a.vertex_count; ++i)
+      out.text("vn").numbers(a.normals + 3 * i, 3).text("\n");
+  for (size_t t = 0; t < a.triangle_count; ++t) {
+    out.text("f");
+    for (int k = 0; k < 3; ++k) {
+      const uint64_t v = uint64_t{a.indices[3 * t + k]} + 1;
+      out.text(" ").number(v);
+      if (texcoords) out.text("/").number(v);
+      if (normals) out.text(texcoords ? "/" : "//").number(v);
+    }
+    out.text("\n");
+  }
+  return out.take();
+}
+
+// A Mesh's vertices and faces as float arrays (what gvkit's text serializers write).
+struct MeshArrayStorage {
+  std::vector<float> positions, normals, texcoords, colors;
+  std::vector<uint32_t> indices;
+  MeshArrays view() const {
+    MeshArrays a;
+    a.vertex_count = positions.size() / 3;
+    a.positions_mm = positions.data();
+    a.normals = normals.empty() ? nullptr : normals.data();
+    a.texcoords = texcoords.empty() ? nullptr : texcoords.data();
+    a.colors = colors.empty() ? nullptr : colors.data();
+    a.triangle_count = indices.size() / 3;
+    a.indices = indices.data();
+    return a;
+  }
+};
+
+MeshArrayStorage mesh_array_storage(const Mesh& mesh, bool normals, bool texcoords, bool colors) {
+  MeshArrayStorage s;
+  const size_t n = mesh.n_vertices();
+  s.positions.reserve(3 * n);
+  for (auto v : mesh.vertices()) {
+    const Mesh::Point& p = mesh.point(v);
+    s.positions.insert(s.positions.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                                           static_cast<float>(p[2])});
+    if (normals) {
+      const Mesh::Normal& q = mesh.normal(v);
+      s.normals.insert(s.normals.end(), {static_cast<float>(q[0]), static_cast<float>(q[1]),
+                                         static_cast<float>(q[2])});
+    }
+    if (texcoords) {
+      const Mesh::TexCoord2D& t = mesh.texcoord2D(v);
+      s.texcoords.insert(s.texcoords.end(), {static_cast<float>(t[0]), static_cast<float>(t[1])});
+    }
+    if (colors) {
+      const Mesh::Color& c = mesh.color(v);
+      s.colors.insert(s.colors.end(), {c[0], c[1], c[2]});
+    }
+  }
+  s.indices.reserve(3 * mesh.n_faces());
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) s.indices.push_back(static_cast<uint32_t>(v.idx()));
+  return s;
+}
+
+// The file of `arrays` in the format of `ext` (".ply" binary or ASCII by options, ".obj").
+std::string mesh_file_bytes(const std::string& ext, const MeshArrays& a,
+                            const MeshWriteOptions& options) {
+  const bool normals = options.vertex_normals && a.normals;
+  const bool texcoords = options.vertex_texcoords && a.texcoords;
+  const bool colors = options.vertex_colors && (a.grey || a.colors);
+  if (ext == ".obj") return obj_text(a, normals, texcoords);
+  return options.binary ? ply_binary_bytes(a, normals, texcoords, colors)
+                        : ply_ascii_text(a, normals, texcoords, colors);
+}
+
 }  // namespace
 
 Status write_mesh_arrays(const fs::path& path, const MeshArrays& arrays,
                          const MeshWriteOptions& options) {
-  if (lower_extension(path) != ".ply")
-    return unsupported(path.string() + ": mesh arrays are written as binary PLY only (use .ply)");
-  if (!options.binary || options.openmesh_writer)
-    return unsupported(path.string() + ": mesh arrays are written as binary PLY by gvkit only");
+  const std::string ext = lower_extension(path);
+  if (ext != ".ply" && ext != ".obj")
+    return unsupported(path.string() + ": unknown mesh format '" + ext + "' (use .ply or .obj)");
+  if (options.openmesh_writer)
+    return unsupported(path.string() + ": mesh arrays are written by gvkit's serializers only");
   if constexpr (std::endian::native != std::endian::little)
-    return unsupported(path.string() + ": binary PLY from arrays needs a little-endian machine");
+    if (ext == ".ply" && options.binary)
+      return unsupported(path.string() + ": binary PLY from arrays needs a little-endian machine");
   if (arrays.vertex_count > 0 && !arrays.positions_mm)
     return invalid_argument(path.string() + ": mesh arrays without positions");
   if (arrays.triangle_count > 0 && !arrays.indices)
@@ -228,10 +367,7 @@ Status write_mesh_arrays(const fs::path& path, const MeshArrays& arrays,
       return invalid_argument(path.string() + ": triangle " + std::to_string(i / 3) +
                               " names vertex " + std::to_string(arrays.indices[i]) + " of " +
                               std::to_string(arrays.vertex_count));
-  const bool normals = options.vertex_normals && arrays.normals;
-  const bool texcoords = options.vertex_texcoords && arrays.texcoords;
-  const bool colors = options.vertex_colors && arrays.grey;
-  return write_file_atomically(path, ply_binary_bytes(arrays, normals, texcoords, colors));
+  return write_file_atomically(path, mesh_file_bytes(ext, arrays, options));
 }
 
 Status write_mesh(const fs::path& path, const Mesh& mesh, const MeshWriteOptions& options) {
@@ -239,11 +375,16 @@ Status write_mesh(const fs::path& path, const Mesh& mesh, const MeshWriteOptions
   const std::string ext = lower_extension(path);
   if (ext != ".ply" && ext != ".obj")
     return unsupported(path.string() + ": unknown mesh format '" + ext + "' (use .ply or .obj)");
-  if (ext == ".ply" && options.binary && !options.openmesh_writer && direct_ply_applies(mesh)) {
+  const bool little_endian = std::endian::native == std::endian::little;
+  if (!options.openmesh_writer && no_deleted_elements(mesh) &&
+      (little_endian || ext == ".obj" || !options.binary)) {
     const bool normals = options.vertex_normals && mesh.has_vertex_normals();
     const bool texcoords = options.vertex_texcoords && mesh.has_vertex_texcoords2D();
     const bool colors = options.vertex_colors && mesh.has_vertex_colors();
-    return write_file_atomically(path, ply_binary_bytes(mesh, normals, texcoords, colors));
+    if (ext == ".ply" && options.binary)
+      return write_file_atomically(path, ply_binary_bytes(mesh, normals, texcoords, colors));
+    const MeshArrayStorage storage = mesh_array_storage(mesh, normals, texcoords, colors);
+    return write_file_atomically(path, mesh_file_bytes(ext, storage.view(), options));
   }
   OpenMesh::IO::Options io_options;
   if (options.binary && ext == ".ply") io_options += OpenMesh::IO::Options::Binary;

@@ -252,20 +252,49 @@ TEST(GeometryImageMesh, ManifoldBuffersWriteThePlyOfTheOpenMeshRoute) {
 TEST(GeometryImageMesh, ArraysWriterRejectsOtherFormatsAndBadIndices) {
   gvkit::testing::TempDir dir;
   const MeshBuffers b = buffers_with(3, {0, 1, 2});
-  EXPECT_EQ(write_mesh_arrays(dir / "m.obj", mesh_arrays(b)).code(), StatusCode::kUnsupported);
-  MeshWriteOptions ascii;
-  ascii.binary = false;
-  EXPECT_FALSE(write_mesh_arrays(dir / "m.ply", mesh_arrays(b), ascii).is_ok());
+  EXPECT_EQ(write_mesh_arrays(dir / "m.stl", mesh_arrays(b)).code(), StatusCode::kUnsupported);
+  MeshWriteOptions openmesh;
+  openmesh.openmesh_writer = true;
+  EXPECT_EQ(write_mesh_arrays(dir / "m.ply", mesh_arrays(b), openmesh).code(),
+            StatusCode::kUnsupported);
   const MeshBuffers bad = buffers_with(3, {0, 1, 3});
   const Status s = write_mesh_arrays(dir / "bad.ply", mesh_arrays(bad));
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("bad.ply"), std::string::npos) << s.message();
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));
-  ASSERT_TRUE(write_mesh_arrays(dir / "good.ply", mesh_arrays(b)).is_ok());
-  const auto back = read_mesh(dir / "good.ply");
-  ASSERT_TRUE(back.is_ok()) << back.status().message();
-  EXPECT_EQ(back->n_vertices(), 3u);
-  EXPECT_EQ(back->n_faces(), 1u);
+}
+
+// Binary PLY, ASCII PLY and OBJ from the arrays read back (through OpenMesh's readers) with every
+// position and texture coordinate exact, and equal the files written from the OpenMesh route.
+TEST(GeometryImageMesh, ArraysWriteEveryFormatExactly) {
+  gvkit::testing::TempDir dir;
+  const GeometryImage image = testing::make_face_like_image(24, 3, false);
+  const MeshBuffers b = mesh_buffers_from_geometry_image(image);
+  ASSERT_TRUE(mesh_buffers_manifold(b));
+  const Mesh mesh = mesh_from_buffers(b);
+  for (const char* name : {"m.ply", "m_ascii.ply", "m.obj"}) {
+    MeshWriteOptions options;
+    options.binary = std::string(name) == "m.ply";
+    options.vertex_normals = true;
+    ASSERT_TRUE(write_mesh_arrays(dir / name, mesh_arrays(b), options).is_ok()) << name;
+    ASSERT_TRUE(write_mesh(dir / (std::string("from_mesh_") + name), mesh, options).is_ok());
+    const auto a = read_file(dir / name);
+    const auto c = read_file(dir / (std::string("from_mesh_") + name));
+    ASSERT_TRUE(a.is_ok() && c.is_ok());
+    EXPECT_EQ(a.value(), c.value()) << name;
+    const auto back = read_mesh(dir / name);
+    ASSERT_TRUE(back.is_ok()) << back.status().message();
+    ASSERT_EQ(back->n_vertices(), b.vertex_count()) << name;
+    ASSERT_EQ(back->n_faces(), b.triangle_count()) << name;
+    ASSERT_TRUE(back->has_vertex_texcoords2D()) << name;
+    for (size_t i = 0; i < b.vertex_count(); ++i) {
+      const auto v = back->vertex_handle(static_cast<int>(i));
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(static_cast<float>(back->point(v)[k]), b.positions_mm[3 * i + k]) << name;
+      for (int k = 0; k < 2; ++k)
+        ASSERT_EQ(static_cast<float>(back->texcoord2D(v)[k]), b.texcoords[2 * i + k]) << name;
+    }
+  }
 }
 
 TEST(GeometryImageMesh, RangeScanBecomesAGeometryImageWithValidAsMask) {
