@@ -11,9 +11,11 @@
 // Errors raise ValueError (bad arguments, options), FileNotFoundError, OSError or RuntimeError
 // (damaged or unsupported streams) with the library's message, which names the file. The GIL is
 // released while frames are decoded and encoded.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <pybind11/numpy.h>
@@ -171,7 +173,10 @@ py::dict encode(const std::string& path, const py::array& xyz, const py::object&
   o.bit_depth = bit_depth;
   o.intra_period = gop;
   o.intra_only = intra_only;
-  o.threads = threads;
+  // 0: the hardware threads, at most 16 (as `gvkit encode`); the stream does not depend on it.
+  o.threads = threads == 0
+                  ? static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u))
+                  : threads;
   o.lossless = lossless;
   const int modes = !quality.is_none() + !bitrate.is_none() + !max_error_mm.is_none() + lossless;
   if (modes > 1)
@@ -308,12 +313,13 @@ PYBIND11_MODULE(gvkit, m) {
         py::arg("max_error_mm") = py::none(), py::arg("lossless") = false,
         py::arg("preset") = "slow", py::arg("profile") = "auto", py::arg("fps") = 30.0,
         py::arg("bit_depth") = 16, py::arg("gop") = 30, py::arg("intra_only") = false,
-        py::arg("threads") = 1, py::arg("texture") = py::none(), py::arg("tune") = py::dict(),
+        py::arg("threads") = 0, py::arg("texture") = py::none(), py::arg("tune") = py::dict(),
         "Encodes frames into a .gvid stream (format 2.0), as `gvkit encode` does.\n"
         "xyz: (N, H, W, 3) or (H, W, 3) float mm; valid: (H, W) or (N, H, W) bool domain mask "
         "(the same in every frame), None = where xyz is finite. Rate: one of quality (geometry "
-        "PSNR in dB), qp (constant QP; else 12), bitrate (kbit/s), max_error_mm (near-lossless) "
-        "or lossless. preset 'fast' or 'slow'; profile 'auto', 'lossless', 'intra' or 'main'; "
+        "PSNR in dB), qp (constant QP; else -10), bitrate (kbit/s), max_error_mm (near-lossless) "
+        "or lossless. threads: 1..16, 0 = the hardware threads (the stream does not depend on it). "
+        "preset 'fast' or 'slow'; profile 'auto', 'lossless', 'intra' or 'main'; "
         "tune: {key: value} as `gvkit encode --tune key=value` (docs/encoding.md). Returns a "
         "dict: frames, format, profile, file_bytes, per-frame numpy arrays bits, type, qp, "
         "psnr_db, rms_mm, max_mm, and mean_psnr_db, mean_rms_mm, max_error_mm, "

@@ -5,11 +5,15 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <deque>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include <tbb/global_control.h>
+#include <tbb/parallel_pipeline.h>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
@@ -118,6 +122,8 @@ void run_encode(const EncodeArgs& args) {
                   options.bit_depth, qp_min, options.qp);
     options.qp = qp_min;
   }
+  if (options.threads == 0)
+    options.threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.profile = value_or_throw(codec::parse_profile(args.profile));
   for (const std::string& tune : args.tunes) throw_if_error(codec::apply_tune(tune, &options));
@@ -145,37 +151,89 @@ void run_encode(const EncodeArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
   // The writer returns the reconstructions of the frames it completes, in display order (with B
-  // frames, a frame waits for the anchor after it; finish() codes the rest).
-  size_t reported = 0;
-  const auto report = [&](const GeometryImage& recon) {
-    const size_t i = reported++;
-    const codec::GeometryError e = codec::geometry_error(frames[i], recon);
+  // frames, a frame waits for the anchor after it; finish() codes the rest). Each one's point and
+  // surface errors are measured on a worker while the encoder goes on with the next frames
+  // (a TBB pipeline: encode in order -> measure in parallel -> report in order), within
+  // --threads threads; what a frame reports is taken from the writer when the frame completes.
+  struct Completed {
+    size_t index = 0;
+    GeometryImage recon;
+    int64_t bytes = 0;
+    int qp = 0;
+    codec::format::FrameType type = codec::format::FrameType::kIntra;
+    codec::FrameCodingStats stats;
+    int encodes = -1;  // the quality controller's encodes of the frame (-1: none)
+    codec::GeometryError error;
+    codec::SurfaceError surface;
+  };
+  std::deque<GeometryImage> completed;
+  size_t next_input = 0, next_output = 0;
+  bool finished = false;
+  const auto next_completed = [&](tbb::flow_control& control) -> std::shared_ptr<Completed> {
+    while (completed.empty()) {
+      std::vector<GeometryImage> done;
+      if (next_input < frames.size()) {
+        done = value_or_throw(writer->write(frames[next_input++]));
+      } else if (!finished) {
+        finished = true;
+        done = value_or_throw(writer->finish());
+      } else {
+        control.stop();
+        return nullptr;
+      }
+      for (GeometryImage& recon : done) completed.push_back(std::move(recon));
+    }
+    auto c = std::make_shared<Completed>();
+    c->index = next_output++;
+    c->recon = std::move(completed.front());
+    completed.pop_front();
+    c->bytes = writer->frame_bytes()[c->index];
+    c->qp = writer->frame_qp()[c->index];
+    c->type = writer->frame_types()[c->index];
+    c->stats = writer->frame_stats()[c->index];
+    if (const auto* q = writer->quality_controller()) c->encodes = q->frame_encodes()[c->index];
+    return c;
+  };
+  const auto measure = [&](std::shared_ptr<Completed> c) {
+    c->error = codec::geometry_error(frames[c->index], c->recon);
+    c->surface = codec::surface_error(frames[c->index], c->recon);
+    c->recon = GeometryImage();  // measured: its memory goes back now
+    return c;
+  };
+  const auto report = [&](const std::shared_ptr<Completed>& c) {
+    const size_t i = c->index;
+    const codec::GeometryError& e = c->error;
     codec::accumulate(total, e);
-    const codec::SurfaceError surface = codec::surface_error(frames[i], recon);
-    codec::accumulate(surface_total, surface);
-    const int64_t bytes = writer->frame_bytes()[i];
+    codec::accumulate(surface_total, c->surface);
     per_frame.push_back({{"frame", i},
                          {"source", files[i].path.filename().string()},
-                         {"bytes", bytes},
-                         {"bits_per_vertex", bytes * 8.0 / vertices},
+                         {"bytes", c->bytes},
+                         {"bits_per_vertex", c->bytes * 8.0 / vertices},
                          {"psnr_db", e.psnr_db(peak)},
                          {"rms_mm", e.rms_mm},
                          {"max_mm", e.max_mm},
-                         {"qp", writer->frame_qp()[i]},
-                         {"type", codec::format::frame_type_name(writer->frame_types()[i])}});
-    per_frame.back().update(surface_error_json(surface));
-    if (const auto* q = writer->quality_controller())
-      per_frame.back()["encodes"] = q->frame_encodes()[i];
+                         {"qp", c->qp},
+                         {"type", codec::format::frame_type_name(c->type)}});
+    per_frame.back().update(surface_error_json(c->surface));
+    if (c->encodes >= 0) per_frame.back()["encodes"] = c->encodes;
     nlohmann::json syntax_bits;
-    const codec::FrameCodingStats& fs = writer->frame_stats()[i];
-    for (size_t p = 0; p < fs.planes.size(); ++p)
-      syntax_bits[kPlaneNames[p]] = plane_stats_json(fs.planes[p]);
+    for (size_t p = 0; p < c->stats.planes.size(); ++p)
+      syntax_bits[kPlaneNames[p]] = plane_stats_json(c->stats.planes[p]);
     per_frame.back()["syntax_bits"] = syntax_bits;
     progress.advance();
   };
-  for (const GeometryImage& frame : frames)
-    for (const GeometryImage& recon : value_or_throw(writer->write(frame))) report(recon);
-  for (const GeometryImage& recon : value_or_throw(writer->finish())) report(recon);
+  {
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<size_t>(options.threads));
+    tbb::parallel_pipeline(
+        2 * static_cast<size_t>(options.threads),
+        tbb::make_filter<void, std::shared_ptr<Completed>>(tbb::filter_mode::serial_in_order,
+                                                           next_completed) &
+            tbb::make_filter<std::shared_ptr<Completed>, std::shared_ptr<Completed>>(
+                tbb::filter_mode::parallel, measure) &
+            tbb::make_filter<std::shared_ptr<Completed>, void>(tbb::filter_mode::serial_in_order,
+                                                               report));
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Process CPU time (all threads) of the encoding loop: comparable on a loaded machine.
@@ -282,6 +340,7 @@ void run_encode(const EncodeArgs& args) {
 
 void add_encode_command(CLI::App& app) {
   auto args = std::make_shared<EncodeArgs>();
+  args->options.threads = 0;  // automatic (run_encode)
   auto* cmd = app.add_subcommand(
       "encode",
       "Compress a folder of geometry-image EXRs (frame_NNNNNN.exr) into a .gvid stream (format "
@@ -325,7 +384,9 @@ void add_encode_command(CLI::App& app) {
   cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16 (16)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream (30)");
   cmd->add_option("--threads", args->options.threads,
-                  "Planes encoded in parallel, 1..16 (the stream does not depend on it)");
+                  "Threads for planes, B frames and the frames' error measures, 1..16, or 0: "
+                  "the hardware threads, at most 16 (the stream does not depend on it)")
+      ->capture_default_str();
   cmd->add_option("--tune", args->tunes,
                   "key=value: an encoder tool switch or fine setting, for experiments "
                   "(repeatable; '--tune help' lists the keys, docs/encoding.md explains them)")

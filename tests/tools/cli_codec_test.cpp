@@ -385,9 +385,15 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
   auto subpel = run_gvkit("encode " + in + " -o " + gvid + " --tune subpel=8");
   EXPECT_NE(subpel.exit_code, 0);
   EXPECT_TRUE(contains(subpel.output, "subpel 8 is not 0")) << subpel.output;
-  auto threads = run_gvkit("encode " + in + " -o " + gvid + " --threads 0");
+  auto threads = run_gvkit("encode " + in + " -o " + gvid + " --threads 17");
   EXPECT_NE(threads.exit_code, 0);
-  EXPECT_TRUE(contains(threads.output, "threads 0 out of range")) << threads.output;
+  EXPECT_TRUE(contains(threads.output, "threads 17 out of range")) << threads.output;
+  // 0 (the default) is the hardware's threads: the same stream as one thread.
+  const std::string t1 = (dir / "t1.gvid").string(), t0 = (dir / "t0.gvid").string();
+  ASSERT_EQ(run_gvkit("encode " + in + " -o " + t1 + " --threads 1").exit_code, 0);
+  auto automatic = run_gvkit("encode " + in + " -o " + t0);
+  ASSERT_EQ(automatic.exit_code, 0) << automatic.output;
+  EXPECT_EQ(read_file(t1).value(), read_file(t0).value());
   auto lossless_rate = run_gvkit("encode " + in + " -o " + gvid + " --lossless --bitrate 100");
   EXPECT_NE(lossless_rate.exit_code, 0);
   EXPECT_TRUE(contains(lossless_rate.output, "--bitrate excludes --lossless"))
