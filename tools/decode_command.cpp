@@ -2,13 +2,18 @@
 // DIR/stats.json; a damaged frame is reported and skipped, and the command then fails. With
 // --reference GV_DIR (the encoder's input) stats.json also holds each frame's point error (PSNR,
 // RMS, max) and surface error (normal-angle error, Hausdorff distance) and their summary.
+// Frames are decoded in order and written and measured on worker threads.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include <tbb/global_control.h>
+#include <tbb/parallel_pipeline.h>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
@@ -27,6 +32,7 @@ namespace {
 
 struct DecodeArgs {
   std::string input, output, reference;
+  int threads = 0;  // 0 = the hardware threads, at most 16
 };
 
 nlohmann::json psnr_json(double psnr) {
@@ -34,6 +40,8 @@ nlohmann::json psnr_json(double psnr) {
 }
 
 void run_decode(const DecodeArgs& args) {
+  if (args.threads < 0 || args.threads > 16)
+    throw CommandFailed(invalid_argument("--threads must be 0..16 (0 = automatic)"));
   auto reader = value_or_throw(codec::GvidReader::open(args.input));
   throw_if_error(ensure_directory(args.output));
   if (reader->index_rebuilt())
@@ -58,42 +66,82 @@ void run_decode(const DecodeArgs& args) {
   std::string first_error;
   double decode_seconds = 0;
   Progress progress("decoding", reader->frame_count());
-  for (int64_t i = 0; i < reader->frame_count(); ++i) {
+  // Frames are decoded in order (P and B frames need the frames before them), written and
+  // measured on workers (a TBB pipeline within --threads threads), and recorded in order.
+  struct Decoded {
+    int64_t index = 0;
+    Result<GeometryImage> frame = GeometryImage();
+    nlohmann::json entry;
+    codec::GeometryError error;
+    codec::SurfaceError surface;
+  };
+  int64_t next = 0;
+  const auto decode = [&](tbb::flow_control& control) -> std::shared_ptr<Decoded> {
+    if (next >= reader->frame_count()) {
+      control.stop();
+      return nullptr;
+    }
+    auto d = std::make_shared<Decoded>();
+    d->index = next++;
     const auto start = std::chrono::steady_clock::now();
-    auto frame = reader->decode_frame(i);
+    d->frame = reader->decode_frame(d->index);
     decode_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    nlohmann::json entry = {{"frame", i},
-                            {"bits", reader->frame_bits(i)},
-                            {"bits_per_vertex", reader->frame_bits(i) / vertices}};
-    if (frame.is_ok()) {
-      throw_if_error(write_geometry_image_exr(frame_path(args.output, i, ".exr"), *frame));
-      entry["status"] = "ok";
+    d->entry = {{"frame", d->index},
+                {"bits", reader->frame_bits(d->index)},
+                {"bits_per_vertex", reader->frame_bits(d->index) / vertices}};
+    return d;
+  };
+  const auto write_and_measure = [&](std::shared_ptr<Decoded> d) {
+    if (!d->frame.is_ok()) return d;
+    const GeometryImage& frame = *d->frame;
+    throw_if_error(write_geometry_image_exr(frame_path(args.output, d->index, ".exr"), frame));
+    d->entry["status"] = "ok";
+    if (!reference_files.empty()) {
+      const auto& path = reference_files[static_cast<size_t>(d->index)].path;
+      const GeometryImage reference = value_or_throw(read_geometry_image_exr(path));
+      if (reference.size() != frame.size())
+        throw CommandFailed(invalid_argument(
+            path.string() + ": size " + std::to_string(reference.size().width) + "x" +
+            std::to_string(reference.size().height) + " differs from the stream's"));
+      d->error = codec::geometry_error(reference, frame);
+      d->surface = codec::surface_error(reference, frame);
+      d->entry["psnr_db"] = psnr_json(d->error.psnr_db(info.box_diagonal_mm()));
+      d->entry["rms_mm"] = d->error.rms_mm;
+      d->entry["max_mm"] = d->error.max_mm;
+      d->entry.update(surface_error_json(d->surface));
+    }
+    d->frame = GeometryImage();  // written: its memory goes back now
+    return d;
+  };
+  const auto record = [&](const std::shared_ptr<Decoded>& d) {
+    if (d->frame.is_ok()) {
       if (!reference_files.empty()) {
-        const GeometryImage reference =
-            value_or_throw(read_geometry_image_exr(reference_files[i].path));
-        if (reference.size() != frame->size())
-          throw CommandFailed(invalid_argument(reference_files[i].path.string() + ": size " +
-                                               std::to_string(reference.size().width) + "x" +
-                                               std::to_string(reference.size().height) +
-                                               " differs from the stream's"));
-        const codec::GeometryError e = codec::geometry_error(reference, *frame);
-        const codec::SurfaceError surface = codec::surface_error(reference, *frame);
-        codec::accumulate(point_total, e);
-        codec::accumulate(surface_total, surface);
-        entry["psnr_db"] = psnr_json(e.psnr_db(info.box_diagonal_mm()));
-        entry["rms_mm"] = e.rms_mm;
-        entry["max_mm"] = e.max_mm;
-        entry.update(surface_error_json(surface));
+        codec::accumulate(point_total, d->error);
+        codec::accumulate(surface_total, d->surface);
       }
     } else {
       ++failed;
-      if (first_error.empty()) first_error = frame.status().message();
-      logger().warn("{}", frame.status().message());
-      entry["status"] = frame.status().message();
+      if (first_error.empty()) first_error = d->frame.status().message();
+      logger().warn("{}", d->frame.status().message());
+      d->entry["status"] = d->frame.status().message();
     }
-    frames.push_back(entry);
+    frames.push_back(std::move(d->entry));
     progress.advance();
+  };
+  const int threads =
+      args.threads > 0 ? args.threads
+                       : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+  {
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                    static_cast<size_t>(threads));
+    tbb::parallel_pipeline(2 * static_cast<size_t>(threads),
+                           tbb::make_filter<void, std::shared_ptr<Decoded>>(
+                               tbb::filter_mode::serial_in_order, decode) &
+                               tbb::make_filter<std::shared_ptr<Decoded>, std::shared_ptr<Decoded>>(
+                                   tbb::filter_mode::parallel, write_and_measure) &
+                               tbb::make_filter<std::shared_ptr<Decoded>, void>(
+                                   tbb::filter_mode::serial_in_order, record));
   }
   progress.finish();
   const double n = static_cast<double>(reader->frame_count());
@@ -144,6 +192,11 @@ void add_decode_command(CLI::App& app) {
   cmd->add_option("--reference", args->reference,
                   "Folder of the encoder's input frame_NNNNNN.exr: also report each frame's "
                   "point error and surface error (normal-angle error, Hausdorff distance)");
+  cmd->add_option("--threads", args->threads,
+                  "Threads writing and measuring decoded frames, 1..16, or 0: the hardware "
+                  "threads, at most 16 (frames are decoded in order; the files do not depend on "
+                  "it)")
+      ->capture_default_str();
   cmd->callback([args] { run_decode(*args); });
 }
 

@@ -97,6 +97,21 @@ TEST(CliCodec, EncodeAndDecodeReportTheSurfaceError) {
   for (const char* key : {"normal_p95_deg", "hausdorff_mm", "max_mm"})
     EXPECT_NEAR((*decoded)["summary"][key].get<double>(), summary[key].get<double>(), 1e-9) << key;
 
+  // One thread writes and measures the same: the same files and figures.
+  auto one = run_gvkit("decode " + gvid + " -o " + (dir / "one").string() + " --reference " +
+                       (dir / "in").string() + " --threads 1");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  auto one_stats = read_json(dir / "one" / "stats.json");
+  ASSERT_TRUE(one_stats.is_ok());
+  EXPECT_EQ((*one_stats)["frames"], (*decoded)["frames"]);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(read_file(frame_path(dir / "one", i, ".exr")).value(),
+              read_file(frame_path(dir / "out", i, ".exr")).value())
+        << i;
+  auto threads = run_gvkit("decode " + gvid + " -o " + (dir / "t").string() + " --threads 17");
+  EXPECT_NE(threads.exit_code, 0);
+  EXPECT_TRUE(contains(threads.output, "--threads must be 0..16")) << threads.output;
+
   // A reference that does not match the stream is named.
   write_frames(dir / "two", 2);
   auto bad = run_gvkit("decode " + gvid + " -o " + (dir / "out2").string() + " --reference " +
