@@ -4,11 +4,13 @@
 // stats.json (PSNR peak: the first reference frame's bounding-box diagonal); with -o or
 // --contact-sheet also the picture input | decoded | normal-error heat map (Turbo, degrees),
 // rendered offscreen from one camera, as an MP4 and a contact sheet (one row per chosen frame).
+// Each frame is read and measured on a worker while the one before it is drawn.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -117,16 +119,44 @@ void run_compare(const CompareOptions& o) {
   double peak = 0;
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("compare", static_cast<int64_t>(indices.size()));
-  for (size_t k = 0; k < indices.size(); ++k, progress.advance()) {
-    const int64_t i = indices[k];
-    const GeometryImage a = value_or_throw(reference->frame(i));
-    const GeometryImage b = value_or_throw(decoded->frame(i));
+  // Frame k + 1 is read and measured (and its heat values computed) on a worker while frame k
+  // is drawn here: the renderer's OpenGL context stays on this thread.
+  struct Measured {
+    int64_t index = 0;
+    GeometryImage a, b;
+    codec::GeometryError e;
+    codec::SurfaceError s;
+    cv::Mat heat;  // per pixel: normal error (deg) or distance (mm); with pictures only
+  };
+  const auto measure = [&](size_t k) {
+    Measured m;
+    m.index = indices[k];
+    const int64_t i = m.index;
+    m.a = value_or_throw(reference->frame(i));
+    m.b = value_or_throw(decoded->frame(i));
+    const GeometryImage& a = m.a;
+    const GeometryImage& b = m.b;
     if (a.size() != b.size())
       throw CommandFailed(invalid_argument(
           o.decoded + ": frame " + std::to_string(i) + " is " + std::to_string(b.size().width) +
           "x" + std::to_string(b.size().height) + ", the reference's " +
           std::to_string(a.size().width) + "x" + std::to_string(a.size().height)));
     throw_if_error(a.check().with_context(o.reference + ": frame " + std::to_string(i)));
+    m.e = codec::geometry_error(a, b);
+    m.s = codec::surface_error(a, b, o.metric);
+    if (pictures)
+      m.heat = distance_heat ? codec::surface_distance_mm(a, b, o.metric)
+                             : codec::normal_error_deg(a, b, o.metric);
+    return m;
+  };
+  std::future<Measured> next;
+  if (!indices.empty()) next = std::async(std::launch::async, measure, size_t{0});
+  for (size_t k = 0; k < indices.size(); ++k, progress.advance()) {
+    Measured m = next.get();
+    if (k + 1 < indices.size()) next = std::async(std::launch::async, measure, k + 1);
+    const int64_t i = m.index;
+    const GeometryImage& a = m.a;
+    const GeometryImage& b = m.b;
     if (peak == 0) {  // PSNR peak: the first frame's box diagonal over its domain
       cv::Vec3f lo(1e30f, 1e30f, 1e30f), hi(-1e30f, -1e30f, -1e30f);
       for (int y = 0; y < a.xyz_mm.rows; ++y)
@@ -138,8 +168,8 @@ void run_compare(const CompareOptions& o) {
             }
       peak = cv::norm(hi - lo);
     }
-    const codec::GeometryError e = codec::geometry_error(a, b);
-    const codec::SurfaceError s = codec::surface_error(a, b, o.metric);
+    const codec::GeometryError& e = m.e;
+    const codec::SurfaceError& s = m.s;
     codec::accumulate(point_total, e);
     codec::accumulate(surface_total, s);
     nlohmann::json fj = {{"index", i},
@@ -164,13 +194,11 @@ void run_compare(const CompareOptions& o) {
     cv::Mat middle = value_or_throw(renderer->render(*camera, lit));
     DrawStyle heat;
     heat.mode = ShadingMode::kError;
+    renderer->set_vertex_errors(vertex_values(mesh_b, m.heat));
     if (distance_heat) {
-      renderer->set_vertex_errors(
-          vertex_values(mesh_b, codec::surface_distance_mm(a, b, o.metric)));
       heat.error_max_mm = static_cast<float>(o.distance_max_mm);
       heat.error_title = "distance to input (mm)";
     } else {
-      renderer->set_vertex_errors(vertex_values(mesh_b, codec::normal_error_deg(a, b, o.metric)));
       heat.error_max_mm = static_cast<float>(o.normal_max_deg);
       heat.error_title = "normal error (deg)";
     }
