@@ -3,13 +3,11 @@
 // --reference GV_DIR (the encoder's input) stats.json also holds each frame's point error (PSNR,
 // RMS, max) and surface error (normal-angle error, Hausdorff distance) and their summary.
 // Frames are decoded in order and written and measured on worker threads.
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -26,6 +24,7 @@
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
 #include "surface_error_json.hpp"
+#include "tool_support.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -129,9 +128,7 @@ void run_decode(const DecodeArgs& args) {
     frames.push_back(std::move(d->entry));
     progress.advance();
   };
-  const int threads =
-      args.threads > 0 ? args.threads
-                       : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+  const int threads = command_threads(args.threads, 16);
   {
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                     static_cast<size_t>(threads));

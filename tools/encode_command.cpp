@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -27,6 +26,7 @@
 #include "gvkit/core/log.hpp"
 #include "gvkit/core/progress.hpp"
 #include "surface_error_json.hpp"
+#include "tool_support.hpp"
 
 namespace gvkit::tools {
 namespace {
@@ -122,8 +122,7 @@ void run_encode(const EncodeArgs& args) {
                   options.bit_depth, qp_min, options.qp);
     options.qp = qp_min;
   }
-  if (options.threads == 0)
-    options.threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+  options.threads = command_threads(options.threads, 16);
   options.preset = value_or_throw(codec::parse_preset(args.preset));
   options.profile = value_or_throw(codec::parse_profile(args.profile));
   for (const std::string& tune : args.tunes) throw_if_error(codec::apply_tune(tune, &options));

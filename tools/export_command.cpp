@@ -161,9 +161,7 @@ void run_export(const ExportCommandOptions& o) {
   MeshWriteOptions write_options;
   write_options.binary = !o.ascii;
   write_options.vertex_normals = true;
-  const int threads =
-      o.threads > 0 ? o.threads
-                    : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
+  const int threads = command_threads(o.threads, 4);
   std::vector<std::string> failures;
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("export", static_cast<int64_t>(indices.size()));

@@ -1,6 +1,8 @@
 #include "tool_support.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <thread>
 
 #include "gvkit/core/json_io.hpp"
 
@@ -14,6 +16,12 @@ Result<std::pair<int, int>> parse_size(const std::string& text) {
       w <= 0 || h <= 0)
     return invalid_argument("size '" + text + "' is not WxH (e.g. 640x480)");
   return std::make_pair(w, h);
+}
+
+int command_threads(int requested, int at_most) {
+  if (requested > 0) return requested;
+  return static_cast<int>(
+      std::clamp(std::thread::hardware_concurrency(), 1u, static_cast<unsigned>(at_most)));
 }
 
 Status failures_status(const std::vector<std::string>& failures, size_t total) {

@@ -1,6 +1,7 @@
 #pragma once
-// Small helpers shared by the subcommands: size parsing, failure summaries, and the stats.json of
-// the frame-by-frame commands (reconstruct, facemap clean, facemap map), which lets them resume.
+// Small helpers shared by the subcommands: size parsing, thread counts, failure summaries, and the
+// stats.json of the frame-by-frame commands (reconstruct, facemap clean, facemap map), which lets
+// them resume.
 
 #include <cstdint>
 #include <filesystem>
@@ -19,6 +20,10 @@ namespace gvkit::tools {
 
 // "640x480" -> (640, 480). Fails naming the text.
 Result<std::pair<int, int>> parse_size(const std::string& text);
+
+// The threads a command runs: `requested` when > 0, else (0: automatic) the hardware threads,
+// at least 1 and at most `at_most`.
+int command_threads(int requested, int at_most);
 
 // Ok when no frame failed; else "K of N frames failed: <first messages>" (corrupt data).
 Status failures_status(const std::vector<std::string>& failures, size_t total);

@@ -119,66 +119,6 @@ std::string ply_header(bool binary, size_t vertices, size_t faces, bool normals,
   return header;
 }
 
-// Binary PLY in the layout OpenMesh's writer gives it (the same bytes): x y z, then nx ny nz, u v
-// and red green blue as floats when written, then each face as a uchar count and int indices in
-// OpenMesh's face-vertex order. Built in memory and written with one call, without OpenMesh's
-// per-value stream writes and global lock.
-std::string ply_binary_bytes(const Mesh& mesh, bool normals, bool texcoords, bool colors) {
-  const std::string header =
-      ply_header(true, mesh.n_vertices(), mesh.n_faces(), normals, texcoords, colors);
-  const size_t floats = 3 + (normals ? 3 : 0) + (texcoords ? 2 : 0) + (colors ? 3 : 0);
-  // Faces' vertex indices gathered first (one walk around each face).
-  std::vector<int32_t> corners;
-  std::vector<uint8_t> valences;
-  corners.reserve(3 * mesh.n_faces());
-  valences.reserve(mesh.n_faces());
-  for (auto f : mesh.faces()) {
-    const size_t before = corners.size();
-    for (auto v : mesh.fv_range(f)) corners.push_back(v.idx());
-    valences.push_back(static_cast<uint8_t>(corners.size() - before));
-  }
-  std::string out;
-  out.resize(header.size() + mesh.n_vertices() * floats * 4 + valences.size() + 4 * corners.size());
-  char* p = out.data();
-  std::memcpy(p, header.data(), header.size());
-  p += header.size();
-  const auto put = [&p](float v) {
-    std::memcpy(p, &v, 4);
-    p += 4;
-  };
-  for (auto v : mesh.vertices()) {
-    const Mesh::Point& x = mesh.point(v);
-    put(static_cast<float>(x[0]));
-    put(static_cast<float>(x[1]));
-    put(static_cast<float>(x[2]));
-    if (normals) {
-      const Mesh::Normal& n = mesh.normal(v);
-      put(static_cast<float>(n[0]));
-      put(static_cast<float>(n[1]));
-      put(static_cast<float>(n[2]));
-    }
-    if (texcoords) {
-      const Mesh::TexCoord2D& t = mesh.texcoord2D(v);
-      put(static_cast<float>(t[0]));
-      put(static_cast<float>(t[1]));
-    }
-    if (colors) {
-      const Mesh::Color& c = mesh.color(v);
-      put(c[0]);
-      put(c[1]);
-      put(c[2]);
-    }
-  }
-  const int32_t* corner = corners.data();
-  for (const uint8_t valence : valences) {
-    *p++ = static_cast<char>(valence);
-    std::memcpy(p, corner, 4 * size_t{valence});
-    p += 4 * size_t{valence};
-    corner += valence;
-  }
-  return out;
-}
-
 // The colour of vertex i (r, g, b) of arrays with grey or colours.
 const float* vertex_color(const MeshArrays& a, size_t i, float (&grey)[3]) {
   if (!a.grey) return a.colors + 3 * i;
@@ -186,6 +126,10 @@ const float* vertex_color(const MeshArrays& a, size_t i, float (&grey)[3]) {
   return grey;
 }
 
+// Binary PLY in the layout OpenMesh's writer gives it (the same bytes): x y z, then nx ny nz, u v
+// and red green blue as floats when written, then each face as a uchar count and int indices in
+// OpenMesh's face-vertex order. Built in memory and written with one call, without OpenMesh's
+// per-value stream writes and global lock.
 std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, bool colors) {
   const std::string header =
       ply_header(true, a.vertex_count, a.triangle_count, normals, texcoords, colors);
@@ -288,7 +232,8 @@ std::string obj_text(const MeshArrays& a, bool normals, bool texcoords) {
   return out.take();
 }
 
-// A Mesh's vertices and faces as float arrays (what gvkit's text serializers write).
+// A Mesh's vertices and faces as float arrays (what gvkit's serializers write), faces in
+// OpenMesh's face-vertex order.
 struct MeshArrayStorage {
   std::vector<float> positions, normals, texcoords, colors;
   std::vector<uint32_t> indices;
@@ -381,8 +326,6 @@ Status write_mesh(const fs::path& path, const Mesh& mesh, const MeshWriteOptions
     const bool normals = options.vertex_normals && mesh.has_vertex_normals();
     const bool texcoords = options.vertex_texcoords && mesh.has_vertex_texcoords2D();
     const bool colors = options.vertex_colors && mesh.has_vertex_colors();
-    if (ext == ".ply" && options.binary)
-      return write_file_atomically(path, ply_binary_bytes(mesh, normals, texcoords, colors));
     const MeshArrayStorage storage = mesh_array_storage(mesh, normals, texcoords, colors);
     return write_file_atomically(path, mesh_file_bytes(ext, storage.view(), options));
   }
