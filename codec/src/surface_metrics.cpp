@@ -1,5 +1,7 @@
 #include "gvkit/codec/surface_metrics.hpp"
 
+#include "gvkit/codec/point_triangle_distance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,54 +14,13 @@ using Vec3 = cv::Vec3d;
 
 Vec3 cross(const Vec3& a, const Vec3& b) { return a.cross(b); }
 
-// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection 5.1.5): the squared
-// distance.
-double point_triangle_distance2(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.dot(ap);
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.dot(bp);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const Vec3 q = a + ab * (d1 / (d1 - d3));
-    return (p - q).dot(p - q);
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.dot(cp);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const Vec3 q = a + ac * (d2 / (d2 - d6));
-    return (p - q).dot(p - q);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const Vec3 q = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    return (p - q).dot(p - q);
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  if (!std::isfinite(denom)) {  // degenerate triangle: the nearest of its corners
-    return std::min({ap.dot(ap), bp.dot(bp), cp.dot(cp)});
-  }
-  const Vec3 q = a + ab * (vb * denom) + ac * (vc * denom);
-  return (p - q).dot(p - q);
-}
-
 // The triangles of an image's fixed grid triangulation: the quad with top-left pixel (x, y)
 // splits along (x, y)-(x+1, y+1) when its four pixels are valid, and gives the one triangle of
-// its three valid pixels when one is not. Each triangle, and each quad, with a bounding sphere
-// for pruning.
+// its three valid pixels when one is not. Triangles are triples of pixel indices (y * cols + x)
+// into the image's coordinates, held as doubles; each quad has a bounding sphere for pruning.
 struct Sphere {
   Vec3 centre;
   double radius = -1;  // < 0: empty (a quad without triangles)
-};
-
-struct Triangle {
-  Vec3 a, b, c;
-  Vec3 centre;
-  double radius = 0;
 };
 
 class GridTriangles {
@@ -68,66 +29,92 @@ class GridTriangles {
       : cols_(std::max(0, xyz_mm.cols - 1)),
         first_(static_cast<size_t>(cols_) * std::max(0, xyz_mm.rows - 1) + 1, 0),
         quad_spheres_(first_.size() - 1) {
-    const int rows = std::max(0, xyz_mm.rows - 1);
-    triangles_.reserve(2 * quad_spheres_.size());
-    const auto at = [&](int x, int y) { return Vec3(xyz_mm.at<cv::Vec3f>(y, x)); };
-    const auto ok = [&](int x, int y) { return valid.at<uint8_t>(y, x) != 0; };
-    for (int y = 0; y < rows; ++y)
-      for (int x = 0; x < cols_; ++x) {
-        first_[static_cast<size_t>(y) * cols_ + x] = static_cast<int32_t>(triangles_.size());
-        const bool v00 = ok(x, y), v10 = ok(x + 1, y), v01 = ok(x, y + 1), v11 = ok(x + 1, y + 1);
-        const int n = v00 + v10 + v01 + v11;
-        if (n == 4) {
-          add(at(x, y), at(x + 1, y), at(x + 1, y + 1));
-          add(at(x, y), at(x + 1, y + 1), at(x, y + 1));
-        } else if (n == 3) {
-          std::vector<Vec3> corners;
-          if (v00) corners.push_back(at(x, y));
-          if (v10) corners.push_back(at(x + 1, y));
-          if (v11) corners.push_back(at(x + 1, y + 1));
-          if (v01) corners.push_back(at(x, y + 1));
-          add(corners[0], corners[1], corners[2]);
-        }
-        Sphere& q = quad_spheres_[static_cast<size_t>(y) * cols_ + x];
-        const Triangle* t0 = triangles_.data() + first_[static_cast<size_t>(y) * cols_ + x];
-        const Triangle* t1 = triangles_.data() + triangles_.size();
-        if (t0 == t1) continue;
-        for (const Triangle* t = t0; t != t1; ++t) q.centre += t->centre;
-        q.centre *= 1.0 / static_cast<double>(t1 - t0);
-        for (const Triangle* t = t0; t != t1; ++t)
-          q.radius = std::max(
-              q.radius, std::sqrt((t->centre - q.centre).dot(t->centre - q.centre)) + t->radius);
+    const int w = xyz_mm.cols, h = xyz_mm.rows;
+    const size_t pixels = static_cast<size_t>(w) * h;
+    x_.resize(pixels);
+    y_.resize(pixels);
+    z_.resize(pixels);
+    for (int y = 0; y < h; ++y) {
+      const cv::Vec3f* row = xyz_mm.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < w; ++x) {
+        const size_t i = static_cast<size_t>(y) * w + x;
+        x_[i] = row[x][0];
+        y_[i] = row[x][1];
+        z_[i] = row[x][2];
       }
-    first_.back() = static_cast<int32_t>(triangles_.size());
+    }
+    const int rows = std::max(0, h - 1);
+    for (auto* v : {&a_, &b_, &c_}) v->reserve(2 * quad_spheres_.size());
+    for (int y = 0; y < rows; ++y) {
+      const uint8_t* m0 = valid.ptr<uint8_t>(y);
+      const uint8_t* m1 = valid.ptr<uint8_t>(y + 1);
+      for (int x = 0; x < cols_; ++x) {
+        const size_t quad = static_cast<size_t>(y) * cols_ + x;
+        first_[quad] = static_cast<int32_t>(a_.size());
+        const int32_t i00 = static_cast<int32_t>(static_cast<size_t>(y) * w + x), i10 = i00 + 1,
+                      i01 = i00 + w, i11 = i01 + 1;
+        const bool v00 = m0[x] != 0, v10 = m0[x + 1] != 0, v01 = m1[x] != 0, v11 = m1[x + 1] != 0;
+        const int n = v00 + v10 + v01 + v11;
+        if (n < 3) continue;
+        // The quad's valid corners in the order 00, 10, 11, 01.
+        int32_t c[4];
+        int k = 0;
+        if (v00) c[k++] = i00;
+        if (v10) c[k++] = i10;
+        if (v11) c[k++] = i11;
+        if (v01) c[k++] = i01;
+        if (n == 4) {
+          add(i00, i10, i11);
+          add(i00, i11, i01);
+        } else {
+          add(c[0], c[1], c[2]);
+        }
+        // A sphere around the corners holds their triangles; widened by a relative 1e-9 so
+        // that rounding cannot prune a triangle that holds the nearest point.
+        Sphere& s = quad_spheres_[quad];
+        for (int j = 0; j < n; ++j) s.centre += vertex(c[j]);
+        s.centre *= 1.0 / n;
+        double r2 = 0;
+        for (int j = 0; j < n; ++j)
+          r2 = std::max(r2, (vertex(c[j]) - s.centre).dot(vertex(c[j]) - s.centre));
+        s.radius = std::sqrt(r2) * (1 + 1e-9) + 1e-9;
+      }
+    }
+    first_.back() = static_cast<int32_t>(a_.size());
   }
 
   int quad_columns() const { return cols_; }
   int quad_rows() const { return cols_ ? static_cast<int>((first_.size() - 1) / cols_) : 0; }
-  // The triangles of quad (x, y): [begin, end).
-  const Triangle* begin(int x, int y) const {
-    return triangles_.data() + first_[static_cast<size_t>(y) * cols_ + x];
+  VertexArrays vertices() const { return {x_.data(), y_.data(), z_.data()}; }
+  Vec3 vertex(int32_t i) const { return Vec3(x_[i], y_[i], z_[i]); }
+  // The triangles of quads (x0..x1, y): first() and count().
+  int first(int x0, int y) const { return first_[static_cast<size_t>(y) * cols_ + x0]; }
+  int count(int x0, int x1, int y) const {
+    return first_[static_cast<size_t>(y) * cols_ + x1 + 1] - first(x0, y);
   }
-  const Triangle* end(int x, int y) const {
-    return triangles_.data() + first_[static_cast<size_t>(y) * cols_ + x + 1];
+  TriangleIndices triangles(int from = 0) const {
+    return {a_.data() + from, b_.data() + from, c_.data() + from};
   }
+  int32_t a(int i) const { return a_[i]; }
+  int32_t b(int i) const { return b_[i]; }
+  int32_t c(int i) const { return c_[i]; }
   // A sphere around every triangle of quad (x, y).
   const Sphere& quad_sphere(int x, int y) const {
     return quad_spheres_[static_cast<size_t>(y) * cols_ + x];
   }
 
  private:
-  void add(const Vec3& a, const Vec3& b, const Vec3& c) {
-    Triangle t{a, b, c, (a + b + c) / 3.0, 0};
-    t.radius =
-        std::sqrt(std::max({(a - t.centre).dot(a - t.centre), (b - t.centre).dot(b - t.centre),
-                            (c - t.centre).dot(c - t.centre)}));
-    triangles_.push_back(t);
+  void add(int32_t a, int32_t b, int32_t c) {
+    a_.push_back(a);
+    b_.push_back(b);
+    c_.push_back(c);
   }
 
   int cols_;
-  std::vector<int32_t> first_;  // per quad (row-major), its first triangle; one past the end
-  std::vector<Triangle> triangles_;
+  std::vector<int32_t> first_;        // per quad (row-major), its first triangle; one past the end
+  std::vector<int32_t> a_, b_, c_;    // per triangle, its corners' vertex indices
   std::vector<Sphere> quad_spheres_;  // per quad (row-major)
+  std::vector<double> x_, y_, z_;     // per pixel
 };
 
 // Whether valid pixel (x, y) lies on the outline: a 4-neighbour outside the image or invalid.
@@ -140,40 +127,52 @@ bool on_outline(const cv::Mat& valid, int x, int y) {
 
 // Directed vertex-to-surface distances from the valid pixels of `from` to the triangles of `to`
 // within the window: max, max over outline pixels, and their sum and count into e; each pixel's
-// distance into `map` (CV_32F) when given.
-void directed_distances(const cv::Mat& from, const cv::Mat& to_xyz, const GridTriangles& to,
-                        const cv::Mat& valid, int window, double& max_mm, SurfaceError& e,
-                        cv::Mat* map = nullptr) {
+// distance into `map` (CV_32F) when given. A pixel's distance is the smallest of the distance to
+// `to`'s vertex at the same pixel and the distances to the window's triangles: the triangles of
+// the (up to) four quads around the pixel first, which bring the bound down to about the final
+// distance, then those of the other quads whose spheres the bound does not exclude.
+void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::Mat& valid,
+                        int window, double& max_mm, SurfaceError& e, cv::Mat* map = nullptr) {
+  const VertexArrays vertices = to.vertices();
+  // Candidates of the outer quads: at most 2 triangles for each of (2 window)^2 quads.
+  std::vector<int32_t> ca(8 * window * window), cb(ca.size()), cc(ca.size());
   for (int y = 0; y < from.rows; ++y)
     for (int x = 0; x < from.cols; ++x) {
       if (!valid.at<uint8_t>(y, x)) continue;
       const Vec3 p(from.at<cv::Vec3f>(y, x));
       // Upper bound first: the other surface's vertex at the same pixel (valid in both).
-      const Vec3 same(to_xyz.at<cv::Vec3f>(y, x));
+      const Vec3 same = to.vertex(y * from.cols + x);
       double best2 = (p - same).dot(p - same);
-      double best = std::sqrt(best2);
       const int qx0 = std::max(0, x - window),
                 qx1 = std::min(to.quad_columns() - 1, x + window - 1);
       const int qy0 = std::max(0, y - window), qy1 = std::min(to.quad_rows() - 1, y + window - 1);
+      // The quads around the pixel, whose triangles have it as a corner.
+      const int nx0 = std::max(qx0, x - 1), nx1 = std::min(qx1, x);
+      const int ny0 = std::max(qy0, y - 1), ny1 = std::min(qy1, y);
+      if (nx0 <= nx1)
+        for (int qy = ny0; qy <= ny1; ++qy)
+          best2 = nearest_triangle_distance2(p, vertices, to.triangles(to.first(nx0, qy)),
+                                             to.count(nx0, nx1, qy), best2);
       // A triangle can only come closer than `best` when p lies within radius + best of its
-      // centre: compared squared, so the square root is taken only when the bound improves.
+      // quad's centre.
+      const double best = std::sqrt(best2);
+      int n = 0;
       for (int qy = qy0; qy <= qy1; ++qy)
         for (int qx = qx0; qx <= qx1; ++qx) {
+          if (qx >= nx0 && qx <= nx1 && qy >= ny0 && qy <= ny1) continue;
           const Sphere& q = to.quad_sphere(qx, qy);
           const Vec3 pq = p - q.centre;
           if (q.radius < 0 || pq.dot(pq) >= (q.radius + best) * (q.radius + best)) continue;
-          for (const Triangle* t = to.begin(qx, qy); t != to.end(qx, qy); ++t) {
-            const Vec3 pc = p - t->centre;
-            const double reach = t->radius + best;
-            if (pc.dot(pc) >= reach * reach) continue;
-            const double d2 = point_triangle_distance2(p, t->a, t->b, t->c);
-            if (d2 < best2) {
-              best2 = d2;
-              best = std::sqrt(d2);
-            }
+          for (int i = to.first(qx, qy), end = i + to.count(qx, qx, qy); i < end; ++i, ++n) {
+            ca[n] = to.a(i);
+            cb[n] = to.b(i);
+            cc[n] = to.c(i);
           }
         }
-      const double d = best;
+      if (n > 0)
+        best2 =
+            nearest_triangle_distance2(p, vertices, {ca.data(), cb.data(), cc.data()}, n, best2);
+      const double d = std::sqrt(best2);
       if (map) map->at<float>(y, x) = static_cast<float>(d);
       max_mm = std::max(max_mm, d);
       if (on_outline(valid, x, y)) e.outline_hausdorff_mm = std::max(e.outline_hausdorff_mm, d);
@@ -310,8 +309,8 @@ cv::Mat surface_distance_mm(const GeometryImage& reference, const GeometryImage&
   cv::Mat map(valid.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
   SurfaceError unused;
   double max_mm = 0;
-  directed_distances(decoded.xyz_mm, reference.xyz_mm, GridTriangles(reference.xyz_mm, valid),
-                     valid, options.window_px, max_mm, unused, &map);
+  directed_distances(decoded.xyz_mm, GridTriangles(reference.xyz_mm, valid), valid,
+                     options.window_px, max_mm, unused, &map);
   return map;
 }
 
@@ -358,10 +357,10 @@ SurfaceError surface_error(const GeometryImage& reference, const GeometryImage& 
   const cv::Mat valid = surface_valid_pixels(reference, decoded);
   const GridTriangles reference_triangles(reference.xyz_mm, valid);
   const GridTriangles decoded_triangles(decoded.xyz_mm, valid);
-  directed_distances(reference.xyz_mm, decoded.xyz_mm, decoded_triangles, valid, options.window_px,
+  directed_distances(reference.xyz_mm, decoded_triangles, valid, options.window_px,
                      e.to_decoded_max_mm, e);
-  directed_distances(decoded.xyz_mm, reference.xyz_mm, reference_triangles, valid,
-                     options.window_px, e.to_reference_max_mm, e);
+  directed_distances(decoded.xyz_mm, reference_triangles, valid, options.window_px,
+                     e.to_reference_max_mm, e);
   e.hausdorff_mm = std::max(e.to_decoded_max_mm, e.to_reference_max_mm);
   return e;
 }

@@ -2,12 +2,19 @@
 // copy of a surface has the tilt as its normal error everywhere, a copy shifted along its normal
 // has the shift as its Hausdorff distance, a copy shifted in its own plane has none inside but
 // its outline moved, pixels outside the domain or not finite do not count, frames pool, and a
-// bad window is rejected.
+// bad window is rejected. The point-to-triangle distances: the AVX2 kernel returns the plain
+// reference's doubles bit for bit, the reference agrees with an independent nearest-point
+// computation, and each pixel's distance is the exact nearest of the window's triangles.
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "gvkit/codec/point_triangle_distance.hpp"
 #include "gvkit/codec/surface_metrics.hpp"
 
 namespace gvkit::codec {
@@ -150,6 +157,151 @@ TEST(SurfaceMetrics, RejectsABadWindow) {
   EXPECT_FALSE(o.check().is_ok());
   EXPECT_NE(o.check().message().find("window 0"), std::string::npos);
   EXPECT_THROW(surface_error(plane(0), plane(1), o), ContractError);
+}
+
+// The nearest point of segment ab to p, squared distance.
+double segment_distance2(const cv::Vec3d& p, const cv::Vec3d& a, const cv::Vec3d& b) {
+  const cv::Vec3d ab = b - a;
+  const double len2 = ab.dot(ab);
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  const cv::Vec3d q = a + t * ab;
+  return (p - q).dot(p - q);
+}
+
+// Independent of Ericson's regions: the foot of the perpendicular when it lies inside the
+// triangle (barycentric coordinates by least squares), else the nearest of the three edges.
+double nearest_point_distance2(const cv::Vec3d& p, const cv::Vec3d& a, const cv::Vec3d& b,
+                               const cv::Vec3d& c) {
+  double best = std::min(
+      {segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
+  const cv::Vec3d u = b - a, v = c - a, w = p - a;
+  const double uu = u.dot(u), uv = u.dot(v), vv = v.dot(v), det = uu * vv - uv * uv;
+  if (det > 1e-12 * uu * vv) {
+    const double s = (vv * w.dot(u) - uv * w.dot(v)) / det,
+                 t = (uu * w.dot(v) - uv * w.dot(u)) / det;
+    if (s >= 0 && t >= 0 && s + t <= 1) {
+      const cv::Vec3d q = a + s * u + t * v;
+      best = std::min(best, (p - q).dot(p - q));
+    }
+  }
+  return best;
+}
+
+TEST(PointTriangleDistance, AgreesWithTheNearestPointOfFootOrEdges) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2, 2);
+  const auto point = [&] { return cv::Vec3d(u(rng), u(rng), u(rng)); };
+  for (int i = 0; i < 20000; ++i) {
+    const cv::Vec3d a = point(), b = point(), c = point(), p = point() * 1.5;
+    const double d2 = point_triangle_distance2(p, a, b, c);
+    EXPECT_NEAR(d2, nearest_point_distance2(p, a, b, c), 1e-9 * (1 + d2)) << i;
+  }
+}
+
+// Random triangles over a small vertex pool, degenerate ones included (repeated corners,
+// collinear corners, a corner a rounding step away), so that every region and the 0 / 0 of a
+// degenerate edge occur.
+TEST(PointTriangleDistance, KernelEqualsReferenceBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> x, y, z;
+  for (int i = 0; i < 64; ++i) {
+    cv::Vec3d v(u(rng), u(rng), u(rng));
+    if (i % 8 == 1) v = cv::Vec3d(x[i - 1], y[i - 1], z[i - 1]);  // a repeated vertex
+    if (i % 8 == 2)
+      v = cv::Vec3d(2 * x[i - 1] - x[i - 2], 2 * y[i - 1] - y[i - 2],
+                    2 * z[i - 1] - z[i - 2]);  // collinear with the two before
+    if (i % 8 == 3) v = cv::Vec3d(std::nextafter(x[i - 1], 9.0), y[i - 1], z[i - 1]);
+    if (i % 16 == 4) v *= 1e-12;  // tiny
+    x.push_back(v[0]);
+    y.push_back(v[1]);
+    z.push_back(v[2]);
+  }
+  const VertexArrays vertices{x.data(), y.data(), z.data()};
+  std::uniform_int_distribution<int32_t> pick(0, 63);
+  int compared = 0;
+  for (int round = 0; round < 3000; ++round) {
+    const int n = round % 13;
+    std::vector<int32_t> a(n), b(n), c(n);
+    for (int k = 0; k < n; ++k) {
+      a[k] = pick(rng);
+      b[k] = round % 5 == 0 ? a[k] : pick(rng);  // a repeated corner in every fifth round
+      c[k] = round % 7 == 0 ? a[k] + (a[k] < 63) : pick(rng);
+    }
+    // Points near the triangles, far away, and at a vertex.
+    cv::Vec3d p(u(rng), u(rng), u(rng));
+    if (round % 3 == 1) p *= 20.0;
+    if (round % 11 == 5) p = cv::Vec3d(x[3], y[3], z[3]);
+    const TriangleIndices t{a.data(), b.data(), c.data()};
+    for (double bound : {std::numeric_limits<double>::infinity(), 0.25, 0.0}) {
+      const double fast = nearest_triangle_distance2(p, vertices, t, n, bound);
+      const double slow = nearest_triangle_distance2_reference(p, vertices, t, n, bound);
+      EXPECT_EQ(std::memcmp(&fast, &slow, sizeof fast), 0)
+          << "round " << round << " n " << n << ": " << fast << " vs " << slow;
+      EXPECT_FALSE(std::isnan(fast));
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 9000);
+}
+
+// A noisy surface with holes against a noisy copy: every pixel of surface_distance_mm equals the
+// smallest of its distance to the reference's vertex at the same pixel and to every triangle of
+// the quads within the window, found by brute force.
+TEST(SurfaceMetrics, DistanceIsTheNearestTriangleOfTheWindow) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.08);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int w = 40, h = 36;
+  GeometryImage reference = image_of(w, h, 16.0, [&](int x, int y) {
+    return cv::Vec3f(static_cast<float>(0.5 * x + noise(rng)),
+                     static_cast<float>(0.5 * y + noise(rng)),
+                     static_cast<float>(3 * std::sin(0.3 * x) * std::cos(0.2 * y) + noise(rng)));
+  });
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (u(rng) < 0.06) reference.domain_mask.at<uint8_t>(y, x) = 0;  // holes
+  GeometryImage decoded = reference;
+  decoded.xyz_mm = reference.xyz_mm.clone();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k)
+        decoded.xyz_mm.at<cv::Vec3f>(y, x)[k] += static_cast<float>(2 * noise(rng));
+  const cv::Mat valid = surface_valid_pixels(reference, decoded);
+  for (int window : {1, 3}) {
+    SurfaceErrorOptions options;
+    options.window_px = window;
+    const cv::Mat map = surface_distance_mm(reference, decoded, options);
+    const auto at = [&](int x, int y) { return cv::Vec3d(reference.xyz_mm.at<cv::Vec3f>(y, x)); };
+    const auto ok = [&](int x, int y) { return valid.at<uint8_t>(y, x) != 0; };
+    int checked = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!ok(x, y)) {
+          EXPECT_TRUE(std::isnan(map.at<float>(y, x)));
+          continue;
+        }
+        const cv::Vec3d p(decoded.xyz_mm.at<cv::Vec3f>(y, x));
+        double best = (p - at(x, y)).dot(p - at(x, y));
+        for (int qy = std::max(0, y - window); qy <= std::min(h - 2, y + window - 1); ++qy)
+          for (int qx = std::max(0, x - window); qx <= std::min(w - 2, x + window - 1); ++qx) {
+            std::vector<cv::Vec3d> c;  // the quad's valid corners in the order 00, 10, 11, 01
+            if (ok(qx, qy)) c.push_back(at(qx, qy));
+            if (ok(qx + 1, qy)) c.push_back(at(qx + 1, qy));
+            if (ok(qx + 1, qy + 1)) c.push_back(at(qx + 1, qy + 1));
+            if (ok(qx, qy + 1)) c.push_back(at(qx, qy + 1));
+            if (c.size() == 4) {
+              best = std::min({best, point_triangle_distance2(p, c[0], c[1], c[2]),
+                               point_triangle_distance2(p, c[0], c[2], c[3])});
+            } else if (c.size() == 3) {
+              best = std::min(best, point_triangle_distance2(p, c[0], c[1], c[2]));
+            }
+          }
+        EXPECT_EQ(map.at<float>(y, x), static_cast<float>(std::sqrt(best))) << x << "," << y;
+        ++checked;
+      }
+    EXPECT_GT(checked, 700);
+  }
 }
 
 }  // namespace
