@@ -53,6 +53,17 @@ double nearest_triangle_distance2_reference(const cv::Vec3d& p, const VertexArra
   return best;
 }
 
+uint32_t spheres_within_reach_reference(const cv::Vec3d& p, const SphereArrays& s, int n,
+                                        double reach) {
+  uint32_t bits = 0;
+  for (int k = 0; k < n; ++k) {
+    const cv::Vec3d pq = p - cv::Vec3d(s.x[k], s.y[k], s.z[k]);
+    const double limit = s.radius[k] + reach;
+    if (s.radius[k] >= 0 && pq.dot(pq) < limit * limit) bits |= 1u << k;
+  }
+  return bits;
+}
+
 #if defined(GVKIT_X86_SIMD)
 namespace {
 
@@ -89,20 +100,24 @@ GVKIT_TARGET_AVX2 inline __m256d ge0(__m256d a) {
 GVKIT_TARGET_AVX2 inline __m256d and3(__m256d a, __m256d b, __m256d c) {
   return _mm256_and_pd(_mm256_and_pd(a, b), c);
 }
-GVKIT_TARGET_AVX2 inline V3 gather(const VertexArrays& v, __m128i idx) {
-  // The masked form with a defined source (the plain one leaves GCC warning about it).
-  const __m256d zero = _mm256_setzero_pd(), all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  return {_mm256_mask_i32gather_pd(zero, v.x, idx, all, 8),
-          _mm256_mask_i32gather_pd(zero, v.y, idx, all, 8),
-          _mm256_mask_i32gather_pd(zero, v.z, idx, all, 8)};
+// The coordinates of four vertices. Plain loads: the gather instruction is several times slower
+// on processors with the microcode mitigation of gather data sampling.
+GVKIT_TARGET_AVX2 inline V3 gather(const VertexArrays& v, const int32_t* i) {
+  return {_mm256_setr_pd(v.x[i[0]], v.x[i[1]], v.x[i[2]], v.x[i[3]]),
+          _mm256_setr_pd(v.y[i[0]], v.y[i[1]], v.y[i[2]], v.y[i[3]]),
+          _mm256_setr_pd(v.z[i[0]], v.z[i[1]], v.z[i[2]], v.z[i[3]])};
 }
 
-GVKIT_TARGET_AVX2 inline __m128i load4(const int32_t* i) {
-  return _mm_loadu_si128(reinterpret_cast<const __m128i*>(i));
+GVKIT_TARGET_AVX2 inline V3 blend(const V3& a, const V3& b, __m256d mask) {
+  return {_mm256_blendv_pd(a.x, b.x, mask), _mm256_blendv_pd(a.y, b.y, mask),
+          _mm256_blendv_pd(a.z, b.z, mask)};
 }
 
-// point_triangle_distance2 of four triangles at once: every region's candidate computed as the
-// scalar code computes it, then the first region that holds chosen per lane.
+// point_triangle_distance2 of four triangles at once. Each lane's region is decided first, by
+// the scalar code's tests; then one division serves every lane: an edge region's nearest point
+// is base + direction * (numerator / denominator) with the scalar code's operands, the
+// interior's is a + ab * (vb * d) + ac * (vc * d) with d = 1 / (va + vb + vc); the other regions'
+// lanes add +0, which changes no bit of p - q.
 GVKIT_TARGET_AVX2 inline __m256d point_triangle_distance2_x4(const V3& p, const V3& a, const V3& b,
                                                              const V3& c) {
   const V3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
@@ -116,27 +131,54 @@ GVKIT_TARGET_AVX2 inline __m256d point_triangle_distance2_x4(const V3& p, const 
   const __m256d va = _mm256_sub_pd(_mm256_mul_pd(d3, d6), _mm256_mul_pd(d5, d4));
   const __m256d d43 = _mm256_sub_pd(d4, d3), d56 = _mm256_sub_pd(d5, d6);
 
-  const __m256d ap2 = dot(ap, ap), bp2 = dot(bp, bp), cp2 = dot(cp, cp);
-  const __m256d on_ab = distance2(p, add(a, scale(ab, _mm256_div_pd(d1, _mm256_sub_pd(d1, d3)))));
-  const __m256d on_ac = distance2(p, add(a, scale(ac, _mm256_div_pd(d2, _mm256_sub_pd(d2, d6)))));
-  const __m256d on_bc =
-      distance2(p, add(b, scale(sub(c, b), _mm256_div_pd(d43, _mm256_add_pd(d43, d56)))));
-  const __m256d denom =
-      _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_add_pd(_mm256_add_pd(va, vb), vc));
-  const __m256d inside = distance2(
-      p, add(add(a, scale(ab, _mm256_mul_pd(vb, denom))), scale(ac, _mm256_mul_pd(vc, denom))));
-  const __m256d abs_denom = _mm256_andnot_pd(_mm256_set1_pd(-0.0), denom);
-  const __m256d finite = _mm256_cmp_pd(abs_denom, _mm256_set1_pd(HUGE_VAL), _CMP_LT_OQ);
-  const __m256d corners = _mm256_min_pd(_mm256_min_pd(ap2, bp2), cp2);
+  const __m256d in_a = _mm256_and_pd(le0(d1), le0(d2));
+  const __m256d in_b = _mm256_and_pd(ge0(d3), _mm256_cmp_pd(d4, d3, _CMP_LE_OQ));
+  const __m256d in_ab = and3(le0(vc), ge0(d1), le0(d3));
+  const __m256d in_c = _mm256_and_pd(ge0(d6), _mm256_cmp_pd(d5, d6, _CMP_LE_OQ));
+  const __m256d in_ac = and3(le0(vb), ge0(d2), le0(d6));
+  const __m256d in_bc = and3(le0(va), ge0(d43), ge0(d56));
 
   // The scalar code's tests in reverse order, so that the first one that holds wins.
-  __m256d r = _mm256_blendv_pd(corners, inside, finite);
-  r = _mm256_blendv_pd(r, on_bc, and3(le0(va), ge0(d43), ge0(d56)));
-  r = _mm256_blendv_pd(r, on_ac, and3(le0(vb), ge0(d2), le0(d6)));
-  r = _mm256_blendv_pd(r, cp2, _mm256_and_pd(ge0(d6), _mm256_cmp_pd(d5, d6, _CMP_LE_OQ)));
-  r = _mm256_blendv_pd(r, on_ab, and3(le0(vc), ge0(d1), le0(d3)));
-  r = _mm256_blendv_pd(r, bp2, _mm256_and_pd(ge0(d3), _mm256_cmp_pd(d4, d3, _CMP_LE_OQ)));
-  return _mm256_blendv_pd(r, ap2, _mm256_and_pd(le0(d1), le0(d2)));
+  const __m256d zero = _mm256_setzero_pd();
+  __m256d num = _mm256_set1_pd(1.0);
+  __m256d den = _mm256_add_pd(_mm256_add_pd(va, vb), vc);
+  V3 base = a, dir = ab;
+  num = _mm256_blendv_pd(num, d43, in_bc);
+  den = _mm256_blendv_pd(den, _mm256_add_pd(d43, d56), in_bc);
+  base = blend(base, b, in_bc);
+  dir = blend(dir, sub(c, b), in_bc);
+  num = _mm256_blendv_pd(num, d2, in_ac);
+  den = _mm256_blendv_pd(den, _mm256_sub_pd(d2, d6), in_ac);
+  base = blend(base, a, in_ac);
+  dir = blend(dir, ac, in_ac);
+  __m256d vertex = _mm256_blendv_pd(zero, dot(cp, cp), in_c);
+  __m256d at_vertex = in_c;
+  num = _mm256_blendv_pd(num, d1, in_ab);
+  den = _mm256_blendv_pd(den, _mm256_sub_pd(d1, d3), in_ab);
+  base = blend(base, a, in_ab);
+  dir = blend(dir, ab, in_ab);
+  at_vertex = _mm256_andnot_pd(in_ab, at_vertex);
+  vertex = _mm256_blendv_pd(vertex, dot(bp, bp), in_b);
+  at_vertex = _mm256_or_pd(at_vertex, in_b);
+  vertex = _mm256_blendv_pd(vertex, dot(ap, ap), in_a);
+  at_vertex = _mm256_or_pd(at_vertex, in_a);
+  const __m256d interior =
+      _mm256_andnot_pd(_mm256_or_pd(_mm256_or_pd(in_bc, in_ac), _mm256_or_pd(in_ab, at_vertex)),
+                       _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+
+  const __m256d r = _mm256_div_pd(num, den);
+  const __m256d t = _mm256_blendv_pd(r, _mm256_mul_pd(vb, r), interior);
+  const V3 q = add(add(base, scale(dir, t)),
+                   blend({zero, zero, zero}, scale(ac, _mm256_mul_pd(vc, r)), interior));
+  const __m256d on_triangle = distance2(p, q);
+  // Interior lanes whose 1 / (va + vb + vc) is not finite: a degenerate triangle, the nearest of
+  // its corners.
+  const __m256d abs_r = _mm256_andnot_pd(_mm256_set1_pd(-0.0), r);
+  const __m256d degenerate =
+      _mm256_andnot_pd(_mm256_cmp_pd(abs_r, _mm256_set1_pd(HUGE_VAL), _CMP_LT_OQ), interior);
+  const __m256d corners = _mm256_min_pd(_mm256_min_pd(dot(ap, ap), dot(bp, bp)), dot(cp, cp));
+  const __m256d result = _mm256_blendv_pd(on_triangle, corners, degenerate);
+  return _mm256_blendv_pd(result, vertex, at_vertex);
 }
 
 GVKIT_TARGET_AVX2 double nearest_triangle_distance2_avx2(const cv::Vec3d& p, const VertexArrays& v,
@@ -146,28 +188,74 @@ GVKIT_TARGET_AVX2 double nearest_triangle_distance2_avx2(const cv::Vec3d& p, con
   __m256d best = _mm256_set1_pd(bound);
   int k = 0;
   for (; k + 4 <= n; k += 4) {
-    const __m256d d2 = point_triangle_distance2_x4(
-        pv, gather(v, load4(t.a + k)), gather(v, load4(t.b + k)), gather(v, load4(t.c + k)));
+    const __m256d d2 =
+        point_triangle_distance2_x4(pv, gather(v, t.a + k), gather(v, t.b + k), gather(v, t.c + k));
     // min_pd(d2, best) is "d2 < best ? d2 : best", as in the scalar code: a NaN distance (a
     // degenerate edge's 0 / 0) is never taken.
     best = _mm256_min_pd(d2, best);
   }
   if (k < n) {
     // The last 1-3 triangles: lanes past n load index 0 and their distance is not taken.
-    const __m128i lanes = _mm_cmplt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(n - k));
-    const __m256d d2 =
-        point_triangle_distance2_x4(pv, gather(v, _mm_maskload_epi32(t.a + k, lanes)),
-                                    gather(v, _mm_maskload_epi32(t.b + k, lanes)),
-                                    gather(v, _mm_maskload_epi32(t.c + k, lanes)));
-    best = _mm256_blendv_pd(best, _mm256_min_pd(d2, best),
-                            _mm256_castsi256_pd(_mm256_cvtepi32_epi64(lanes)));
+    int32_t ia[4] = {0, 0, 0, 0}, ib[4] = {0, 0, 0, 0}, ic[4] = {0, 0, 0, 0};
+    for (int lane = 0; k + lane < n; ++lane) {
+      ia[lane] = t.a[k + lane];
+      ib[lane] = t.b[k + lane];
+      ic[lane] = t.c[k + lane];
+    }
+    const __m256d d2 = point_triangle_distance2_x4(pv, gather(v, ia), gather(v, ib), gather(v, ic));
+    const __m256d lanes = _mm256_castsi256_pd(
+        _mm256_cmpgt_epi64(_mm256_set1_epi64x(n - k), _mm256_setr_epi64x(0, 1, 2, 3)));
+    best = _mm256_blendv_pd(best, _mm256_min_pd(d2, best), lanes);
   }
   const __m128d m = _mm_min_pd(_mm256_castpd256_pd128(best), _mm256_extractf128_pd(best, 1));
   return _mm_cvtsd_f64(_mm_min_sd(m, _mm_unpackhi_pd(m, m)));
 }
 
+GVKIT_TARGET_AVX2 inline uint32_t spheres_within_reach_x4(const V3& p, const V3& centre,
+                                                          __m256d radius, __m256d reach) {
+  const __m256d d2 = distance2(p, centre);
+  const __m256d limit = _mm256_add_pd(radius, reach);
+  const __m256d within =
+      _mm256_and_pd(ge0(radius), _mm256_cmp_pd(d2, _mm256_mul_pd(limit, limit), _CMP_LT_OQ));
+  return static_cast<uint32_t>(_mm256_movemask_pd(within));
+}
+
+GVKIT_TARGET_AVX2 uint32_t spheres_within_reach_avx2(const cv::Vec3d& p, const SphereArrays& s,
+                                                     int n, double reach) {
+  const V3 pv{_mm256_set1_pd(p[0]), _mm256_set1_pd(p[1]), _mm256_set1_pd(p[2])};
+  const __m256d r = _mm256_set1_pd(reach);
+  uint32_t bits = 0;
+  int k = 0;
+  for (; k + 4 <= n; k += 4)
+    bits |= spheres_within_reach_x4(
+                pv, {_mm256_loadu_pd(s.x + k), _mm256_loadu_pd(s.y + k), _mm256_loadu_pd(s.z + k)},
+                _mm256_loadu_pd(s.radius + k), r)
+            << k;
+  if (k < n) {
+    // The last 1-3 spheres: lanes past n read nothing and count as empty (radius -1).
+    const __m256i lanes =
+        _mm256_cmpgt_epi64(_mm256_set1_epi64x(n - k), _mm256_setr_epi64x(0, 1, 2, 3));
+    const __m256d radius = _mm256_blendv_pd(
+        _mm256_set1_pd(-1.0), _mm256_maskload_pd(s.radius + k, lanes), _mm256_castsi256_pd(lanes));
+    bits |= spheres_within_reach_x4(
+                pv,
+                {_mm256_maskload_pd(s.x + k, lanes), _mm256_maskload_pd(s.y + k, lanes),
+                 _mm256_maskload_pd(s.z + k, lanes)},
+                radius, r)
+            << k;
+  }
+  return bits;
+}
+
 }  // namespace
 #endif
+
+uint32_t spheres_within_reach(const cv::Vec3d& p, const SphereArrays& s, int n, double reach) {
+#if defined(GVKIT_X86_SIMD)
+  if (detail::cpu_has_avx2()) return spheres_within_reach_avx2(p, s, n, reach);
+#endif
+  return spheres_within_reach_reference(p, s, n, reach);
+}
 
 double nearest_triangle_distance2(const cv::Vec3d& p, const VertexArrays& v,
                                   const TriangleIndices& t, int n, double bound) {

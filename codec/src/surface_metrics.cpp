@@ -3,6 +3,7 @@
 #include "gvkit/codec/point_triangle_distance.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -18,17 +19,16 @@ Vec3 cross(const Vec3& a, const Vec3& b) { return a.cross(b); }
 // splits along (x, y)-(x+1, y+1) when its four pixels are valid, and gives the one triangle of
 // its three valid pixels when one is not. Triangles are triples of pixel indices (y * cols + x)
 // into the image's coordinates, held as doubles; each quad has a bounding sphere for pruning.
-struct Sphere {
-  Vec3 centre;
-  double radius = -1;  // < 0: empty (a quad without triangles)
-};
 
 class GridTriangles {
  public:
   GridTriangles(const cv::Mat& xyz_mm, const cv::Mat& valid)
       : cols_(std::max(0, xyz_mm.cols - 1)),
         first_(static_cast<size_t>(cols_) * std::max(0, xyz_mm.rows - 1) + 1, 0),
-        quad_spheres_(first_.size() - 1) {
+        sx_(first_.size() - 1, 0.0),
+        sy_(sx_.size(), 0.0),
+        sz_(sx_.size(), 0.0),
+        sr_(sx_.size(), -1.0) {
     const int w = xyz_mm.cols, h = xyz_mm.rows;
     const size_t pixels = static_cast<size_t>(w) * h;
     x_.resize(pixels);
@@ -44,7 +44,7 @@ class GridTriangles {
       }
     }
     const int rows = std::max(0, h - 1);
-    for (auto* v : {&a_, &b_, &c_}) v->reserve(2 * quad_spheres_.size());
+    for (auto* v : {&a_, &b_, &c_}) v->reserve(2 * sx_.size());
     for (int y = 0; y < rows; ++y) {
       const uint8_t* m0 = valid.ptr<uint8_t>(y);
       const uint8_t* m1 = valid.ptr<uint8_t>(y + 1);
@@ -71,13 +71,16 @@ class GridTriangles {
         }
         // A sphere around the corners holds their triangles; widened by a relative 1e-9 so
         // that rounding cannot prune a triangle that holds the nearest point.
-        Sphere& s = quad_spheres_[quad];
-        for (int j = 0; j < n; ++j) s.centre += vertex(c[j]);
-        s.centre *= 1.0 / n;
+        Vec3 centre(0, 0, 0);
+        for (int j = 0; j < n; ++j) centre += vertex(c[j]);
+        centre *= 1.0 / n;
         double r2 = 0;
         for (int j = 0; j < n; ++j)
-          r2 = std::max(r2, (vertex(c[j]) - s.centre).dot(vertex(c[j]) - s.centre));
-        s.radius = std::sqrt(r2) * (1 + 1e-9) + 1e-9;
+          r2 = std::max(r2, (vertex(c[j]) - centre).dot(vertex(c[j]) - centre));
+        sx_[quad] = centre[0];
+        sy_[quad] = centre[1];
+        sz_[quad] = centre[2];
+        sr_[quad] = std::sqrt(r2) * (1 + 1e-9) + 1e-9;
       }
     }
     first_.back() = static_cast<int32_t>(a_.size());
@@ -98,9 +101,10 @@ class GridTriangles {
   int32_t a(int i) const { return a_[i]; }
   int32_t b(int i) const { return b_[i]; }
   int32_t c(int i) const { return c_[i]; }
-  // A sphere around every triangle of quad (x, y).
-  const Sphere& quad_sphere(int x, int y) const {
-    return quad_spheres_[static_cast<size_t>(y) * cols_ + x];
+  // Spheres around the triangles of quads (x, y), (x + 1, y), ... (radius < 0: no triangle).
+  SphereArrays quad_spheres(int x, int y) const {
+    const size_t i = static_cast<size_t>(y) * cols_ + x;
+    return {sx_.data() + i, sy_.data() + i, sz_.data() + i, sr_.data() + i};
   }
 
  private:
@@ -111,10 +115,10 @@ class GridTriangles {
   }
 
   int cols_;
-  std::vector<int32_t> first_;        // per quad (row-major), its first triangle; one past the end
-  std::vector<int32_t> a_, b_, c_;    // per triangle, its corners' vertex indices
-  std::vector<Sphere> quad_spheres_;  // per quad (row-major)
-  std::vector<double> x_, y_, z_;     // per pixel
+  std::vector<int32_t> first_;      // per quad (row-major), its first triangle; one past the end
+  std::vector<int32_t> a_, b_, c_;  // per triangle, its corners' vertex indices
+  std::vector<double> sx_, sy_, sz_, sr_;  // per quad (row-major): sphere centre and radius
+  std::vector<double> x_, y_, z_;          // per pixel
 };
 
 // Whether valid pixel (x, y) lies on the outline: a 4-neighbour outside the image or invalid.
@@ -157,18 +161,20 @@ void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::
       // quad's centre.
       const double best = std::sqrt(best2);
       int n = 0;
-      for (int qy = qy0; qy <= qy1; ++qy)
-        for (int qx = qx0; qx <= qx1; ++qx) {
-          if (qx >= nx0 && qx <= nx1 && qy >= ny0 && qy <= ny1) continue;
-          const Sphere& q = to.quad_sphere(qx, qy);
-          const Vec3 pq = p - q.centre;
-          if (q.radius < 0 || pq.dot(pq) >= (q.radius + best) * (q.radius + best)) continue;
+      // The quads around the pixel, already searched, as bits of a window row.
+      const uint32_t near = nx0 <= nx1 ? ((2u << (nx1 - qx0)) - 1) & ~((1u << (nx0 - qx0)) - 1) : 0;
+      for (int qy = qy0; qy <= qy1; ++qy) {
+        uint32_t bits = spheres_within_reach(p, to.quad_spheres(qx0, qy), qx1 - qx0 + 1, best);
+        if (qy >= ny0 && qy <= ny1) bits &= ~near;
+        for (; bits; bits &= bits - 1) {
+          const int qx = qx0 + std::countr_zero(bits);
           for (int i = to.first(qx, qy), end = i + to.count(qx, qx, qy); i < end; ++i, ++n) {
             ca[n] = to.a(i);
             cb[n] = to.b(i);
             cc[n] = to.c(i);
           }
         }
+      }
       if (n > 0)
         best2 =
             nearest_triangle_distance2(p, vertices, {ca.data(), cb.data(), cc.data()}, n, best2);
@@ -201,35 +207,58 @@ cv::Mat smooth_positions(const cv::Mat& xyz_mm, const cv::Mat& valid, double sig
   for (int k = -radius; k <= radius; ++k)
     kernel[k + radius] = std::exp(-0.5 * k * k / (sigma_px * sigma_px));
   const int w = xyz_mm.cols, h = xyz_mm.rows;
-  // Weighted sums (x, y, z, weight) of the valid pixels: rows, then columns.
-  std::vector<cv::Vec4d> rows(static_cast<size_t>(w) * h), sums(rows.size());
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      cv::Vec4d s(0, 0, 0, 0);
-      for (int k = std::max(0, x - radius); k <= std::min(w - 1, x + radius); ++k) {
-        if (!valid.at<uint8_t>(y, k)) continue;
-        const cv::Vec3f& p = xyz_mm.at<cv::Vec3f>(y, k);
-        const double g = kernel[k - x + radius];
-        s += cv::Vec4d(g * p[0], g * p[1], g * p[2], g);
+  // Weighted sums (x, y, z, weight) of the valid pixels, rows then columns, as four planes of
+  // doubles each: an invalid pixel, and the zero padding beyond the image, add +0 (the sums
+  // start at +0 and stay nonnegative zero or nonzero, so adding +0 changes no bit), and every
+  // sum runs over its offsets from -radius up, the order of the plain per-pixel loops.
+  const int pw = w + 2 * radius;
+  std::vector<double> in[4];
+  for (auto& plane : in) plane.assign(static_cast<size_t>(pw) * h, 0.0);
+  for (int y = 0; y < h; ++y) {
+    const cv::Vec3f* p = xyz_mm.ptr<cv::Vec3f>(y);
+    const uint8_t* m = valid.ptr<uint8_t>(y);
+    const size_t row = static_cast<size_t>(y) * pw + radius;
+    for (int x = 0; x < w; ++x)
+      if (m[x]) {
+        for (int c = 0; c < 3; ++c) in[c][row + x] = p[x][c];
+        in[3][row + x] = 1.0;
       }
-      rows[static_cast<size_t>(y) * w + x] = s;
-    }
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      cv::Vec4d s(0, 0, 0, 0);
-      for (int k = std::max(0, y - radius); k <= std::min(h - 1, y + radius); ++k)
-        s += kernel[k - y + radius] * rows[static_cast<size_t>(k) * w + x];
-      sums[static_cast<size_t>(y) * w + x] = s;
+  }
+  // Row sums, with radius zero rows above and below.
+  std::vector<double> rows[4];
+  for (auto& plane : rows) plane.assign(static_cast<size_t>(w) * (h + 2 * radius), 0.0);
+  for (int c = 0; c < 4; ++c)
+    for (int y = 0; y < h; ++y) {
+      double* out = rows[c].data() + static_cast<size_t>(y + radius) * w;
+      const double* src = in[c].data() + static_cast<size_t>(y) * pw;
+      for (int k = 0; k <= 2 * radius; ++k) {
+        const double g = kernel[k];
+        for (int x = 0; x < w; ++x) out[x] += g * src[x + k];
+      }
     }
   cv::Mat out = xyz_mm.clone();
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const cv::Vec4d& s = sums[static_cast<size_t>(y) * w + x];
-      if (valid.at<uint8_t>(y, x) && s[3] > 0)
-        out.at<cv::Vec3f>(y, x) =
-            cv::Vec3f(static_cast<float>(s[0] / s[3]), static_cast<float>(s[1] / s[3]),
-                      static_cast<float>(s[2] / s[3]));
+  std::vector<double> sums[4];
+  for (auto& plane : sums) plane.resize(w);
+  for (int y = 0; y < h; ++y) {
+    for (int c = 0; c < 4; ++c) {
+      double* s = sums[c].data();
+      std::fill(s, s + w, 0.0);
+      for (int k = 0; k <= 2 * radius; ++k) {
+        const double g = kernel[k];
+        const double* src = rows[c].data() + static_cast<size_t>(y + k) * w;
+        for (int x = 0; x < w; ++x) s[x] += g * src[x];
+      }
     }
+    const uint8_t* m = valid.ptr<uint8_t>(y);
+    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < w; ++x) {
+      const double weight = sums[3][x];
+      if (m[x] && weight > 0)
+        o[x] = cv::Vec3f(static_cast<float>(sums[0][x] / weight),
+                         static_cast<float>(sums[1][x] / weight),
+                         static_cast<float>(sums[2][x] / weight));
+    }
+  }
   return out;
 }
 

@@ -5,10 +5,12 @@
 // denominator not finite) gives the distance to its nearest corner. Units are those of the
 // input (millimetres in gvkit), squared.
 //
-// nearest_triangle_distance2 takes AVX2 where the processor has it, four triangles per step,
-// and returns the same double bit for bit as nearest_triangle_distance2_reference (the same
-// operations in the same order, no fused multiply-add); tests/codec/surface_metrics_test.cpp
-// compares them on random and degenerate triangles.
+// The search prunes triangles with bounding spheres (spheres_within_reach).
+//
+// nearest_triangle_distance2 and spheres_within_reach take AVX2 where the processor has it, four
+// triangles or spheres per step, and return the same values bit for bit as their *_reference
+// versions (the same operations in the same order, no fused multiply-add);
+// tests/codec/surface_metrics_test.cpp compares them on random and degenerate input.
 
 #include <cstdint>
 
@@ -40,5 +42,20 @@ double nearest_triangle_distance2(const cv::Vec3d& p, const VertexArrays& v,
                                   const TriangleIndices& t, int n, double bound);
 double nearest_triangle_distance2_reference(const cv::Vec3d& p, const VertexArrays& v,
                                             const TriangleIndices& t, int n, double bound);
+
+// Spheres as arrays of centre coordinates and radii, indexed by sphere; a radius < 0 marks an
+// empty sphere.
+struct SphereArrays {
+  const double* x = nullptr;
+  const double* y = nullptr;
+  const double* z = nullptr;
+  const double* radius = nullptr;
+};
+
+// Bit k (k < n <= 32) set when a point of sphere k may lie closer than `reach` to p:
+// |p - centre|^2 < (radius + reach)^2 with radius >= 0. Only the first n entries are read.
+uint32_t spheres_within_reach(const cv::Vec3d& p, const SphereArrays& s, int n, double reach);
+uint32_t spheres_within_reach_reference(const cv::Vec3d& p, const SphereArrays& s, int n,
+                                        double reach);
 
 }  // namespace gvkit::codec
