@@ -127,16 +127,26 @@ void SequenceEncoder::set_anchor(std::shared_ptr<const Planes> planes, uint32_t 
 }
 
 Result<std::vector<SequenceFrame>> SequenceEncoder::flush() {
-  GVKIT_ASSIGN_OR_RETURN(std::vector<SequenceFrame> done, collect_b_frames());
+  // The frames after the last anchor become P frames. The first of them needs only that anchor,
+  // so it is coded while the background B frames (before it in decode order) are still being
+  // coded; they are collected after it and leave first.
+  std::vector<SequenceFrame> done;
+  bool collected = false;
   for (const Pending& p : pending_) {
     auto planes = std::make_shared<Planes>();
-    GVKIT_ASSIGN_OR_RETURN(SequenceFrame coded, code(p.frame, p.number, false, anchor_.get(),
-                                                     nullptr, options_, planes.get()));
+    Result<SequenceFrame> coded =
+        code(p.frame, p.number, false, anchor_.get(), nullptr, options_, planes.get());
     interpolation_.next_frame();
-    done.push_back(std::move(coded));
+    if (!collected) {
+      GVKIT_ASSIGN_OR_RETURN(done, collect_b_frames());
+      collected = true;
+    }
+    if (!coded.is_ok()) return coded.status();
+    done.push_back(std::move(coded).value());
     set_anchor(std::move(planes), p.number);
   }
   pending_.clear();
+  if (!collected) return collect_b_frames();
   return done;
 }
 
