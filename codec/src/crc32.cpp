@@ -1,28 +1,23 @@
 #include "gvkit/codec/crc32.hpp"
 
-#include <array>
+#include <algorithm>
+
+#include <zlib.h>
 
 namespace gvkit::codec {
-namespace {
 
-std::array<uint32_t, 256> make_table() {
-  std::array<uint32_t, 256> table{};
-  for (uint32_t i = 0; i < 256; ++i) {
-    uint32_t c = i;
-    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-    table[i] = c;
-  }
-  return table;
-}
-
-}  // namespace
-
+// zlib's CRC-32 is this one (IEEE 802.3, reflected, initial and final value inverted, the
+// running value passed back in as it is returned), computed several bytes at a time.
 uint32_t crc32(const void* data, size_t size, uint32_t crc) {
-  static const std::array<uint32_t, 256> table = make_table();
-  const auto* p = static_cast<const uint8_t*>(data);
-  crc = ~crc;
-  for (size_t i = 0; i < size; ++i) crc = table[(crc ^ p[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
+  const auto* p = static_cast<const Bytef*>(data);
+  uLong value = crc;
+  while (size > 0) {
+    const auto n = static_cast<uInt>(std::min<size_t>(size, size_t{1} << 30));
+    value = ::crc32(value, p, n);
+    p += n;
+    size -= n;
+  }
+  return static_cast<uint32_t>(value);
 }
 
 }  // namespace gvkit::codec

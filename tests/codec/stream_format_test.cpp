@@ -2,7 +2,8 @@
 // profile its options resolve to, every packet compact with compact segment sizes; a reader
 // rejects unknown versions and profiles at open, and a packet that breaks its stream's profile or
 // the 2.0 packet rules at decode, naming the file, the frame and the rule; legacy 1.x streams
-// still open and say so.
+// still open and say so. The CRC-32 that protects headers and packets is the standard one.
+#include <random>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
+#include "gvkit/codec/crc32.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/gvid_format.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
@@ -220,6 +222,24 @@ TEST(StreamFormat, LegacyStreamsOpenAndSayTheirVersion) {
   EXPECT_FALSE((*reader)->packet_header(0).value().compact);  // 1.9: full packet headers
   for (int64_t f = 0; f < (*reader)->frame_count(); ++f)
     EXPECT_TRUE((*reader)->decode_frame(f).is_ok()) << f;
+}
+
+// The check value of CRC-32/ISO-HDLC, chaining, and a long buffer against the bytewise
+// definition (reflected polynomial 0xEDB88320, initial and final value inverted).
+TEST(Crc32, IsTheStandardCrc32) {
+  EXPECT_EQ(crc32(std::string_view("123456789")), 0xCBF43926u);
+  EXPECT_EQ(crc32(std::string_view()), 0u);
+  std::mt19937 rng(1);
+  std::string bytes(3 << 20, '\0');
+  for (char& b : bytes) b = static_cast<char>(rng());
+  uint32_t plain = ~0u;
+  for (const char b : bytes) {
+    plain ^= static_cast<uint8_t>(b);
+    for (int k = 0; k < 8; ++k) plain = (plain & 1) ? 0xEDB88320u ^ (plain >> 1) : plain >> 1;
+  }
+  EXPECT_EQ(crc32(bytes), ~plain);
+  const std::string_view all(bytes);
+  EXPECT_EQ(crc32(all.data() + 1000, all.size() - 1000, crc32(all.substr(0, 1000))), crc32(all));
 }
 
 }  // namespace
