@@ -207,56 +207,45 @@ cv::Mat smooth_positions(const cv::Mat& xyz_mm, const cv::Mat& valid, double sig
   for (int k = -radius; k <= radius; ++k)
     kernel[k + radius] = std::exp(-0.5 * k * k / (sigma_px * sigma_px));
   const int w = xyz_mm.cols, h = xyz_mm.rows;
-  // Weighted sums (x, y, z, weight) of the valid pixels, rows then columns, as four planes of
-  // doubles each: an invalid pixel, and the zero padding beyond the image, add +0 (the sums
-  // start at +0 and stay nonnegative zero or nonzero, so adding +0 changes no bit), and every
-  // sum runs over its offsets from -radius up, the order of the plain per-pixel loops.
+  // Weighted sums of the valid pixels, rows then columns, one channel at a time: the weights
+  // first (their sums divide the others'), then x, y and z. An invalid pixel, and the zero
+  // padding beyond the image, add +0 (the sums start at +0 and stay nonnegative zero or nonzero,
+  // so adding +0 changes no bit), and every sum runs over its offsets from -radius up, the order
+  // of a plain per-pixel loop.
   const int pw = w + 2 * radius;
-  std::vector<double> in[4];
-  for (auto& plane : in) plane.assign(static_cast<size_t>(pw) * h, 0.0);
-  for (int y = 0; y < h; ++y) {
-    const cv::Vec3f* p = xyz_mm.ptr<cv::Vec3f>(y);
-    const uint8_t* m = valid.ptr<uint8_t>(y);
-    const size_t row = static_cast<size_t>(y) * pw + radius;
-    for (int x = 0; x < w; ++x)
-      if (m[x]) {
-        for (int c = 0; c < 3; ++c) in[c][row + x] = p[x][c];
-        in[3][row + x] = 1.0;
-      }
-  }
-  // Row sums, with radius zero rows above and below.
-  std::vector<double> rows[4];
-  for (auto& plane : rows) plane.assign(static_cast<size_t>(w) * (h + 2 * radius), 0.0);
-  for (int c = 0; c < 4; ++c)
+  std::vector<double> padded_row(static_cast<size_t>(pw), 0.0);
+  // Row sums of the channel, with radius zero rows above and below.
+  std::vector<double> rows(static_cast<size_t>(w) * (h + 2 * radius), 0.0);
+  std::vector<double> weight(static_cast<size_t>(w) * h), sums(static_cast<size_t>(w));
+  cv::Mat out = xyz_mm.clone();
+  for (const int c : {3, 0, 1, 2}) {
     for (int y = 0; y < h; ++y) {
-      double* out = rows[c].data() + static_cast<size_t>(y + radius) * w;
-      const double* src = in[c].data() + static_cast<size_t>(y) * pw;
+      const cv::Vec3f* p = xyz_mm.ptr<cv::Vec3f>(y);
+      const uint8_t* m = valid.ptr<uint8_t>(y);
+      for (int x = 0; x < w; ++x)
+        padded_row[static_cast<size_t>(x + radius)] = !m[x] ? 0.0 : (c == 3 ? 1.0 : p[x][c]);
+      double* sum = &rows[static_cast<size_t>(y + radius) * w];
+      std::fill(sum, sum + w, 0.0);
       for (int k = 0; k <= 2 * radius; ++k) {
-        const double g = kernel[k];
-        for (int x = 0; x < w; ++x) out[x] += g * src[x + k];
+        const double g = kernel[static_cast<size_t>(k)];
+        const double* src = &padded_row[static_cast<size_t>(k)];
+        for (int x = 0; x < w; ++x) sum[x] += g * src[x];
       }
     }
-  cv::Mat out = xyz_mm.clone();
-  std::vector<double> sums[4];
-  for (auto& plane : sums) plane.resize(w);
-  for (int y = 0; y < h; ++y) {
-    for (int c = 0; c < 4; ++c) {
-      double* s = sums[c].data();
+    for (int y = 0; y < h; ++y) {
+      double* s = c == 3 ? &weight[static_cast<size_t>(y) * w] : sums.data();
       std::fill(s, s + w, 0.0);
       for (int k = 0; k <= 2 * radius; ++k) {
-        const double g = kernel[k];
-        const double* src = rows[c].data() + static_cast<size_t>(y + k) * w;
+        const double g = kernel[static_cast<size_t>(k)];
+        const double* src = &rows[static_cast<size_t>(y + k) * w];
         for (int x = 0; x < w; ++x) s[x] += g * src[x];
       }
-    }
-    const uint8_t* m = valid.ptr<uint8_t>(y);
-    cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
-    for (int x = 0; x < w; ++x) {
-      const double weight = sums[3][x];
-      if (m[x] && weight > 0)
-        o[x] = cv::Vec3f(static_cast<float>(sums[0][x] / weight),
-                         static_cast<float>(sums[1][x] / weight),
-                         static_cast<float>(sums[2][x] / weight));
+      if (c == 3) continue;
+      const uint8_t* m = valid.ptr<uint8_t>(y);
+      const double* wt = &weight[static_cast<size_t>(y) * w];
+      cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < w; ++x)
+        if (m[x] && wt[x] > 0) o[x][c] = static_cast<float>(s[x] / wt[x]);
     }
   }
   return out;

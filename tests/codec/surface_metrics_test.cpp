@@ -4,7 +4,8 @@
 // its outline moved, pixels outside the domain or not finite do not count, frames pool, and a
 // bad window is rejected. The point-to-triangle distances: the AVX2 kernel returns the plain
 // reference's doubles bit for bit, the reference agrees with an independent nearest-point
-// computation, and each pixel's distance is the exact nearest of the window's triangles.
+// computation, and each pixel's distance is the exact nearest of the window's triangles. The
+// smoothing before the normals is its per-pixel definition to the bit.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -301,6 +302,62 @@ TEST(SurfaceMetrics, DistanceIsTheNearestTriangleOfTheWindow) {
         ++checked;
       }
     EXPECT_GT(checked, 700);
+  }
+}
+
+// smooth_positions is the per-pixel definition, summed in the same order (Gaussian weights
+// from -3 sigma up, rows then columns, invalid pixels skipped), to the bit, on a noisy surface
+// with holes, at several scales, including at the image border and where no valid pixel is near.
+TEST(SurfaceMetrics, SmoothingIsThePerPixelWeightedMean) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int w = 37, h = 29;
+  cv::Mat xyz(h, w, CV_32FC3), valid(h, w, CV_8U);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      xyz.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(static_cast<float>(x + noise(rng)), static_cast<float>(-y + noise(rng)),
+                    static_cast<float>(5 * std::sin(0.4 * x) + noise(rng)));
+      valid.at<uint8_t>(y, x) = u(rng) < 0.85 && !(x > 25 && y > 20) ? 255 : 0;
+    }
+  xyz.at<cv::Vec3f>(3, 4) = cv::Vec3f(std::numeric_limits<float>::quiet_NaN(), 0, 0);
+  valid.at<uint8_t>(3, 4) = 0;  // an invalid pixel's NaN must not leak
+  for (double sigma : {0.5, 1.0, 2.0, 3.7}) {
+    const cv::Mat out = smooth_positions(xyz, valid, sigma);
+    const int radius = static_cast<int>(std::ceil(3 * sigma));
+    std::vector<double> kernel(2 * radius + 1);
+    for (int k = -radius; k <= radius; ++k)
+      kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
+    std::vector<cv::Vec4d> rows(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        cv::Vec4d s(0, 0, 0, 0);
+        for (int k = std::max(0, x - radius); k <= std::min(w - 1, x + radius); ++k) {
+          if (!valid.at<uint8_t>(y, k)) continue;
+          const cv::Vec3f& p = xyz.at<cv::Vec3f>(y, k);
+          const double g = kernel[k - x + radius];
+          s += cv::Vec4d(g * p[0], g * p[1], g * p[2], g);
+        }
+        rows[static_cast<size_t>(y) * w + x] = s;
+      }
+    int smoothed = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        cv::Vec4d s(0, 0, 0, 0);
+        for (int k = std::max(0, y - radius); k <= std::min(h - 1, y + radius); ++k)
+          s += kernel[k - y + radius] * rows[static_cast<size_t>(k) * w + x];
+        cv::Vec3f expected = xyz.at<cv::Vec3f>(y, x);
+        if (valid.at<uint8_t>(y, x) && s[3] > 0) {
+          expected = cv::Vec3f(static_cast<float>(s[0] / s[3]), static_cast<float>(s[1] / s[3]),
+                               static_cast<float>(s[2] / s[3]));
+          ++smoothed;
+        }
+        const cv::Vec3f got = out.at<cv::Vec3f>(y, x);
+        EXPECT_EQ(std::memcmp(&got, &expected, sizeof got), 0)
+            << "sigma " << sigma << " at " << x << "," << y << ": " << got << " vs " << expected;
+      }
+    EXPECT_GT(smoothed, 700);
   }
 }
 
