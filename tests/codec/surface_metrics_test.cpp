@@ -7,6 +7,7 @@
 // computation, and each pixel's distance is the exact nearest of the window's triangles. The
 // smoothing before the normals is its per-pixel definition to the bit.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -244,6 +245,39 @@ TEST(PointTriangleDistance, KernelEqualsReferenceBitForBit) {
     }
   }
   EXPECT_EQ(compared, 9000);
+}
+
+// The sphere pruning kernel against its reference: every bit, for 0..32 spheres (empty ones,
+// radius 0, points on a sphere's reach) and reaches from 0 up.
+TEST(PointTriangleDistance, SpherePruningEqualsReference) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int differing = 0, set_bits = 0;
+  for (int round = 0; round < 2000; ++round) {
+    const int n = round % 33;
+    std::vector<double> x(n), y(n), z(n), r(n);
+    for (int k = 0; k < n; ++k) {
+      x[k] = u(rng);
+      y[k] = u(rng);
+      z[k] = u(rng);
+      r[k] = k % 7 == 3 ? -1.0 : (k % 5 == 1 ? 0.0 : 0.9 * std::abs(u(rng)));
+    }
+    cv::Vec3d p(u(rng), u(rng), u(rng));
+    // A point exactly at reach of sphere 0: |p - c| = r + reach.
+    const double reach = round % 4 == 0 ? 0.0 : 0.5 * std::abs(u(rng));
+    if (n > 0 && round % 9 == 2 && r[0] >= 0) p = cv::Vec3d(x[0] + r[0] + reach, y[0], z[0]);
+    const SphereArrays spheres{x.data(), y.data(), z.data(), r.data()};
+    const uint32_t fast = spheres_within_reach(p, spheres, n, reach);
+    const uint32_t slow = spheres_within_reach_reference(p, spheres, n, reach);
+    differing += fast != slow;
+    set_bits += std::popcount(slow);
+    EXPECT_EQ(fast, slow) << "round " << round;
+    if (n < 32) {
+      EXPECT_EQ(slow >> n, 0u);
+    }
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(set_bits, 1000);
 }
 
 // A noisy surface with holes against a noisy copy: every pixel of surface_distance_mm equals the
