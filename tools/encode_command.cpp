@@ -12,7 +12,9 @@
 #include <vector>
 
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
@@ -129,13 +131,24 @@ void run_encode(const EncodeArgs& args) {
   throw_if_error(options.check());
   const auto files = value_or_throw(list_frame_files(args.input, ".exr"));
   if (files.empty()) throw CommandFailed(not_found(args.input + ": no frame_NNNNNN.exr files"));
-  std::vector<GeometryImage> frames;
+  // The frames are read (each EXR decompressed) on --threads threads; a file that fails is
+  // reported as the first such file in frame order, whatever the threads did.
+  std::vector<GeometryImage> frames(files.size());
   {
     Progress progress("reading " + args.input, static_cast<int64_t>(files.size()));
-    for (const auto& f : files) {
-      frames.push_back(value_or_throw(read_geometry_image_exr(f.path)));
-      progress.advance();
-    }
+    std::vector<Status> failures(files.size(), Status::ok());
+    tbb::task_arena readers(options.threads);
+    readers.execute([&] {
+      tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
+        Result<GeometryImage> frame = read_geometry_image_exr(files[i].path);
+        if (frame.is_ok())
+          frames[i] = std::move(frame).value();
+        else
+          failures[i] = frame.status();
+        progress.advance();
+      });
+    });
+    for (const Status& failure : failures) throw_if_error(failure);
     progress.finish();
   }
   const codec::SequenceInfo info =

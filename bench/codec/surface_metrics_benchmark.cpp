@@ -4,9 +4,9 @@
 // references (Arg 0 = the optimised kernel, AVX2 where the processor has it; 1 = the reference).
 //
 // The frame pair is synthetic by default: a 320x320 face-sized bump (0.6 mm pixels, a disc mask)
-// with 0.05 mm of noise, decoded = input + 0.03 mm of noise per coordinate. Real frames:
-//   GVKIT_BENCH_SURFACE_REFERENCE=IN.exr GVKIT_BENCH_SURFACE_DECODED=OUT.exr \
-//     build/bench/codec/codec_surface_metrics_benchmark
+// with 0.05 mm of noise, decoded = input + 0.03 mm of noise per coordinate. Real frames: set
+// GVKIT_BENCH_SURFACE_REFERENCE=IN.exr and GVKIT_BENCH_SURFACE_DECODED=OUT.exr, then run
+//   build/bench/codec/codec_surface_metrics_benchmark
 #include <cmath>
 #include <cstdlib>
 #include <random>
