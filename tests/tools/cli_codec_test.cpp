@@ -465,6 +465,16 @@ TEST(CliCodec, BadOptionsAndInputsFailWithAMessage) {
   auto empty = run_gvkit("encode " + (dir / "nothing").string() + " -o " + out);
   EXPECT_NE(empty.exit_code, 0);
   EXPECT_FALSE(std::filesystem::exists(out));
+  // Unreadable frames: the first one in frame order is named, however the reading threads ran.
+  write_frames(dir / "broken", 6);
+  std::ofstream(frame_path(dir / "broken", 2, ".exr"), std::ios::trunc) << "not an EXR";
+  std::ofstream(frame_path(dir / "broken", 4, ".exr"), std::ios::trunc) << "not an EXR";
+  for (int round = 0; round < 3; ++round) {
+    auto broken = run_gvkit("encode " + (dir / "broken").string() + " -o " + out + " --threads 4");
+    EXPECT_NE(broken.exit_code, 0);
+    EXPECT_TRUE(contains(broken.output, "frame_000002.exr: not a readable EXR")) << broken.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
   auto garbage = dir / "bad.gvid";
   std::ofstream(garbage) << "GVID but not really";
   auto dec = run_gvkit("decode " + garbage.string() + " -o " + (dir / "o").string());
