@@ -395,9 +395,10 @@ void add_encode_command(CLI::App& app) {
   cmd->add_flag("--intra-only", args->options.intra_only, "I frames only (profile intra)");
   cmd->add_option("--bit-depth", args->options.bit_depth, "Bits per xyz sample, 8..16 (16)");
   cmd->add_option("--fps", args->fps, "Frame rate stored in the stream (30)");
-  cmd->add_option("--threads", args->options.threads,
-                  "Threads for planes, B frames and the frames' error measures, 1..16, or 0: "
-                  "the hardware threads, at most 16 (the stream does not depend on it)")
+  cmd->add_option(
+         "--threads", args->options.threads,
+         "Threads for reading, planes, B frames and the frames' error measures, 1..16, or 0: "
+         "the hardware threads, at most 16 (the stream does not depend on it)")
       ->capture_default_str();
   cmd->add_option("--tune", args->tunes,
                   "key=value: an encoder tool switch or fine setting, for experiments "

@@ -100,8 +100,9 @@ GVKIT_TARGET_AVX2 inline __m256d ge0(__m256d a) {
 GVKIT_TARGET_AVX2 inline __m256d and3(__m256d a, __m256d b, __m256d c) {
   return _mm256_and_pd(_mm256_and_pd(a, b), c);
 }
-// The coordinates of four vertices. Plain loads: the gather instruction is several times slower
-// on processors with the microcode mitigation of gather data sampling.
+// The coordinates of four vertices, by plain loads: faster here than the gather instruction (76
+// against 85 ns per eight triangles in codec_surface_metrics_benchmark), which is also much
+// slower on processors with the microcode mitigation of gather data sampling.
 GVKIT_TARGET_AVX2 inline V3 gather(const VertexArrays& v, const int32_t* i) {
   return {_mm256_setr_pd(v.x[i[0]], v.x[i[1]], v.x[i[2]], v.x[i[3]]),
           _mm256_setr_pd(v.y[i[0]], v.y[i[1]], v.y[i[2]], v.y[i[3]]),

@@ -1,12 +1,12 @@
 #include "gvkit/codec/surface_metrics.hpp"
 
-#include "gvkit/codec/point_triangle_distance.hpp"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
+
+#include "gvkit/codec/point_triangle_distance.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -150,7 +150,7 @@ void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::
       const int qx0 = std::max(0, x - window),
                 qx1 = std::min(to.quad_columns() - 1, x + window - 1);
       const int qy0 = std::max(0, y - window), qy1 = std::min(to.quad_rows() - 1, y + window - 1);
-      // The quads around the pixel, whose triangles have it as a corner.
+      // The (up to) four quads that have the pixel as a corner.
       const int nx0 = std::max(qx0, x - 1), nx1 = std::min(qx1, x);
       const int ny0 = std::max(qy0, y - 1), ny1 = std::min(qy1, y);
       if (nx0 <= nx1)
