@@ -351,10 +351,10 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
     } else {
       // Shared motion and cross-plane prediction: X first (its motion is Y's and Z's candidate,
       // its residual their cross-plane source, its final context states their initial ones
-      // (1.7)), then the rest in parallel.
-      code(0);
-      run_parallel(static_cast<int>(planes.size()) - 1, options.threads,
-                   [&](int i) { code(i + 1); });
+      // (1.7)), beside the texture plane, which takes nothing from X; then Y and Z in parallel.
+      const int first = planes.size() > 3 ? 2 : 1;  // X, and T when there is one
+      run_parallel(first, options.threads, [&](int i) { code(i == 0 ? 0 : 3); });
+      run_parallel(2, options.threads, [&](int i) { code(i + 1); });
     }
     return coded;
   };

@@ -1,7 +1,8 @@
 // Frame-level threads of SequenceEncoder: with options.threads > 1 the B frames between two
 // anchors are coded on a second thread while the next anchor is coded. The stream must be the
 // same byte for byte as with one thread, in every configuration that uses B frames, and the
-// frames must leave in decode order (each anchor, then the B frames before it).
+// frames must leave in decode order (each anchor, then the B frames before it). Within a frame,
+// the planes are coded in parallel where they do not depend on each other.
 
 #include <cstdint>
 #include <string>
@@ -89,6 +90,35 @@ TEST(FrameThreads, TwoAndFourThreadsWriteTheSameStreamAsOne) {
     ASSERT_EQ((*reader)->frame_count(), static_cast<int64_t>(frames.size())) << c.name;
     for (int64_t f = 0; f < (*reader)->frame_count(); ++f)
       EXPECT_TRUE((*reader)->decode_frame(f).is_ok()) << c.name << ", frame " << f;
+  }
+}
+
+// With a texture plane (coded beside X, which it takes nothing from), at both presets.
+TEST(FrameThreads, TexturedFramesWriteTheSameStreamWithAnyThreads) {
+  auto frames = video(48, 9);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    cv::Mat t(frames[f].xyz_mm.size(), CV_32F);
+    for (int y = 0; y < t.rows; ++y)
+      for (int x = 0; x < t.cols; ++x)
+        t.at<float>(y, x) =
+            static_cast<float>((x * 7 + y * 3 + 11 * static_cast<int>(f)) % 97) / 96.f;
+    frames[f].texture = t;
+  }
+  const SequenceInfo info = info_for(frames);
+  ASSERT_TRUE(info.has_texture);
+  for (const Preset preset : {Preset::kFast, Preset::kSlow}) {
+    EncoderOptions o;
+    o.preset = preset;
+    o.qp = 6;
+    o.bframes = 1;
+    const auto one = encode_gvid(frames, info, o);
+    ASSERT_TRUE(one.is_ok()) << one.status().message();
+    for (const int threads : {2, 4}) {
+      o.threads = threads;
+      const auto many = encode_gvid(frames, info, o);
+      ASSERT_TRUE(many.is_ok());
+      EXPECT_EQ(*one, *many) << preset_name(preset) << ", " << threads << " threads";
+    }
   }
 }
 
