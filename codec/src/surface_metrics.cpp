@@ -300,10 +300,11 @@ cv::Mat grid_normals(const cv::Mat& xyz_mm, const cv::Mat& valid) {
   return normals;
 }
 
-cv::Mat normal_error_deg(const GeometryImage& reference, const GeometryImage& decoded,
-                         const SurfaceErrorOptions& options) {
-  const cv::Mat valid = surface_valid_pixels(reference, decoded);
-  const double sigma = options.normal_scale_px;
+namespace {
+
+// normal_error_deg over the valid pixels (surface_valid_pixels) already made.
+cv::Mat normal_error_over(const GeometryImage& reference, const GeometryImage& decoded,
+                          const cv::Mat& valid, double sigma) {
   const cv::Mat na = grid_normals(smooth_positions(reference.xyz_mm, valid, sigma), valid);
   const cv::Mat nb = grid_normals(smooth_positions(decoded.xyz_mm, valid, sigma), valid);
   cv::Mat angle(valid.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
@@ -317,6 +318,14 @@ cv::Mat normal_error_deg(const GeometryImage& reference, const GeometryImage& de
           static_cast<float>(std::atan2(std::sqrt(c.dot(c)), a.dot(b)) * 180.0 / M_PI);
     }
   return angle;
+}
+
+}  // namespace
+
+cv::Mat normal_error_deg(const GeometryImage& reference, const GeometryImage& decoded,
+                         const SurfaceErrorOptions& options) {
+  return normal_error_over(reference, decoded, surface_valid_pixels(reference, decoded),
+                           options.normal_scale_px);
 }
 
 cv::Mat surface_distance_mm(const GeometryImage& reference, const GeometryImage& decoded,
@@ -358,7 +367,8 @@ SurfaceError surface_error(const GeometryImage& reference, const GeometryImage& 
   const Status ok = options.check();
   GVKIT_CHECK(ok.is_ok(), ok.message());
   SurfaceError e;
-  const cv::Mat angle = normal_error_deg(reference, decoded, options);
+  const cv::Mat valid = surface_valid_pixels(reference, decoded);
+  const cv::Mat angle = normal_error_over(reference, decoded, valid, options.normal_scale_px);
   e.angle_histogram.assign(SurfaceError::kBins, 0);
   for (int y = 0; y < angle.rows; ++y) {
     const float* a = angle.ptr<float>(y);
@@ -372,7 +382,6 @@ SurfaceError surface_error(const GeometryImage& reference, const GeometryImage& 
       ++e.normal_pixels;
     }
   }
-  const cv::Mat valid = surface_valid_pixels(reference, decoded);
   const GridTriangles reference_triangles(reference.xyz_mm, valid);
   const GridTriangles decoded_triangles(decoded.xyz_mm, valid);
   directed_distances(reference.xyz_mm, decoded_triangles, valid, options.window_px,

@@ -252,7 +252,7 @@ TEST(PointTriangleDistance, KernelEqualsReferenceBitForBit) {
 TEST(PointTriangleDistance, SpherePruningEqualsReference) {
   std::mt19937 rng(13);
   std::uniform_real_distribution<double> u(-1, 1);
-  int differing = 0, set_bits = 0;
+  int set_bits = 0;
   for (int round = 0; round < 2000; ++round) {
     const int n = round % 33;
     std::vector<double> x(n), y(n), z(n), r(n);
@@ -269,14 +269,12 @@ TEST(PointTriangleDistance, SpherePruningEqualsReference) {
     const SphereArrays spheres{x.data(), y.data(), z.data(), r.data()};
     const uint32_t fast = spheres_within_reach(p, spheres, n, reach);
     const uint32_t slow = spheres_within_reach_reference(p, spheres, n, reach);
-    differing += fast != slow;
     set_bits += std::popcount(slow);
     EXPECT_EQ(fast, slow) << "round " << round;
     if (n < 32) {
       EXPECT_EQ(slow >> n, 0u);
     }
   }
-  EXPECT_EQ(differing, 0);
   EXPECT_GT(set_bits, 1000);
 }
 
