@@ -5,16 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <deque>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
@@ -39,7 +37,8 @@ struct EncodeArgs {
   std::vector<std::string> tunes;  // key=value each (encoder_tune.hpp)
   codec::EncoderOptions options;
   double fps = 30.0;
-  bool qp_given = false;  // --qp on the command line
+  bool qp_given = false;          // --qp on the command line
+  int64_t frame_cache_mb = 1024;  // --frame-cache-mb
 };
 
 // `--tune help`: the keys, their values and what they change (to stdout).
@@ -50,6 +49,14 @@ void print_tune_keys() {
 }
 
 const char* const kPlaneNames[4] = {"X", "Y", "Z", "T"};
+
+// Bytes of a frame's pixel arrays (what keeping it in memory costs).
+int64_t frame_bytes(const GeometryImage& f) {
+  int64_t bytes = 0;
+  for (const cv::Mat* m : {&f.xyz_mm, &f.texture, &f.domain_mask})
+    bytes += static_cast<int64_t>(m->total() * m->elemSize());
+  return bytes;
+}
 
 nlohmann::json plane_stats_json(const codec::PlaneCodingStats& s) {
   nlohmann::json j;
@@ -131,44 +138,88 @@ void run_encode(const EncodeArgs& args) {
   throw_if_error(options.check());
   const auto files = value_or_throw(list_frame_files(args.input, ".exr"));
   if (files.empty()) throw CommandFailed(not_found(args.input + ": no frame_NNNNNN.exr files"));
-  // The frames are read (each EXR decompressed) on --threads threads; a file that fails is
-  // reported as the first such file in frame order, whatever the threads did.
-  std::vector<GeometryImage> frames(files.size());
+  const size_t frame_count = files.size();
+  const size_t tokens = 2 * static_cast<size_t>(options.threads);
+  tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<size_t>(options.threads));
+  // A frame read on a worker, or why it could not be: the failure is raised by the serial stage
+  // that takes the frames in order, so the first failing file in frame order is the one named,
+  // whatever the threads did.
+  struct Input {
+    size_t index = 0;
+    std::shared_ptr<const GeometryImage> frame;
+    Status status = Status::ok();
+  };
+  const auto read_input = [&](size_t i) {
+    Input in;
+    in.index = i;
+    Result<GeometryImage> frame = read_geometry_image_exr(files[i].path);
+    if (frame.is_ok())
+      in.frame = std::make_shared<const GeometryImage>(std::move(frame).value());
+    else
+      in.status = frame.status();
+    return in;
+  };
+  // First pass: every frame read (each EXR decompressed on --threads threads) and checked in frame
+  // order for the sequence's quantization box and domain mask. The first frames are kept for the
+  // encoding while they fit --frame-cache-mb; the others are read again then, so memory does not
+  // grow with the length of the video.
+  const int64_t cache_budget = args.frame_cache_mb << 20;
+  int64_t cached_bytes = 0;
+  std::vector<std::shared_ptr<const GeometryImage>> cached(frame_count);
+  codec::SequenceInfoBuilder builder(options.bit_depth, args.fps);
   {
-    Progress progress("reading " + args.input, static_cast<int64_t>(files.size()));
-    std::vector<Status> failures(files.size(), Status::ok());
-    tbb::task_arena readers(options.threads);
-    readers.execute([&] {
-      tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
-        Result<GeometryImage> frame = read_geometry_image_exr(files[i].path);
-        if (frame.is_ok())
-          frames[i] = std::move(frame).value();
-        else
-          failures[i] = frame.status();
-        progress.advance();
-      });
-    });
-    for (const Status& failure : failures) throw_if_error(failure);
+    Progress progress("reading " + args.input, static_cast<int64_t>(frame_count));
+    size_t next = 0;
+    bool caching = true;
+    tbb::parallel_pipeline(
+        tokens,
+        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                       [&](tbb::flow_control& control) {
+                                         if (next == frame_count) control.stop();
+                                         return next++;
+                                       }) &
+            tbb::make_filter<size_t, Input>(tbb::filter_mode::parallel, read_input) &
+            tbb::make_filter<Input, void>(tbb::filter_mode::serial_in_order, [&](Input in) {
+              throw_if_error(in.status);
+              throw_if_error(builder.add(*in.frame).with_context(files[in.index].path.string()));
+              const int64_t bytes = frame_bytes(*in.frame);
+              caching = caching && cached_bytes + bytes <= cache_budget;
+              if (caching) {
+                cached[in.index] = std::move(in.frame);
+                cached_bytes += bytes;
+              }
+              progress.advance();
+            }));
     progress.finish();
   }
-  const codec::SequenceInfo info =
-      value_or_throw(codec::make_sequence_info(frames, options.bit_depth, args.fps));
+  const codec::SequenceInfo info = value_or_throw(builder.finish());
+  const size_t cached_frames = static_cast<size_t>(
+      std::count_if(cached.begin(), cached.end(), [](const auto& f) { return f != nullptr; }));
+  if (cached_frames < frame_count)
+    logger().info(
+        "{} of {} frames kept in memory ({} MiB, --frame-cache-mb {}); the rest are read "
+        "again while encoding",
+        cached_frames, frame_count, cached_bytes >> 20, args.frame_cache_mb);
   auto writer = value_or_throw(codec::GvidWriter::create(args.output, info, options));
   const double peak = info.box_diagonal_mm();
   const double vertices = static_cast<double>(info.domain_pixels());
   nlohmann::json per_frame = nlohmann::json::array();
   codec::GeometryError total;
   codec::SurfaceError surface_total;
-  Progress progress("encoding", static_cast<int64_t>(frames.size()));
+  Progress progress("encoding", static_cast<int64_t>(frame_count));
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
-  // The writer returns the reconstructions of the frames it completes, in display order (with B
-  // frames, a frame waits for the anchor after it; finish() codes the rest). Each one's point and
-  // surface errors are measured on a worker while the encoder goes on with the next frames
-  // (a TBB pipeline: encode in order -> measure in parallel -> report in order), within
-  // --threads threads; what a frame reports is taken from the writer when the frame completes.
+  // Second pass, a TBB pipeline within --threads threads: frames are taken from the cache or read
+  // again (on workers) -> coded in order -> measured in parallel -> reported in order. The writer
+  // returns the reconstructions of the frames it completes, in display order (with B frames, a
+  // frame waits for the anchor after it; finish() codes the rest); each one's point and surface
+  // errors against its input are measured on a worker while the encoder goes on with the next
+  // frames. What a frame reports is taken from the writer when the frame completes. An input is
+  // released once its reconstruction is measured.
   struct Completed {
     size_t index = 0;
+    std::shared_ptr<const GeometryImage> input;
     GeometryImage recon;
     int64_t bytes = 0;
     int qp = 0;
@@ -178,39 +229,58 @@ void run_encode(const EncodeArgs& args) {
     codec::GeometryError error;
     codec::SurfaceError surface;
   };
-  std::deque<GeometryImage> completed;
+  using CompletedFrames = std::vector<std::shared_ptr<Completed>>;
+  std::map<size_t, std::shared_ptr<const GeometryImage>> waiting;  // coded inputs, not completed
   size_t next_input = 0, next_output = 0;
-  bool finished = false;
-  const auto next_completed = [&](tbb::flow_control& control) -> std::shared_ptr<Completed> {
-    while (completed.empty()) {
-      std::vector<GeometryImage> done;
-      if (next_input < frames.size()) {
-        done = value_or_throw(writer->write(frames[next_input++]));
-      } else if (!finished) {
-        finished = true;
-        done = value_or_throw(writer->finish());
-      } else {
-        control.stop();
-        return nullptr;
-      }
-      for (GeometryImage& recon : done) completed.push_back(std::move(recon));
+  const auto take_input = [&](size_t i) {
+    if (i == frame_count) return Input{i, nullptr, Status::ok()};  // the token of finish()
+    if (cached[i]) {
+      Input in{i, std::move(cached[i]), Status::ok()};
+      cached[i] = nullptr;
+      return in;
     }
-    auto c = std::make_shared<Completed>();
-    c->index = next_output++;
-    c->recon = std::move(completed.front());
-    completed.pop_front();
-    c->bytes = writer->frame_bytes()[c->index];
-    c->qp = writer->frame_qp()[c->index];
-    c->type = writer->frame_types()[c->index];
-    c->stats = writer->frame_stats()[c->index];
-    if (const auto* q = writer->quality_controller()) c->encodes = q->frame_encodes()[c->index];
-    return c;
+    Input in = read_input(i);
+    if (in.status.is_ok()) {
+      const Status fits = codec::check_frame_fits(info, *in.frame);
+      if (!fits.is_ok())
+        in.status = invalid_argument(files[i].path.string() +
+                                     ": changed since it was first read: " + fits.message());
+    }
+    return in;
   };
-  const auto measure = [&](std::shared_ptr<Completed> c) {
-    c->error = codec::geometry_error(frames[c->index], c->recon);
-    c->surface = codec::surface_error(frames[c->index], c->recon);
-    c->recon = GeometryImage();  // measured: its memory goes back now
-    return c;
+  const auto code = [&](Input in) {
+    throw_if_error(in.status);
+    std::vector<GeometryImage> done;
+    if (in.index < frame_count) {
+      done = value_or_throw(writer->write(*in.frame));
+      waiting[in.index] = std::move(in.frame);
+    } else {
+      done = value_or_throw(writer->finish());
+    }
+    CompletedFrames out;
+    for (GeometryImage& recon : done) {
+      auto c = std::make_shared<Completed>();
+      c->index = next_output++;
+      c->input = std::move(waiting.at(c->index));
+      waiting.erase(c->index);
+      c->recon = std::move(recon);
+      c->bytes = writer->frame_bytes()[c->index];
+      c->qp = writer->frame_qp()[c->index];
+      c->type = writer->frame_types()[c->index];
+      c->stats = writer->frame_stats()[c->index];
+      if (const auto* q = writer->quality_controller()) c->encodes = q->frame_encodes()[c->index];
+      out.push_back(std::move(c));
+    }
+    return out;
+  };
+  const auto measure = [&](CompletedFrames frames) {
+    for (const auto& c : frames) {
+      c->error = codec::geometry_error(*c->input, c->recon);
+      c->surface = codec::surface_error(*c->input, c->recon);
+      c->input = nullptr;  // measured: the memory of both goes back now
+      c->recon = GeometryImage();
+    }
+    return frames;
   };
   const auto report = [&](const std::shared_ptr<Completed>& c) {
     const size_t i = c->index;
@@ -234,18 +304,20 @@ void run_encode(const EncodeArgs& args) {
     per_frame.back()["syntax_bits"] = syntax_bits;
     progress.advance();
   };
-  {
-    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
-                                    static_cast<size_t>(options.threads));
-    tbb::parallel_pipeline(
-        2 * static_cast<size_t>(options.threads),
-        tbb::make_filter<void, std::shared_ptr<Completed>>(tbb::filter_mode::serial_in_order,
-                                                           next_completed) &
-            tbb::make_filter<std::shared_ptr<Completed>, std::shared_ptr<Completed>>(
-                tbb::filter_mode::parallel, measure) &
-            tbb::make_filter<std::shared_ptr<Completed>, void>(tbb::filter_mode::serial_in_order,
-                                                               report));
-  }
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                     [&](tbb::flow_control& control) {
+                                       if (next_input > frame_count) control.stop();
+                                       return next_input++;
+                                     }) &
+          tbb::make_filter<size_t, Input>(tbb::filter_mode::parallel, take_input) &
+          tbb::make_filter<Input, CompletedFrames>(tbb::filter_mode::serial_in_order, code) &
+          tbb::make_filter<CompletedFrames, CompletedFrames>(tbb::filter_mode::parallel, measure) &
+          tbb::make_filter<CompletedFrames, void>(tbb::filter_mode::serial_in_order,
+                                                  [&](const CompletedFrames& frames) {
+                                                    for (const auto& c : frames) report(c);
+                                                  }));
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Process CPU time (all threads) of the encoding loop: comparable on a loaded machine.
@@ -253,7 +325,7 @@ void run_encode(const EncodeArgs& args) {
   progress.finish();
   int64_t total_bytes = writer->header_bytes();
   for (int64_t b : writer->frame_bytes()) total_bytes += b;
-  const double n = static_cast<double>(frames.size());
+  const double n = static_cast<double>(frame_count);
   const double bpv = (total_bytes - writer->header_bytes()) * 8.0 / vertices / n;
   const double psnr = total.psnr_db(peak);
   nlohmann::json stats = {
@@ -308,9 +380,10 @@ void run_encode(const EncodeArgs& args) {
         {"outline_weight", options.outline_weight},
         {"texture_qp", options.texture_qp},
         {"threads", options.threads},
+        {"frame_cache_mb", args.frame_cache_mb},
         {"fps", args.fps}}},
       {"summary",
-       {{"frames", frames.size()},
+       {{"frames", frame_count},
         {"width", info.width},
         {"height", info.height},
         {"domain_pixels", info.domain_pixels()},
@@ -342,7 +415,7 @@ void run_encode(const EncodeArgs& args) {
       "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm, "
       "normal error mean %.2f / p95 %.2f / max %.1f deg, Hausdorff %.4g mm (outline %.4g mm), "
       "%.1f frames/s (%.1f per CPU second)\n",
-      args.output.c_str(), frames.size(), info.width, info.height,
+      args.output.c_str(), frame_count, info.width, info.height,
       static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, surface_total.normal_mean_deg(),
       surface_total.normal_p95_deg(), surface_total.normal_max_deg, surface_total.hausdorff_mm,
       surface_total.outline_hausdorff_mm, n / seconds, n / cpu_seconds);
@@ -400,6 +473,13 @@ void add_encode_command(CLI::App& app) {
          "Threads for reading, planes, B frames and the frames' error measures, 1..16, or 0: "
          "the hardware threads, at most 16 (the stream does not depend on it)")
       ->capture_default_str();
+  cmd->add_option("--frame-cache-mb", args->frame_cache_mb,
+                  "Input frames kept in memory from the first reading (which finds the "
+                  "quantization box) for the encoding, in MiB; the frames beyond it are read "
+                  "again, so memory stays bounded however long the video (the stream does not "
+                  "depend on it)")
+      ->capture_default_str()
+      ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
   cmd->add_option("--tune", args->tunes,
                   "key=value: an encoder tool switch or fine setting, for experiments "
                   "(repeatable; '--tune help' lists the keys, docs/encoding.md explains them)")

@@ -421,6 +421,40 @@ TEST(CliCodec, MaxErrorModeBoundsEveryFrameAndTheInterToolsAreOptions) {
       << profile_rate.output;
 }
 
+TEST(CliCodec, FramesBeyondTheFrameCacheAreReadAgainForTheSameStream) {
+  TempDir dir;
+  write_frames(dir / "in", 7);
+  const std::string in = (dir / "in").string();
+  const std::string kept = (dir / "kept.gvid").string(), reread = (dir / "reread.gvid").string();
+  auto all = run_gvkit("encode " + in + " -o " + kept + " --preset fast --qp 6");
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  EXPECT_FALSE(contains(all.output, "read again")) << all.output;
+  // No frame kept between the two readings: every frame read again, on two threads.
+  auto none = run_gvkit("encode " + in + " -o " + reread +
+                        " --preset fast --qp 6 --frame-cache-mb 0 --threads 2");
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_TRUE(contains(none.output, "0 of 7 frames kept in memory")) << none.output;
+  EXPECT_EQ(read_file(kept).value(), read_file(reread).value());
+  auto a = read_json(kept + ".stats.json"), b = read_json(reread + ".stats.json");
+  ASSERT_TRUE(a.is_ok() && b.is_ok());
+  EXPECT_EQ((*a)["frames"], (*b)["frames"]);
+  EXPECT_EQ((*b)["options"]["frame_cache_mb"], 0);
+
+  auto negative = run_gvkit("encode " + in + " -o " + reread + " --frame-cache-mb -1");
+  EXPECT_NE(negative.exit_code, 0);
+  EXPECT_TRUE(contains(negative.output, "--frame-cache-mb")) << negative.output;
+  // A frame whose domain mask differs from frame 0's is named by its file; the stream written
+  // before is left as it was.
+  auto frame = read_geometry_image_exr(frame_path(dir / "in", 3, ".exr")).value();
+  frame.domain_mask.at<uint8_t>(16, 16) ^= 255;
+  ASSERT_TRUE(write_geometry_image_exr(frame_path(dir / "in", 3, ".exr"), frame).is_ok());
+  auto bad = run_gvkit("encode " + in + " -o " + reread + " --frame-cache-mb 0");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "frame_000003.exr: frame 3: domain mask differs from frame 0"))
+      << bad.output;
+  EXPECT_EQ(read_file(kept).value(), read_file(reread).value());
+}
+
 TEST(CliCodec, QualityMeetsTheTargetOnEveryFrameAndRecordsEachFramesQp) {
   TempDir dir;
   write_frames(dir / "in", 3);

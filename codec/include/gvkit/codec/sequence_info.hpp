@@ -36,4 +36,28 @@ struct SequenceInfo {
 Result<SequenceInfo> make_sequence_info(const std::vector<GeometryImage>& frames, int bit_depth,
                                         double fps);
 
+// make_sequence_info over frames given one at a time, in frame order, so that a long video need
+// not be held in memory: add() checks each frame as make_sequence_info does (the same messages,
+// "frame N: ..."), finish() gives the same SequenceInfo.
+class SequenceInfoBuilder {
+ public:
+  SequenceInfoBuilder(int bit_depth, double fps);
+  // The next frame (frame 0 first). After a failure the builder takes no more frames.
+  Status add(const GeometryImage& frame);
+  // Fails without frames or after a failed add().
+  Result<SequenceInfo> finish() const;
+  int64_t frames() const { return frames_; }
+
+ private:
+  SequenceInfo info_;
+  cv::Vec3d lo_{1e300, 1e300, 1e300}, hi_{-1e300, -1e300, -1e300};
+  int64_t frames_ = 0;
+  bool failed_ = false;
+};
+
+// Whether `frame` fits `info`: the same size, domain mask and texture presence, and every domain
+// pixel inside the quantization box. Fails saying which does not (no frame name; the caller adds
+// it). Checks a frame read again after the box was made (a file changed in between).
+Status check_frame_fits(const SequenceInfo& info, const GeometryImage& frame);
+
 }  // namespace gvkit::codec
