@@ -244,9 +244,13 @@ class MacroblockEncoder {
     Candidate c;
     ContextSet trial = ctx;
     bound_ = best->cost - extra_cost_;
+    deferred_ = Deferred::kNone;
     c.cost = try_candidate(c.mb, trial) + extra_cost_;
     c.mb.cross_scale = alpha_;
-    if (c.cost < best->cost) {
+    const bool kept = c.cost < best->cost;
+    if (kept && deferred_ != Deferred::kNone) complete_deferred_residual(c.mb, trial);
+    deferred_ = Deferred::kNone;
+    if (kept) {
       for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x)
           c.recon[y * 16 + x] = recon_.at(mb_x_ * 16 + x, mb_y_ * 16 + y);
@@ -506,7 +510,8 @@ class MacroblockEncoder {
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * side_bits;
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
-      code_i16_residual(mb, pred, trial, true);
+      // Only the direct candidate's residual decides its cost (a skip when it has none).
+      defer_i16_residual(mb, pred, trial, true, kind == kBDirect);
     }
     mb.skip = kind == kBDirect && mb.cbp == 0 && alpha_ == 0;
     // A skip codes one flag: no prediction flags, no coded block pattern.
@@ -598,7 +603,7 @@ class MacroblockEncoder {
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
-      code_i16_residual(mb, pred, trial, true);
+      defer_i16_residual(mb, pred, trial, true, true);  // a skip when it has no residual
     }
     const int idx = mb.cbp == 0 && alpha_ == 0 && !mb.shared ? skip_index(best_x, best_y, ref) : -1;
     mb.skip = mb.cbp == 0 && alpha_ == 0 && (mb.shared || idx >= 0);
@@ -758,7 +763,7 @@ class MacroblockEncoder {
       cost = code_i16_residual(mb, pred, trial, true) + side - 2 * lambda_;
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + side;
-      code_i16_residual(mb, pred, trial, true);
+      defer_i16_residual(mb, pred, trial, true, false);
     }
     return cost;
   }
@@ -1072,7 +1077,7 @@ class MacroblockEncoder {
     add_cross(16, x0, y0, pred);
     const double cost =
         static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
-    code_i16_residual(mb, pred, trial, true);
+    defer_i16_residual(mb, pred, trial, true, false);
     return cost;
   }
 
@@ -1167,8 +1172,8 @@ class MacroblockEncoder {
     predict_i16(recon_, mb_x_, mb_y_, best_mode, p_.bit_depth, pred);
     add_cross(16, x0, y0, pred);
     mb.i16_mode = best_mode;
-    const double rd_cost = code_i16_residual(mb, pred, trial);
-    return p_.rdo ? rd_cost : best_cost;
+    defer_i16_residual(mb, pred, trial, false, false);
+    return best_cost;
   }
 
   // Residual of an I16x16 or inter prediction as 16 4x4 blocks; reconstructs and returns SSD +
@@ -1187,6 +1192,43 @@ class MacroblockEncoder {
     const double cost = code_residual_4x4(mb, pred16, trial, inter, p_.rdo);
     defer_rdoq_ = false;
     return cost;
+  }
+
+  // ---- Fast preset: a 16x16 candidate's residual coded once the candidate is kept ----
+  // The fast preset's costs of plain inter, B, partitioned, TD16 and I16x16 candidates are
+  // SATD-based: their residual counts only through a skip (a P or direct candidate without
+  // one). So such a candidate makes its levels now only where it may be a skip
+  // (`levels_now`), and its reconstruction (and otherwise its levels too) waits until
+  // consider_candidate keeps it as the best so far: the same levels, samples and coded-block
+  // flags as code_i16_residual gives, for the candidates that can still be chosen.
+  void defer_i16_residual(MacroblockData& mb, const int32_t* pred16, const ContextSet& trial,
+                          bool inter, bool levels_now) {
+    std::copy(pred16, pred16 + 256, deferred_pred_);
+    deferred_inter_ = inter;
+    deferred_ = Deferred::kResidual;
+    if (levels_now) {
+      fast_levels_4x4(mb, deferred_pred_, trial, inter);
+      deferred_ = Deferred::kReconstruction;
+    }
+  }
+  void complete_deferred_residual(MacroblockData& mb, ContextSet& trial) {
+    if (deferred_ == Deferred::kResidual)
+      fast_levels_4x4(mb, deferred_pred_, trial, deferred_inter_);
+    int32_t preds[16][16];
+    for (int b = 0; b < 16; ++b) {
+      const int bx = block_x(b) * 4, by = block_y(b) * 4;
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = deferred_pred_[(by + y) * 16 + bx + x];
+    }
+    reconstruct_4x4(mb, preds, trial, false);
+  }
+  // code_i16_residual's levels in the fast preset.
+  void fast_levels_4x4(MacroblockData& mb, const int32_t* pred16, const ContextSet& trial,
+                       bool inter) {
+    int32_t preds[16][16];
+    defer_rdoq_ = p_.max_transform > 4;
+    make_levels_4x4(mb, pred16, trial, inter, preds);
+    defer_rdoq_ = false;
   }
 
   // ---- Larger transforms (format 1.6, docs/bitstream.md 4.8) ----
@@ -1322,9 +1364,15 @@ class MacroblockEncoder {
   // The residual as sixteen 4x4 blocks (count_bits: with the CABAC bits, else SSD only).
   double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial, bool inter,
                            bool count_bits) {
-    double cost = lambda_ * 3;
-    mb.cbp = 0;
     int32_t preds[16][16];
+    make_levels_4x4(mb, pred16, trial, inter, preds);
+    return reconstruct_4x4(mb, preds, trial, count_bits);
+  }
+
+  // The levels of a 16x16 residual as 16 4x4 blocks (with the inter dead zone and decimation
+  // when `inter`), mb.cbp, and the 4x4 blocks' predictions (block order).
+  void make_levels_4x4(MacroblockData& mb, const int32_t* pred16, const ContextSet& trial,
+                       bool inter, int32_t (*preds)[16]) {
     const bool decimate = inter && p_.inter_decimation && !p_.lossless;
     for (int b = 0; b < 16; ++b) {
       const int bx = block_x(b) * 4, by = block_y(b) * 4;
@@ -1345,11 +1393,21 @@ class MacroblockEncoder {
       if (total < 6)
         for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
     }
+    mb.cbp = 0;
+    for (int b = 0; b < 16; ++b)
+      if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+  }
+
+  // Reconstructs the blocks of make_levels_4x4 into recon_ and sets their coded-block flags;
+  // returns SSD + lambda x the bits of the residual (counted on `trial` when count_bits, which
+  // then advances its contexts; else 0 bits).
+  double reconstruct_4x4(const MacroblockData& mb, const int32_t (*preds)[16], ContextSet& trial,
+                         bool count_bits) {
+    double cost = lambda_ * 3;
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x_ * 16 + block_x(b) * 4, y0 = mb_y_ * 16 + block_y(b) * 4;
       const bool coded = any_nonzero(mb.levels[b], 16);
       const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
-      if (coded) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
       double bits = 0;
       if (count_bits)
         bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
@@ -1431,6 +1489,13 @@ class MacroblockEncoder {
   // rounding offsets, since choose_transform_size codes the chosen one's again with RDO
   // quantization.
   bool defer_rdoq_ = false;
+  // Fast preset: the residual the current candidate left to be coded if it is kept
+  // (defer_i16_residual): none, its reconstruction, or its levels and reconstruction; its
+  // prediction and whether it is inter.
+  enum class Deferred { kNone, kReconstruction, kResidual };
+  Deferred deferred_ = Deferred::kNone;
+  bool deferred_inter_ = false;
+  int32_t deferred_pred_[256];
   int mb_x_ = 0, mb_y_ = 0;
   // Cost of the best candidate so far: a candidate whose partial cost (a sum of non-negative
   // block costs) reaches it stops early, as it cannot be chosen.
