@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "cpu_features.hpp"
+
 namespace gvkit::codec {
 namespace {
 
@@ -61,32 +63,148 @@ constexpr int64_t kQuadraticFit[6][kQuadraticNeighbours] = {
      -73525, -72226, -69532, -65443, 24157,  20078,  17393,  16104,  16209,  17708,  20603,  24892,
      30575,  37653,  46126,  55994,  67256,  79913,  93965,  109411}};
 
-}  // namespace
+// The fit of the block at (x0, y0): b, the sample at (x0 - 1, y0 - 1), and the coefficients c_j
+// (in units of 2^-24) of q(x, y) fitted to the neighbours minus b.
+// The weights as 32-bit integers (every one is below 2^20 in magnitude), for the AVX2 fit.
+struct QuadraticFit32 {
+  int32_t w[6][kQuadraticNeighbours];
+};
+constexpr QuadraticFit32 make_fit32() {
+  QuadraticFit32 f{};
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < kQuadraticNeighbours; ++i)
+      f.w[j][i] = static_cast<int32_t>(kQuadraticFit[j][i]);
+  return f;
+}
+constexpr QuadraticFit32 kQuadraticFit32 = make_fit32();
+static_assert(kQuadraticNeighbours % 4 == 0);
 
-void predict_quadratic16(const uint16_t* plane, int stride, int x0, int y0, int max_value,
-                         int32_t* out) {
+// c_j = sum_i w_ji s_i in 64 bits (products below 2^36), one 32 x 32 -> 64-bit multiply per lane.
+void fit_coefficients(const int32_t* s, int64_t* c) {
+  for (int j = 0; j < 6; ++j) {
+    c[j] = 0;
+    for (int i = 0; i < kQuadraticNeighbours; ++i)
+      c[j] += static_cast<int64_t>(kQuadraticFit32.w[j][i]) * s[i];
+  }
+}
+#if defined(GVKIT_X86_SIMD)
+GVKIT_TARGET_AVX2 void fit_coefficients_avx2(const int32_t* s, int64_t* c) {
+  for (int j = 0; j < 6; ++j) {
+    __m256i sum = _mm256_setzero_si256();
+    for (int i = 0; i < kQuadraticNeighbours; i += 4) {
+      const __m256i sv =
+          _mm256_cvtepi32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(s + i)));
+      const __m256i wv = _mm256_cvtepi32_epi64(
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(&kQuadraticFit32.w[j][i])));
+      sum = _mm256_add_epi64(sum, _mm256_mul_epi32(sv, wv));
+    }
+    alignas(32) int64_t lanes[4];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), sum);
+    c[j] = lanes[0] + lanes[1] + lanes[2] + lanes[3];  // integers: any order gives the same sum
+  }
+}
+#endif
+
+int64_t quadratic_fit(const uint16_t* plane, int stride, int x0, int y0, int64_t* c) {
   // Neighbours relative to the corner sample above-left of the block (keeps the sums small).
   const auto at = [&](int x, int y) {
-    return static_cast<int64_t>(plane[static_cast<int64_t>(y0 + y) * stride + x0 + x]);
+    return static_cast<int32_t>(plane[static_cast<int64_t>(y0 + y) * stride + x0 + x]);
   };
-  const int64_t base = at(-1, -1);
-  int64_t s[kQuadraticNeighbours];
+  const int32_t base = at(-1, -1);
+  int32_t s[kQuadraticNeighbours];
   int k = 0;
   for (int y = -2; y <= -1; ++y)
     for (int x = -2; x < 16; ++x) s[k++] = at(x, y) - base;
   for (int x = -2; x <= -1; ++x)
     for (int y = 0; y < 16; ++y) s[k++] = at(x, y) - base;
-  int64_t c[6];
-  for (int j = 0; j < 6; ++j) {
-    c[j] = 0;
-    for (int i = 0; i < kQuadraticNeighbours; ++i) c[j] += kQuadraticFit[j][i] * s[i];
+#if defined(GVKIT_X86_SIMD)
+  if (detail::cpu_has_avx2()) {
+    fit_coefficients_avx2(s, c);
+    return base;
   }
+#endif
+  fit_coefficients(s, c);
+  return base;
+}
+
+int32_t quadratic_sample(int64_t base, int64_t q, int max_value) {
+  const int64_t v = base + ((q + (int64_t{1} << 23)) >> 24);
+  return static_cast<int32_t>(std::clamp<int64_t>(v, 0, max_value));
+}
+
+#if defined(GVKIT_X86_SIMD)
+// The rows of predict_quadratic16 from the first row's q and steps, four samples per lane group.
+// |q| < 68 x 2^36 x 706 < 2^52 (|c_j| < 68 x 2^36, and the monomials sum to at most 706 over
+// the block), so (q + 2^23) >> 24 (arithmetic) is ((q + 2^23 + 2^62) >> 24 (logical)) - 2^38.
+GVKIT_TARGET_AVX2 void evaluate_rows_avx2(const int64_t* row0, const int64_t* down0, int64_t step,
+                                          int64_t base, int max_value, int32_t* out) {
+  __m256i row[4], down[4];
+  for (int k = 0; k < 4; ++k) {
+    row[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(row0 + 4 * k));
+    down[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(down0 + 4 * k));
+  }
+  const __m256i step_v = _mm256_set1_epi64x(step);
+  const __m256i bias = _mm256_set1_epi64x((int64_t{1} << 23) + (int64_t{1} << 62));
+  const __m256i offset = _mm256_set1_epi64x(base - (int64_t{1} << 38));
+  const __m256i zero = _mm256_setzero_si256(), top = _mm256_set1_epi64x(max_value);
+  const __m256i pack = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  for (int y = 0; y < 16; ++y) {
+    for (int k = 0; k < 4; k += 2) {
+      __m256i v[2];
+      for (int h = 0; h < 2; ++h) {
+        __m256i a =
+            _mm256_add_epi64(_mm256_srli_epi64(_mm256_add_epi64(row[k + h], bias), 24), offset);
+        a = _mm256_blendv_epi8(a, zero, _mm256_cmpgt_epi64(zero, a));
+        a = _mm256_blendv_epi8(a, top, _mm256_cmpgt_epi64(a, top));
+        v[h] = a;
+        row[k + h] = _mm256_add_epi64(row[k + h], down[k + h]);
+        down[k + h] = _mm256_add_epi64(down[k + h], step_v);
+      }
+      // The low 32 bits of the eight 64-bit lanes, in order.
+      const __m256i lo = _mm256_permutevar8x32_epi32(v[0], pack);
+      const __m256i hi = _mm256_permutevar8x32_epi32(v[1], pack);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + y * 16 + 4 * k),
+                          _mm256_permute2x128_si256(lo, hi, 0x20));
+    }
+  }
+}
+#endif
+
+}  // namespace
+
+void predict_quadratic16_reference(const uint16_t* plane, int stride, int x0, int y0, int max_value,
+                                   int32_t* out) {
+  int64_t c[6];
+  const int64_t base = quadratic_fit(plane, stride, x0, y0, c);
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x) {
       const int64_t q = c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * y * y + c[5] * x * y;
-      const int64_t v = base + ((q + (int64_t{1} << 23)) >> 24);
-      out[y * 16 + x] = static_cast<int32_t>(std::clamp<int64_t>(v, 0, max_value));
+      out[y * 16 + x] = quadratic_sample(base, q, max_value);
     }
+}
+
+// With AVX2: q by forward differences, exact in 64-bit integers: along a row q(x + 1, y) -
+// q(x, y) = c1 + c3 (2 x + 1) + c5 y, whose own step is 2 c3; from one row to the next
+// q(x, y + 1) - q(x, y) = c2 + c4 (2 y + 1) + c5 x, whose step is 2 c4. Without: the definition.
+void predict_quadratic16(const uint16_t* plane, int stride, int x0, int y0, int max_value,
+                         int32_t* out) {
+#if defined(GVKIT_X86_SIMD)
+  if (detail::cpu_has_avx2()) {
+    int64_t c[6];
+    const int64_t base = quadratic_fit(plane, stride, x0, y0, c);
+    alignas(32) int64_t row[16], down[16];  // q(x, 0), and q(x, 1) - q(x, 0)
+    int64_t q = c[0], dx = c[1] + c[3];
+    for (int x = 0; x < 16; ++x) {
+      row[x] = q;
+      down[x] = c[2] + c[4] + c[5] * x;
+      q += dx;
+      dx += 2 * c[3];
+    }
+    evaluate_rows_avx2(row, down, 2 * c[4], base, max_value, out);
+    return;
+  }
+#endif
+  predict_quadratic16_reference(plane, stride, x0, y0, max_value, out);
 }
 
 }  // namespace gvkit::codec

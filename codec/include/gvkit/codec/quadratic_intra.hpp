@@ -21,7 +21,11 @@ inline constexpr int kIntra16x16Quadratic = 4;
 // arithmetic only: with b the sample at (x0 - 1, y0 - 1) and s_k the neighbours minus b,
 // c_j = sum_k kQuadraticFit[j][k] s_k and out = clip(b + ((q(x, y) + 2^23) >> 24)), q evaluated
 // with the c_j in 64 bits.
+// (With AVX2 evaluated by forward differences, exactly.)
 void predict_quadratic16(const uint16_t* plane, int stride, int x0, int y0, int max_value,
                          int32_t* out);
+// The same by evaluating q at every sample (the definition; tests check that both are equal).
+void predict_quadratic16_reference(const uint16_t* plane, int stride, int x0, int y0, int max_value,
+                                   int32_t* out);
 
 }  // namespace gvkit::codec
