@@ -507,6 +507,10 @@ class MacroblockEncoder {
     }
     double cost;
     if (p_.rdo) {
+      // A direct candidate without residual is a skip, which costs 2 lambda less than its
+      // residual; the others add their side bits.
+      const ResidualBound bound(
+          this, kind == kBDirect ? bound_ + 2 * lambda_ : bound_ - lambda_ * side_bits);
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * side_bits;
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * side_bits;
@@ -600,6 +604,13 @@ class MacroblockEncoder {
                                             (mb.shared ? 0.0 : ref_idx_bits(trial, ref));
     double cost;
     if (p_.rdo) {
+      // The own search's and a given vector's costs are kept (own_) and compared later, so only
+      // the shared, predicted and merge candidates stop at the bound: their cost is at least
+      // the residual's less 4 lambda (a skip).
+      const bool bounded =
+          forced == Forced::kShared || forced == Forced::kPredictor || forced == Forced::kMerge;
+      const ResidualBound bound(
+          this, bounded ? bound_ + 4 * lambda_ : std::numeric_limits<double>::infinity());
       cost = code_i16_residual(mb, pred, trial, true) + lambda_ * (mv_bits - 2);
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + lambda_sad_ * mv_bits;
@@ -760,6 +771,7 @@ class MacroblockEncoder {
     double cost;
     if (p_.rdo) {
       // As the 16x16 candidate: its macroblock bits (3 in code_i16_residual, 1 for inter).
+      const ResidualBound bound(this, bound_ - (side - 2 * lambda_));
       cost = code_i16_residual(mb, pred, trial, true) + side - 2 * lambda_;
     } else {
       cost = static_cast<double>(distortion_estimate(16, pred, x0, y0)) + side;
@@ -1055,10 +1067,12 @@ class MacroblockEncoder {
       const int shortlist =
           p_.intra_rdo_shortlist > 0 ? std::min(p_.intra_rdo_shortlist, modes) : modes;
       ModeResidual best;
+      const double mode_bound = bound_ - lambda_ * (side_bits - 2);
       for (int k = 0; k < shortlist; ++k) {
         predict_td16(recon_, td_window_, mb_x_, mb_y_, order[k], p_.bit_depth, pred);
         add_cross(16, x0, y0, pred);
         ModeResidual m{mb, trial};
+        const ResidualBound bound(this, std::min(mode_bound, best.cost));
         m.cost = code_i16_residual(m.mb, pred, m.contexts, true);
         if (m.cost < best.cost) {
           keep_mode_residual(m);
@@ -1149,6 +1163,7 @@ class MacroblockEncoder {
       double cost;
       if (p_.rdo) {
         ModeResidual m{mb, trial};
+        const ResidualBound bound(this, std::min(bound_, best.cost));
         cost = m.cost = code_i16_residual(m.mb, pred, m.contexts);
         if (cost < best_cost) {
           keep_mode_residual(m);
@@ -1249,6 +1264,10 @@ class MacroblockEncoder {
     // or a smaller size costs more than a larger one, the smaller sizes are not tried.
     const bool early_exit = p_.transform_early_exit && p_.rdo;
     double previous_cost = std::numeric_limits<double>::infinity();
+    // (transform_early_exit compares the sizes' costs: no residual bound with it.)
+    const ResidualBound no_bound_with_early_exit(
+        this, early_exit ? std::numeric_limits<double>::infinity() : residual_bound_);
+    bool cut = false;  // a size stopped at residual_bound_
     for (int k = 0, size = early_exit ? p_.max_transform : 4; k < 3;
          ++k, size = early_exit ? size / 2 : size * 2) {
       if (size < 4 || size > p_.max_transform) break;
@@ -1258,6 +1277,10 @@ class MacroblockEncoder {
       double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter, true)
                     : size == 8 ? code_residual_8x8(mb, pred16, t, inter)
                                 : code_residual_16x16(mb, pred16, t, inter);
+      if (std::isinf(cost)) {
+        cut = true;
+        continue;
+      }
       if (mb.cbp != 0) {
         CabacBitCounter counter;
         write_transform_size(counter, t, st_, mb_x_, mb_y_, size, mb.cbp, p_.max_transform);
@@ -1278,6 +1301,17 @@ class MacroblockEncoder {
     // reconstruction, when that is cheaper than every size's levels (whose cost does not count
     // what a cbp of 0 saves). ICT face: -0.28 % BD-rate in the slow preset; +0.37 % in the fast
     // one, which therefore does not try it.
+    if (cut && !(best_cost < residual_bound_)) {
+      // Every size reached the bound: the candidate loses, unless coding no residual (below)
+      // undercuts the bound; then the sizes are coded again in full, for the exact choice.
+      static constexpr int32_t kNoLevels[256] = {};
+      if (!(p_.rdoq && p_.rdo) ||
+          !(lambda_ * 3 + static_cast<double>(reconstruct(16, pred16, kNoLevels, x0, y0)) <
+            residual_bound_))
+        return std::numeric_limits<double>::infinity();
+      const ResidualBound unbounded(this, std::numeric_limits<double>::infinity());
+      return code_residual_sizes(mb, pred16, trial, inter);
+    }
     if (p_.rdoq && p_.rdo && best_cbp != 0) {
       static constexpr int32_t kNoLevels[256] = {};
       const double cost =
@@ -1308,39 +1342,54 @@ class MacroblockEncoder {
 
   // The residual as four 8x8 blocks (inter: the inter dead zone and x264's 8x8 decimation, a
   // block scoring < 4 and a macroblock scoring < 6 coded as zero).
+  //
+  // Every block's levels are made on the contexts from before the residual's bits (`initial`),
+  // and a block is reconstructed and its bits counted once its levels are final (with
+  // decimation: once the blocks so far score 6 or more, so that the macroblock is not zeroed):
+  // the same levels and cost as quantizing every block first, but a candidate whose partial cost
+  // reaches residual_bound_ stops there (infinity) without quantizing the rest.
   double code_residual_8x8(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                            bool inter) {
     double cost = lambda_ * 3;
-    mb.cbp = 0;
     int32_t preds[4][64];
     const bool decimate = inter && p_.inter_decimation;
+    const ContextSet initial = trial;
+    int total = 0, counted = 0;
+    const auto count_until = [&](int end) {  // false at the bound
+      for (; counted < end; ++counted) {
+        const int q = counted;
+        const int x0 = mb_x_ * 16 + (q & 1) * 8, y0 = mb_y_ * 16 + (q >> 1) * 8;
+        const bool coded = any_nonzero(mb.levels8[q], 64);
+        const int64_t ssd = reconstruct(8, preds[q], mb.levels8[q], x0, y0);
+        if (cost + static_cast<double>(ssd) >= residual_bound_) return false;  // bits >= 0
+        const double bits = count_block_bits(trial, 8, -1, 0, 0, mb.levels8[q], coded, 0, 0);
+        for (int i = 0; i < 4; ++i) st_.cbf_at(x0 / 4 + (i & 1), y0 / 4 + (i >> 1)) = coded ? 1 : 0;
+        cost += static_cast<double>(ssd) + lambda_ * bits;
+        if (cost >= residual_bound_) return false;
+      }
+      return true;
+    };
     for (int q = 0; q < 4; ++q) {
       const int bx = (q & 1) * 8, by = (q >> 1) * 8;
       for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) preds[q][y * 8 + x] = pred16[(by + y) * 16 + bx + x];
-      make_levels(8, preds[q], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels8[q], decimate, trial);
-    }
-    if (decimate) {
-      int total = 0;
-      for (int q = 0; q < 4; ++q) {
+      make_levels(8, preds[q], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels8[q], decimate, initial);
+      if (decimate) {
         const int score = decimation_score(mb.levels8[q], 8);
         if (score < 4)
           std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
         else
           total += score;
       }
-      if (total < 6)
-        for (int q = 0; q < 4; ++q) std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+      if ((!decimate || total >= 6) && !count_until(q + 1))
+        return std::numeric_limits<double>::infinity();
     }
-    for (int q = 0; q < 4; ++q) {
-      const int x0 = mb_x_ * 16 + (q & 1) * 8, y0 = mb_y_ * 16 + (q >> 1) * 8;
-      const bool coded = any_nonzero(mb.levels8[q], 64);
-      const int64_t ssd = reconstruct(8, preds[q], mb.levels8[q], x0, y0);
-      if (coded) mb.cbp |= static_cast<uint8_t>(1 << q);
-      const double bits = count_block_bits(trial, 8, -1, 0, 0, mb.levels8[q], coded, 0, 0);
-      for (int i = 0; i < 4; ++i) st_.cbf_at(x0 / 4 + (i & 1), y0 / 4 + (i >> 1)) = coded ? 1 : 0;
-      cost += static_cast<double>(ssd) + lambda_ * bits;
-    }
+    if (decimate && total < 6)
+      for (int q = 0; q < 4; ++q) std::fill(mb.levels8[q], mb.levels8[q] + 64, 0);
+    if (!count_until(4)) return std::numeric_limits<double>::infinity();
+    mb.cbp = 0;
+    for (int q = 0; q < 4; ++q)
+      if (any_nonzero(mb.levels8[q], 64)) mb.cbp |= static_cast<uint8_t>(1 << q);
     return cost;
   }
 
@@ -1355,6 +1404,9 @@ class MacroblockEncoder {
     const bool coded = any_nonzero(mb.levels16, 256);
     mb.cbp = coded ? 15 : 0;
     const int64_t ssd = reconstruct(16, pred16, mb.levels16, x0, y0);
+    // At residual_bound_ the candidate cannot be chosen: its bits need not be counted.
+    if (lambda_ * 3 + static_cast<double>(ssd) >= residual_bound_)
+      return std::numeric_limits<double>::infinity();
     const double bits = count_block_bits(trial, 16, -1, 0, 0, mb.levels16, coded, 0, 0);
     for (int i = 0; i < 16; ++i) st_.cbf_at(x0 / 4 + i % 4, y0 / 4 + i / 4) = coded ? 1 : 0;
     return lambda_ * 3 + static_cast<double>(ssd) + lambda_ * bits;
@@ -1362,11 +1414,59 @@ class MacroblockEncoder {
   // ---- end of larger transforms ----
 
   // The residual as sixteen 4x4 blocks (count_bits: with the CABAC bits, else SSD only).
+  // With the bits, the blocks are quantized and counted as in code_residual_8x8 (by quadrant),
+  // and the residual stops at residual_bound_ (infinity).
   double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial, bool inter,
                            bool count_bits) {
     int32_t preds[16][16];
-    make_levels_4x4(mb, pred16, trial, inter, preds);
-    return reconstruct_4x4(mb, preds, trial, count_bits);
+    if (!count_bits) {
+      make_levels_4x4(mb, pred16, trial, inter, preds);
+      return reconstruct_4x4(mb, preds, trial, false);
+    }
+    const bool decimate = inter && p_.inter_decimation && !p_.lossless;
+    const ContextSet initial = trial;
+    double cost = lambda_ * 3;
+    int total = 0, counted = 0;
+    const auto count_until = [&](int end) {  // false at the bound
+      for (; counted < end; ++counted) {
+        const int b = counted;
+        const int x0 = mb_x_ * 16 + block_x(b) * 4, y0 = mb_y_ * 16 + block_y(b) * 4;
+        const bool coded = any_nonzero(mb.levels[b], 16);
+        const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
+        if (cost + static_cast<double>(ssd) >= residual_bound_) return false;  // bits >= 0
+        const double bits =
+            count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
+        st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
+        cost += static_cast<double>(ssd) + lambda_ * bits;
+        if (cost >= residual_bound_) return false;
+      }
+      return true;
+    };
+    for (int q = 0; q < 4; ++q) {
+      int score = 0;
+      for (int b = 4 * q; b < 4 * q + 4; ++b) {
+        const int bx = block_x(b) * 4, by = block_y(b) * 4;
+        for (int y = 0; y < 4; ++y)
+          for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = pred16[(by + y) * 16 + bx + x];
+        make_levels(4, preds[b], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels[b], decimate, initial);
+        if (decimate) score += decimation_score(mb.levels[b], 4);
+      }
+      if (decimate) {
+        if (score < 4)
+          for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+        else
+          total += score;
+      }
+      if ((!decimate || total >= 6) && !count_until(4 * q + 4))
+        return std::numeric_limits<double>::infinity();
+    }
+    if (decimate && total < 6)
+      for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+    if (!count_until(16)) return std::numeric_limits<double>::infinity();
+    mb.cbp = 0;
+    for (int b = 0; b < 16; ++b)
+      if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
+    return cost;
   }
 
   // The levels of a 16x16 residual as 16 4x4 blocks (with the inter dead zone and decimation
@@ -1500,6 +1600,24 @@ class MacroblockEncoder {
   // Cost of the best candidate so far: a candidate whose partial cost (a sum of non-negative
   // block costs) reaches it stops early, as it cannot be chosen.
   double bound_ = std::numeric_limits<double>::infinity();
+  // RDO candidates: the cost their residual (code_residual_sizes) must stay below for the
+  // candidate to beat bound_, given what the candidate adds besides it (infinity: no bound). A
+  // 4x4 or 8x8 residual whose partial cost reaches it stops, and its size costs infinity.
+  double residual_bound_ = std::numeric_limits<double>::infinity();
+  // Sets residual_bound_ for a scope.
+  class ResidualBound {
+   public:
+    ResidualBound(MacroblockEncoder* e, double bound) : e_(e), saved_(e->residual_bound_) {
+      e->residual_bound_ = bound;
+    }
+    ~ResidualBound() { e_->residual_bound_ = saved_; }
+    ResidualBound(const ResidualBound&) = delete;
+    ResidualBound& operator=(const ResidualBound&) = delete;
+
+   private:
+    MacroblockEncoder* e_;
+    double saved_;
+  };
   TdWindow td_window_;                   // TD candidate: the motion-compensated reference
   int mv_x_ = 0, mv_y_ = 0;              // motion vector of the inter candidate (reused by try_td)
   int whole_mv_x_ = 0, whole_mv_y_ = 0;  // the whole-sample search result (vector units)

@@ -59,7 +59,9 @@ void expect_decodes(const std::string& bytes, const std::vector<Bin>& bins, bool
                         : (b.kind == 1 ? dec.decode_bypass() : dec.decode_terminate());
     ASSERT_EQ(v, b.value) << "seed " << seed << " bin " << i;
   }
-  if (terminated) EXPECT_EQ(dec.decode_terminate(), 1) << "seed " << seed;
+  if (terminated) {
+    EXPECT_EQ(dec.decode_terminate(), 1) << "seed " << seed;
+  }
   EXPECT_FALSE(dec.overrun()) << "seed " << seed;
 }
 
@@ -109,6 +111,23 @@ TEST(CabacRoundTrip, SkewedSourceCompressesNearEntropyAndCounterAgrees) {
   const double entropy = n * -(0.05 * std::log2(0.05) + 0.95 * std::log2(0.95));
   EXPECT_LT(bits, entropy * 1.06);
   EXPECT_NEAR(counter.bits(), bits, bits * 0.03);
+}
+
+// The counter adapts a context exactly as the encoder (cabac_update) does, and adds the cost of
+// the bin in the state it was coded in, for every state, MPS and bin.
+TEST(CabacRoundTrip, CounterAdaptsContextsAsTheEncoder) {
+  for (int state = 0; state < 64; ++state)
+    for (int mps = 0; mps < 2; ++mps)
+      for (int bin = 0; bin < 2; ++bin) {
+        CabacContext counted{static_cast<uint8_t>(state), static_cast<uint8_t>(mps)};
+        CabacContext updated = counted;
+        CabacBitCounter counter;
+        counter.encode(counted, bin);
+        cabac_update(updated, bin);
+        EXPECT_EQ(counted.state, updated.state) << state << " " << mps << " " << bin;
+        EXPECT_EQ(counted.mps, updated.mps) << state << " " << mps << " " << bin;
+        EXPECT_EQ(counter.cost_256(), kCabacBitCost[state][bin != mps ? 1 : 0]);
+      }
 }
 
 TEST(CabacRoundTrip, GarbageNeverReadsOutOfBoundsAndReportsOverrun) {
