@@ -1274,6 +1274,10 @@ class MacroblockEncoder {
       // Fast preset: 4x4 or the largest size only (8x8 as well would cost ~10 % of its speed).
       if (!p_.rdo && size != 4 && size != p_.max_transform) continue;
       ContextSet t = trial;
+      // A later size is kept only if it costs less than the best so far (its transform_size
+      // bins add >= 0): its residual may stop there too.
+      const ResidualBound below_best(
+          this, early_exit ? residual_bound_ : std::min(residual_bound_, best_cost));
       double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter, true)
                     : size == 8 ? code_residual_8x8(mb, pred16, t, inter)
                                 : code_residual_16x16(mb, pred16, t, inter);
