@@ -1196,17 +1196,11 @@ class MacroblockEncoder {
   // inter dead zone, and sparse blocks of a few +-1 levels are dropped (x264's decimation: an
   // 8x8 quadrant scoring < 4 and a macroblock scoring < 6 are coded as zero), since their
   // coded_block_pattern / coded_block_flag / level bits cost more than the error they remove.
+  // RDO candidates only (the fast preset's go through defer_i16_residual).
   double code_i16_residual(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
                            bool inter = false) {
-    if (p_.max_transform > 4 && !p_.lossless && p_.rdo)
-      return code_residual_sizes(mb, pred16, trial, inter);
-    // Fast preset with larger transforms: choose_transform_size codes the chosen candidate's
-    // residual again, with RDO quantization (on the ICT face -4.1 % BD-rate at the speed of
-    // the fixed offsets, against -5.7 % at 0.88x the speed for RDO quantization everywhere).
-    defer_rdoq_ = p_.max_transform > 4 && !p_.rdo;
-    const double cost = code_residual_4x4(mb, pred16, trial, inter, p_.rdo);
-    defer_rdoq_ = false;
-    return cost;
+    if (p_.max_transform > 4 && !p_.lossless) return code_residual_sizes(mb, pred16, trial, inter);
+    return code_residual_4x4(mb, pred16, trial, inter);
   }
 
   // ---- Fast preset: a 16x16 candidate's residual coded once the candidate is kept ----
@@ -1226,7 +1220,7 @@ class MacroblockEncoder {
       deferred_ = Deferred::kReconstruction;
     }
   }
-  void complete_deferred_residual(MacroblockData& mb, ContextSet& trial) {
+  void complete_deferred_residual(MacroblockData& mb, const ContextSet& trial) {
     if (deferred_ == Deferred::kResidual)
       fast_levels_4x4(mb, deferred_pred_, trial, deferred_inter_);
     int32_t preds[16][16];
@@ -1235,9 +1229,12 @@ class MacroblockEncoder {
       for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = deferred_pred_[(by + y) * 16 + bx + x];
     }
-    reconstruct_4x4(mb, preds, trial, false);
+    reconstruct_4x4(mb, preds);
   }
-  // code_i16_residual's levels in the fast preset.
+  // A 16x16 candidate's levels in the fast preset. With larger transforms, choose_transform_size
+  // codes the chosen candidate's residual again with RDO quantization, so these take the fixed
+  // rounding offsets (on the ICT face -4.1 % BD-rate at their speed, against -5.7 % at 0.88x the
+  // speed for RDO quantization everywhere).
   void fast_levels_4x4(MacroblockData& mb, const int32_t* pred16, const ContextSet& trial,
                        bool inter) {
     int32_t preds[16][16];
@@ -1278,7 +1275,7 @@ class MacroblockEncoder {
       // bins add >= 0): its residual may stop there too.
       const ResidualBound below_best(
           this, early_exit ? residual_bound_ : std::min(residual_bound_, best_cost));
-      double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter, true)
+      double cost = size == 4   ? code_residual_4x4(mb, pred16, t, inter)
                     : size == 8 ? code_residual_8x8(mb, pred16, t, inter)
                                 : code_residual_16x16(mb, pred16, t, inter);
       if (std::isinf(cost)) {
@@ -1305,21 +1302,21 @@ class MacroblockEncoder {
     // reconstruction, when that is cheaper than every size's levels (whose cost does not count
     // what a cbp of 0 saves). ICT face: -0.28 % BD-rate in the slow preset; +0.37 % in the fast
     // one, which therefore does not try it.
-    if (cut && !(best_cost < residual_bound_)) {
-      // Every size reached the bound: the candidate loses, unless coding no residual (below)
-      // undercuts the bound; then the sizes are coded again in full, for the exact choice.
+    const bool try_no_residual = p_.rdoq && p_.rdo;
+    const auto no_residual_cost = [&] {
       static constexpr int32_t kNoLevels[256] = {};
-      if (!(p_.rdoq && p_.rdo) ||
-          !(lambda_ * 3 + static_cast<double>(reconstruct(16, pred16, kNoLevels, x0, y0)) <
-            residual_bound_))
+      return lambda_ * 3 + static_cast<double>(reconstruct(16, pred16, kNoLevels, x0, y0));
+    };
+    if (cut && !(best_cost < residual_bound_)) {
+      // Every size reached the bound: the candidate loses, unless coding no residual undercuts
+      // the bound; then the sizes are coded again in full, for the exact choice.
+      if (!try_no_residual || !(no_residual_cost() < residual_bound_))
         return std::numeric_limits<double>::infinity();
       const ResidualBound unbounded(this, std::numeric_limits<double>::infinity());
       return code_residual_sizes(mb, pred16, trial, inter);
     }
-    if (p_.rdoq && p_.rdo && best_cbp != 0) {
-      static constexpr int32_t kNoLevels[256] = {};
-      const double cost =
-          lambda_ * 3 + static_cast<double>(reconstruct(16, pred16, kNoLevels, x0, y0));
+    if (try_no_residual && best_cbp != 0) {
+      const double cost = no_residual_cost();
       if (cost < best_cost) {
         best_cost = cost;
         best_size = 4;
@@ -1360,17 +1357,10 @@ class MacroblockEncoder {
     const ContextSet initial = trial;
     int total = 0, counted = 0;
     const auto count_until = [&](int end) {  // false at the bound
-      for (; counted < end; ++counted) {
-        const int q = counted;
-        const int x0 = mb_x_ * 16 + (q & 1) * 8, y0 = mb_y_ * 16 + (q >> 1) * 8;
-        const bool coded = any_nonzero(mb.levels8[q], 64);
-        const int64_t ssd = reconstruct(8, preds[q], mb.levels8[q], x0, y0);
-        if (cost + static_cast<double>(ssd) >= residual_bound_) return false;  // bits >= 0
-        const double bits = count_block_bits(trial, 8, -1, 0, 0, mb.levels8[q], coded, 0, 0);
-        for (int i = 0; i < 4; ++i) st_.cbf_at(x0 / 4 + (i & 1), y0 / 4 + (i >> 1)) = coded ? 1 : 0;
-        cost += static_cast<double>(ssd) + lambda_ * bits;
-        if (cost >= residual_bound_) return false;
-      }
+      for (; counted < end; ++counted)
+        if (!count_block(8, preds[counted], mb.levels8[counted], mb_x_ * 16 + (counted & 1) * 8,
+                         mb_y_ * 16 + (counted >> 1) * 8, trial, &cost))
+          return false;
       return true;
     };
     for (int q = 0; q < 4; ++q) {
@@ -1417,59 +1407,45 @@ class MacroblockEncoder {
   }
   // ---- end of larger transforms ----
 
-  // The residual as sixteen 4x4 blocks (count_bits: with the CABAC bits, else SSD only).
-  // With the bits, the blocks are quantized and counted as in code_residual_8x8 (by quadrant),
-  // and the residual stops at residual_bound_ (infinity).
-  double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial, bool inter,
-                           bool count_bits) {
+  // Reconstructs an n x n block (n = 4 or 8) of a 16x16 residual at (x0, y0), counts its bits on
+  // `trial` (advancing its contexts), sets its coded-block flags and adds SSD + lambda x bits to
+  // *cost; false (the bits not counted) once *cost reaches residual_bound_: every block adds a
+  // cost >= 0, so the candidate cannot be chosen.
+  bool count_block(int n, const int32_t* pred, const int32_t* levels, int x0, int y0,
+                   ContextSet& trial, double* cost) {
+    const bool coded = any_nonzero(levels, n * n);
+    const int64_t ssd = reconstruct(n, pred, levels, x0, y0);
+    if (*cost + static_cast<double>(ssd) >= residual_bound_) return false;  // bits >= 0
+    const double bits = count_block_bits(trial, n, -1, 0, 0, levels, coded, x0 / 4, y0 / 4);
+    for (int i = 0; i < (n / 4) * (n / 4); ++i)
+      st_.cbf_at(x0 / 4 + i % (n / 4), y0 / 4 + i / (n / 4)) = coded ? 1 : 0;
+    *cost += static_cast<double>(ssd) + lambda_ * bits;
+    return *cost < residual_bound_;
+  }
+
+  // The residual as sixteen 4x4 blocks with their CABAC bits, quantized and counted by quadrant
+  // as in code_residual_8x8; infinity at residual_bound_.
+  double code_residual_4x4(MacroblockData& mb, const int32_t* pred16, ContextSet& trial,
+                           bool inter) {
     int32_t preds[16][16];
-    if (!count_bits) {
-      make_levels_4x4(mb, pred16, trial, inter, preds);
-      return reconstruct_4x4(mb, preds, trial, false);
-    }
     const bool decimate = inter && p_.inter_decimation && !p_.lossless;
     const ContextSet initial = trial;
     double cost = lambda_ * 3;
     int total = 0, counted = 0;
     const auto count_until = [&](int end) {  // false at the bound
-      for (; counted < end; ++counted) {
-        const int b = counted;
-        const int x0 = mb_x_ * 16 + block_x(b) * 4, y0 = mb_y_ * 16 + block_y(b) * 4;
-        const bool coded = any_nonzero(mb.levels[b], 16);
-        const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
-        if (cost + static_cast<double>(ssd) >= residual_bound_) return false;  // bits >= 0
-        const double bits =
-            count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
-        st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
-        cost += static_cast<double>(ssd) + lambda_ * bits;
-        if (cost >= residual_bound_) return false;
-      }
+      for (; counted < end; ++counted)
+        if (!count_block(4, preds[counted], mb.levels[counted], mb_x_ * 16 + block_x(counted) * 4,
+                         mb_y_ * 16 + block_y(counted) * 4, trial, &cost))
+          return false;
       return true;
     };
     for (int q = 0; q < 4; ++q) {
-      int score = 0;
-      for (int b = 4 * q; b < 4 * q + 4; ++b) {
-        const int bx = block_x(b) * 4, by = block_y(b) * 4;
-        for (int y = 0; y < 4; ++y)
-          for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = pred16[(by + y) * 16 + bx + x];
-        make_levels(4, preds[b], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels[b], decimate, initial);
-        if (decimate) score += decimation_score(mb.levels[b], 4);
-      }
-      if (decimate) {
-        if (score < 4)
-          for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
-        else
-          total += score;
-      }
+      total += make_quadrant_levels(mb, pred16, initial, q, decimate, preds);
       if ((!decimate || total >= 6) && !count_until(4 * q + 4))
         return std::numeric_limits<double>::infinity();
     }
-    if (decimate && total < 6)
-      for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+    finish_levels_4x4(mb, decimate, total);
     if (!count_until(16)) return std::numeric_limits<double>::infinity();
-    mb.cbp = 0;
-    for (int b = 0; b < 16; ++b)
-      if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
     return cost;
   }
 
@@ -1478,47 +1454,46 @@ class MacroblockEncoder {
   void make_levels_4x4(MacroblockData& mb, const int32_t* pred16, const ContextSet& trial,
                        bool inter, int32_t (*preds)[16]) {
     const bool decimate = inter && p_.inter_decimation && !p_.lossless;
-    for (int b = 0; b < 16; ++b) {
+    int total = 0;
+    for (int q = 0; q < 4; ++q)
+      total += make_quadrant_levels(mb, pred16, trial, q, decimate, preds);
+    finish_levels_4x4(mb, decimate, total);
+  }
+
+  // The predictions and levels of the four 4x4 blocks of 8x8 quadrant q (blocks 4q .. 4q + 3);
+  // with decimation a quadrant scoring < 4 is zeroed. Returns its score (0 when zeroed or
+  // without decimation).
+  int make_quadrant_levels(MacroblockData& mb, const int32_t* pred16, const ContextSet& ctx, int q,
+                           bool decimate, int32_t (*preds)[16]) {
+    int score = 0;
+    for (int b = 4 * q; b < 4 * q + 4; ++b) {
       const int bx = block_x(b) * 4, by = block_y(b) * 4;
       for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) preds[b][y * 4 + x] = pred16[(by + y) * 16 + bx + x];
-      make_levels(4, preds[b], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels[b], decimate, trial);
+      make_levels(4, preds[b], mb_x_ * 16 + bx, mb_y_ * 16 + by, mb.levels[b], decimate, ctx);
+      if (decimate) score += decimation_score(mb.levels[b], 4);
     }
-    if (decimate) {
-      int total = 0;
-      for (int q = 0; q < 4; ++q) {
-        int score = 0;
-        for (int b = 4 * q; b < 4 * q + 4; ++b) score += decimation_score(mb.levels[b], 4);
-        if (score < 4)
-          for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
-        else
-          total += score;
-      }
-      if (total < 6)
-        for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
-    }
+    if (!decimate || score >= 4) return score;
+    for (int b = 4 * q; b < 4 * q + 4; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
+    return 0;
+  }
+
+  // With decimation a macroblock whose quadrants score < 6 in all is zeroed; then mb.cbp.
+  static void finish_levels_4x4(MacroblockData& mb, bool decimate, int total) {
+    if (decimate && total < 6)
+      for (int b = 0; b < 16; ++b) std::fill(mb.levels[b], mb.levels[b] + 16, 0);
     mb.cbp = 0;
     for (int b = 0; b < 16; ++b)
       if (any_nonzero(mb.levels[b], 16)) mb.cbp |= static_cast<uint8_t>(1 << (b >> 2));
   }
 
-  // Reconstructs the blocks of make_levels_4x4 into recon_ and sets their coded-block flags;
-  // returns SSD + lambda x the bits of the residual (counted on `trial` when count_bits, which
-  // then advances its contexts; else 0 bits).
-  double reconstruct_4x4(const MacroblockData& mb, const int32_t (*preds)[16], ContextSet& trial,
-                         bool count_bits) {
-    double cost = lambda_ * 3;
+  // Reconstructs the blocks of make_levels_4x4 into recon_ and sets their coded-block flags.
+  void reconstruct_4x4(const MacroblockData& mb, const int32_t (*preds)[16]) {
     for (int b = 0; b < 16; ++b) {
       const int x0 = mb_x_ * 16 + block_x(b) * 4, y0 = mb_y_ * 16 + block_y(b) * 4;
-      const bool coded = any_nonzero(mb.levels[b], 16);
-      const int64_t ssd = reconstruct(4, preds[b], mb.levels[b], x0, y0);
-      double bits = 0;
-      if (count_bits)
-        bits = count_block_bits(trial, 4, -1, 0, 0, mb.levels[b], coded, x0 / 4, y0 / 4);
-      st_.cbf_at(x0 / 4, y0 / 4) = coded ? 1 : 0;
-      cost += static_cast<double>(ssd) + lambda_ * bits;
+      reconstruct(4, preds[b], mb.levels[b], x0, y0);
+      st_.cbf_at(x0 / 4, y0 / 4) = any_nonzero(mb.levels[b], 16) ? 1 : 0;
     }
-    return cost;
   }
 
   // x264's decimation score of an n x n block (levels in raster order): large (9) when any level

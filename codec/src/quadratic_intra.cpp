@@ -15,8 +15,9 @@ namespace {
 // coefficient j of q(x, y) = c0 + c1 x + c2 y + c3 x^2 + c4 y^2 + c5 x y, with A the design
 // matrix of the 68 neighbours in kQuadraticNeighbours order (computed in exact rational
 // arithmetic, rounded, and the largest weight of each row adjusted so that row 0 sums to 2^24
-// and rows 1-5 to 0: a constant neighbourhood predicts itself exactly).
-constexpr int64_t kQuadraticFit[6][kQuadraticNeighbours] = {
+// and rows 1-5 to 0: a constant neighbourhood predicts itself exactly). Every weight is below
+// 2^20 in magnitude, so 32 bits hold it (and the AVX2 fit multiplies 32 x 32 -> 64 bits).
+constexpr int32_t kQuadraticFit[6][kQuadraticNeighbours] = {
     // 1
     {876543,  782323,  690761, 601861,  515624,  432049,  351137,  272887,  197299,  124374,
      54111,   -13489,  -78427, -140702, -200315, -257265, -311553, -363179, 782323,  718139,
@@ -63,28 +64,14 @@ constexpr int64_t kQuadraticFit[6][kQuadraticNeighbours] = {
      -73525, -72226, -69532, -65443, 24157,  20078,  17393,  16104,  16209,  17708,  20603,  24892,
      30575,  37653,  46126,  55994,  67256,  79913,  93965,  109411}};
 
-// The fit of the block at (x0, y0): b, the sample at (x0 - 1, y0 - 1), and the coefficients c_j
-// (in units of 2^-24) of q(x, y) fitted to the neighbours minus b.
-// The weights as 32-bit integers (every one is below 2^20 in magnitude), for the AVX2 fit.
-struct QuadraticFit32 {
-  int32_t w[6][kQuadraticNeighbours];
-};
-constexpr QuadraticFit32 make_fit32() {
-  QuadraticFit32 f{};
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < kQuadraticNeighbours; ++i)
-      f.w[j][i] = static_cast<int32_t>(kQuadraticFit[j][i]);
-  return f;
-}
-constexpr QuadraticFit32 kQuadraticFit32 = make_fit32();
-static_assert(kQuadraticNeighbours % 4 == 0);
+static_assert(kQuadraticNeighbours % 4 == 0);  // the AVX2 fit takes four at a time
 
 // c_j = sum_i w_ji s_i in 64 bits (products below 2^36), one 32 x 32 -> 64-bit multiply per lane.
 void fit_coefficients(const int32_t* s, int64_t* c) {
   for (int j = 0; j < 6; ++j) {
     c[j] = 0;
     for (int i = 0; i < kQuadraticNeighbours; ++i)
-      c[j] += static_cast<int64_t>(kQuadraticFit32.w[j][i]) * s[i];
+      c[j] += static_cast<int64_t>(kQuadraticFit[j][i]) * s[i];
   }
 }
 #if defined(GVKIT_X86_SIMD)
@@ -95,7 +82,7 @@ GVKIT_TARGET_AVX2 void fit_coefficients_avx2(const int32_t* s, int64_t* c) {
       const __m256i sv =
           _mm256_cvtepi32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(s + i)));
       const __m256i wv = _mm256_cvtepi32_epi64(
-          _mm_loadu_si128(reinterpret_cast<const __m128i*>(&kQuadraticFit32.w[j][i])));
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(&kQuadraticFit[j][i])));
       sum = _mm256_add_epi64(sum, _mm256_mul_epi32(sv, wv));
     }
     alignas(32) int64_t lanes[4];
@@ -105,6 +92,8 @@ GVKIT_TARGET_AVX2 void fit_coefficients_avx2(const int32_t* s, int64_t* c) {
 }
 #endif
 
+// The fit of the block at (x0, y0): b, the sample at (x0 - 1, y0 - 1), and the coefficients c_j
+// (in units of 2^-24) of q(x, y) fitted to the neighbours minus b; returns b.
 int64_t quadratic_fit(const uint16_t* plane, int stride, int x0, int y0, int64_t* c) {
   // Neighbours relative to the corner sample above-left of the block (keeps the sums small).
   const auto at = [&](int x, int y) {
