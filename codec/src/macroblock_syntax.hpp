@@ -142,11 +142,10 @@ inline void set_group(Coder& coder, int group) {
   if constexpr (requires { coder.set_group(group); }) coder.set_group(group);
 }
 
+// The largest k <= 20 with 2^k <= mean16 / 16 (0 below 2): floor(log2(mean)), capped.
 inline int adaptive_order(uint32_t mean16) {
   const uint32_t mean = mean16 >> 4;
-  int k = 0;
-  while (k < 20 && (2u << k) <= mean) ++k;
-  return k;
+  return mean < 2 ? 0 : std::min(20, 31 - __builtin_clz(mean));
 }
 
 inline void update_level_mean(uint32_t& mean16, uint32_t abs_minus1) {
@@ -472,37 +471,59 @@ inline int sig_context(int n, int i) {
   return n == 4 ? i : (n == 8 ? i >> 2 : i >> 4);
 }
 
-// Residual block of n*n levels in raster order (at least one nonzero).
-template <class Coder>
-void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n) {
-  const int count = n * n, cat = residual_category(n);
-  const auto scan = [n](int i) { return scan_position(n, i); };
-  int last = -1;
-  for (int i = 0; i < count; ++i)
-    if (levels[scan(i)]) last = i;
+// A block size's scan as tables, built once: the raster position and the significance context
+// (sig_context) of each scan index.
+struct ResidualScan {
+  uint16_t position[256];
+  uint8_t context[256];
+};
+template <int N>
+const ResidualScan& residual_scan() {
+  static_assert(N == 4 || N == 8 || N == 16);
+  static const ResidualScan scan = [] {
+    ResidualScan s{};
+    for (int i = 0; i < N * N; ++i) {
+      s.position[i] = static_cast<uint16_t>(scan_position(N, i));
+      s.context[i] = static_cast<uint8_t>(sig_context(N, i));
+    }
+    return s;
+  }();
+  return scan;
+}
+
+// Residual block of N*N levels in raster order (at least one nonzero).
+template <int N, class Coder>
+void write_residual_n(Coder& coder, ContextSet& ctx, const int32_t* levels) {
+  constexpr int count = N * N, cat = N == 4 ? 0 : (N == 8 ? 1 : 2);
+  const ResidualScan& scan = residual_scan<N>();
+  int last = count - 1;
+  while (last > 0 && !levels[scan.position[last]]) --last;
+  CabacContext* const sig = ctx.sig[cat];
+  CabacContext* const last_ctx = ctx.last[cat];
   set_group(coder, kSyntaxSigMap);
   for (int i = 0; i < count - 1; ++i) {
-    const int c = sig_context(n, i);
-    const int sig = levels[scan(i)] != 0;
-    coder.encode(ctx.sig[cat][c], sig);
-    if (sig) {
-      coder.encode(ctx.last[cat][c], i == last);
+    const int c = scan.context[i];
+    const int significant = levels[scan.position[i]] != 0;
+    coder.encode(sig[c], significant);
+    if (significant) {
+      coder.encode(last_ctx[c], i == last);
       if (i == last) break;
     }
   }
   set_group(coder, kSyntaxLevels);
+  CabacContext* const level = ctx.level[cat];
   int num_gt1 = 0, num_eq1 = 0;
   for (int i = last; i >= 0; --i) {
-    const int32_t v = levels[scan(i)];
+    const int32_t v = levels[scan.position[i]];
     if (!v) continue;
     const uint32_t abs_minus1 = static_cast<uint32_t>(std::abs(v)) - 1;
-    coder.encode(ctx.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)], abs_minus1 > 0);
+    coder.encode(level[num_gt1 ? 0 : std::min(4, 1 + num_eq1)], abs_minus1 > 0);
     if (ctx.adaptive_levels) {
       if (abs_minus1 > 0)
         write_exp_golomb0(coder, abs_minus1 - 1, adaptive_order(ctx.level_mean16[cat]));
       update_level_mean(ctx.level_mean16[cat], abs_minus1);
     } else if (abs_minus1 > 0) {
-      CabacContext& c = ctx.level[cat][5 + std::min(4, num_gt1)];
+      CabacContext& c = level[5 + std::min(4, num_gt1)];
       uint32_t k = 1;
       for (; k < static_cast<uint32_t>(kLevelPrefixMax) && k < abs_minus1 + 1; ++k)
         coder.encode(c, k < abs_minus1);
@@ -514,6 +535,28 @@ void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n)
       ++num_eq1;
     else
       ++num_gt1;
+  }
+}
+
+// Residual block of n*n levels (n = 4, 8 or 16) in raster order (at least one nonzero). A bit
+// counter is worked on as a local copy: the context updates (byte stores) could otherwise alias
+// its sum and keep it in memory.
+template <class Coder>
+void write_residual(Coder& coder, ContextSet& ctx, const int32_t* levels, int n) {
+  const auto write = [&](auto& c) {
+    if (n == 4)
+      write_residual_n<4>(c, ctx, levels);
+    else if (n == 8)
+      write_residual_n<8>(c, ctx, levels);
+    else
+      write_residual_n<16>(c, ctx, levels);
+  };
+  if constexpr (std::is_trivially_copyable_v<Coder> && sizeof(Coder) <= 16) {
+    Coder local = coder;
+    write(local);
+    coder = local;
+  } else {
+    write(coder);
   }
 }
 

@@ -390,63 +390,71 @@ class MacroblockReader {
   }
 
   // On a local copy of the decoder, whose state the compiler can then keep in registers: the
-  // context updates (byte stores) could otherwise alias it and force it through memory.
+  // context updates (byte stores) could otherwise alias it and force it through memory. One
+  // instance per block size, so that the scan, the contexts and the loop bounds are constants.
   Status read_residual(int32_t* levels, int n) {
     CabacDecoder dec = dec_;
-    const Status status = read_residual_with(dec, levels, n);
+    const Status status = n == 4   ? read_residual_with<4>(dec, levels)
+                          : n == 8 ? read_residual_with<8>(dec, levels)
+                                   : read_residual_with<16>(dec, levels);
     dec_ = dec;
     return status;
   }
 
-  Status read_residual_with(CabacDecoder& dec_, int32_t* levels, int n) {
-    const int count = n * n, cat = residual_category(n);
-    int sig_pos[256];
+  template <int N>
+  Status read_residual_with(CabacDecoder& dec, int32_t* levels) {
+    constexpr int count = N * N, cat = N == 4 ? 0 : (N == 8 ? 1 : 2);
+    const ResidualScan& scan = residual_scan<N>();
+    CabacContext* const sig = ctx_.sig[cat];
+    CabacContext* const last = ctx_.last[cat];
+    uint16_t sig_pos[count];  // raster positions of the significant levels, in scan order
     int num_sig = 0;
     bool ended = false;
     for (int i = 0; i < count - 1; ++i) {
-      const int c = sig_context(n, i);
-      if (dec_.decode(ctx_.sig[cat][c])) {
-        sig_pos[num_sig++] = i;
-        if (dec_.decode(ctx_.last[cat][c])) {
+      const int c = scan.context[i];
+      if (dec.decode(sig[c])) {
+        sig_pos[num_sig++] = scan.position[i];
+        if (dec.decode(last[c])) {
           ended = true;
           break;
         }
       }
     }
-    if (!ended) sig_pos[num_sig++] = count - 1;
+    if (!ended) sig_pos[num_sig++] = scan.position[count - 1];
+    CabacContext* const level = ctx_.level[cat];
     int num_gt1 = 0, num_eq1 = 0;
     for (int s = num_sig - 1; s >= 0; --s) {
-      uint32_t abs_minus1 = dec_.decode(ctx_.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)]);
+      uint32_t abs_minus1 = dec.decode(level[num_gt1 ? 0 : std::min(4, 1 + num_eq1)]);
       if (ctx_.adaptive_levels) {
         if (abs_minus1) {
           const int k0 = adaptive_order(ctx_.level_mean16[cat]);
           int k = k0;
-          while (dec_.decode_bypass())
+          while (dec.decode_bypass())
             if (++k > 24) return corrupt_data("residual level escape longer than 24 bits");
           uint32_t value = (1u << k) - (1u << k0), tail = 0;
-          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec_.decode_bypass()) << b;
+          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec.decode_bypass()) << b;
           abs_minus1 = 1 + value + tail;
           if (abs_minus1 >= static_cast<uint32_t>(kMaxAbsLevel))
             return corrupt_data("residual level out of range");
         }
         update_level_mean(ctx_.level_mean16[cat], abs_minus1);
       } else if (abs_minus1) {
-        CabacContext& c = ctx_.level[cat][5 + std::min(4, num_gt1)];
-        while (abs_minus1 < static_cast<uint32_t>(kLevelPrefixMax) && dec_.decode(c)) ++abs_minus1;
+        CabacContext& c = level[5 + std::min(4, num_gt1)];
+        while (abs_minus1 < static_cast<uint32_t>(kLevelPrefixMax) && dec.decode(c)) ++abs_minus1;
         if (abs_minus1 == static_cast<uint32_t>(kLevelPrefixMax)) {
           int k = 0;
-          while (dec_.decode_bypass()) {
+          while (dec.decode_bypass()) {
             if (++k > 24) return corrupt_data("residual level escape longer than 24 bits");
           }
           uint32_t suffix = (1u << k) - 1, tail = 0;
-          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec_.decode_bypass()) << b;
+          for (int b = k - 1; b >= 0; --b) tail |= static_cast<uint32_t>(dec.decode_bypass()) << b;
           abs_minus1 += suffix + tail;
           if (abs_minus1 >= static_cast<uint32_t>(kMaxAbsLevel))
             return corrupt_data("residual level out of range");
         }
       }
       const int32_t magnitude = static_cast<int32_t>(abs_minus1) + 1;
-      levels[scan_position(n, sig_pos[s])] = dec_.decode_bypass() ? -magnitude : magnitude;
+      levels[sig_pos[s]] = dec.decode_bypass() ? -magnitude : magnitude;
       if (abs_minus1 == 0)
         ++num_eq1;
       else

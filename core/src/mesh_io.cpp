@@ -10,6 +10,7 @@
 #include <cstring>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gvkit/core/atomic_file.hpp"
@@ -158,50 +159,69 @@ std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, 
   return out;
 }
 
-// Text output with numbers in their shortest exact form (std::to_chars).
+// Text output with numbers in their shortest exact form (std::to_chars), formatted straight into
+// one growing buffer (no per-value string appends).
 class TextOut {
  public:
-  explicit TextOut(size_t reserve) { out_.reserve(reserve); }
-  TextOut& text(const char* s) {
-    out_ += s;
+  explicit TextOut(size_t reserve) { out_.resize(std::max<size_t>(reserve, 64)); }
+  TextOut& text(std::string_view s) {
+    room(s.size());
+    std::memcpy(out_.data() + size_, s.data(), s.size());
+    size_ += s.size();
+    return *this;
+  }
+  TextOut& text(char c) {
+    room(1);
+    out_[size_++] = c;
     return *this;
   }
   TextOut& number(float v) {
-    char buf[32];
-    out_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    room(kMaxNumberChars);
+    size_ = static_cast<size_t>(
+        std::to_chars(out_.data() + size_, out_.data() + out_.size(), v).ptr - out_.data());
     return *this;
   }
   TextOut& number(uint64_t v) {
-    char buf[24];
-    out_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+    room(kMaxNumberChars);
+    size_ = static_cast<size_t>(
+        std::to_chars(out_.data() + size_, out_.data() + out_.size(), v).ptr - out_.data());
     return *this;
   }
   // " a b c" for count floats at v.
   TextOut& numbers(const float* v, int count) {
-    for (int k = 0; k < count; ++k) text(" ").number(v[k]);
+    for (int k = 0; k < count; ++k) text(' ').number(v[k]);
     return *this;
   }
-  std::string take() { return std::move(out_); }
+  std::string take() {
+    out_.resize(size_);
+    return std::move(out_);
+  }
 
  private:
-  std::string out_;
+  // The longest shortest form of a float ("-1.1754944e-38", 14) or a uint64 (20 digits).
+  static constexpr size_t kMaxNumberChars = 24;
+  void room(size_t n) {
+    if (size_ + n > out_.size()) out_.resize(std::max(2 * out_.size(), size_ + n));
+  }
+  std::string out_;  // the first size_ characters are the text
+  size_t size_ = 0;
 };
 
 std::string ply_ascii_text(const MeshArrays& a, bool normals, bool texcoords, bool colors) {
   TextOut out(a.vertex_count * 120 + a.triangle_count * 24);
-  out.text(ply_header(false, a.vertex_count, a.triangle_count, normals, texcoords, colors).c_str());
+  out.text(ply_header(false, a.vertex_count, a.triangle_count, normals, texcoords, colors));
   float grey[3];
   for (size_t i = 0; i < a.vertex_count; ++i) {
     out.number(a.positions_mm[3 * i]).numbers(a.positions_mm + 3 * i + 1, 2);
     if (normals) out.numbers(a.normals + 3 * i, 3);
     if (texcoords) out.numbers(a.texcoords + 2 * i, 2);
     if (colors) out.numbers(vertex_color(a, i, grey), 3);
-    out.text("\n");
+    out.text('\n');
   }
   for (size_t t = 0; t < a.triangle_count; ++t) {
-    out.text("3");
-    for (int k = 0; k < 3; ++k) out.text(" ").number(uint64_t{a.indices[3 * t + k]});
-    out.text("\n");
+    out.text('3');
+    for (int k = 0; k < 3; ++k) out.text(' ').number(uint64_t{a.indices[3 * t + k]});
+    out.text('\n');
   }
   return out.take();
 }
@@ -212,22 +232,22 @@ std::string obj_text(const MeshArrays& a, bool normals, bool texcoords) {
   out.text("# ").number(uint64_t{a.vertex_count}).text(" vertices, ");
   out.number(uint64_t{a.triangle_count}).text(" faces\n");
   for (size_t i = 0; i < a.vertex_count; ++i)
-    out.text("v").numbers(a.positions_mm + 3 * i, 3).text("\n");
+    out.text('v').numbers(a.positions_mm + 3 * i, 3).text('\n');
   if (texcoords)
     for (size_t i = 0; i < a.vertex_count; ++i)
-      out.text("vt").numbers(a.texcoords + 2 * i, 2).text("\n");
+      out.text("vt").numbers(a.texcoords + 2 * i, 2).text('\n');
   if (normals)
     for (size_t i = 0; i < a.vertex_count; ++i)
-      out.text("vn").numbers(a.normals + 3 * i, 3).text("\n");
+      out.text("vn").numbers(a.normals + 3 * i, 3).text('\n');
   for (size_t t = 0; t < a.triangle_count; ++t) {
-    out.text("f");
+    out.text('f');
     for (int k = 0; k < 3; ++k) {
       const uint64_t v = uint64_t{a.indices[3 * t + k]} + 1;
-      out.text(" ").number(v);
-      if (texcoords) out.text("/").number(v);
+      out.text(' ').number(v);
+      if (texcoords) out.text('/').number(v);
       if (normals) out.text(texcoords ? "/" : "//").number(v);
     }
-    out.text("\n");
+    out.text('\n');
   }
   return out.take();
 }
