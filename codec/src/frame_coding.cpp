@@ -702,10 +702,15 @@ Result<std::vector<SamplePlane>> decode_frame_planes(
 }
 
 GeometryImage decoded_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
-                               int64_t frame_number) {
+                               int64_t frame_number, GeometryImage* into) {
   GVKIT_CHECK(planes.size() >= 3);
-  if (!planes[0].half_resolution) return dequantize_geometry(planes, info, frame_number);
-  return dequantize_geometry(upsample_planes(planes, info), info, frame_number);
+  GeometryImage image;
+  GeometryImage& out = into ? *into : image;
+  if (!planes[0].half_resolution)
+    dequantize_geometry_into(planes, info, frame_number, out);
+  else
+    dequantize_geometry_into(upsample_planes(planes, info), info, frame_number, out);
+  return out;
 }
 
 Result<GeometryImage> decode_frame_packet(std::string_view packet, const SequenceInfo& info,

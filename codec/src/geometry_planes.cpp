@@ -237,37 +237,47 @@ GVKIT_TARGET_AVX2 void dequantize_rows_avx2(const std::vector<SamplePlane>& plan
 }
 #endif
 
-GeometryImage dequantize_geometry_with(void (*rows)(const std::vector<SamplePlane>&,
-                                                    const SequenceInfo&, GeometryImage&),
-                                       const std::vector<SamplePlane>& planes,
-                                       const SequenceInfo& info, int64_t frame_number) {
+void dequantize_geometry_with(void (*rows)(const std::vector<SamplePlane>&, const SequenceInfo&,
+                                           GeometryImage&),
+                              const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                              int64_t frame_number, GeometryImage& image) {
   GVKIT_CHECK(planes.size() >= 3);
   for (size_t a = 0; a < planes.size() && a < 4; ++a)
     GVKIT_CHECK(planes[a].width >= info.width && planes[a].height >= info.height);
-  GeometryImage image;
   image.xyz_mm.create(info.height, info.width, CV_32FC3);
-  if (info.has_texture && planes.size() >= 4) image.texture.create(info.height, info.width, CV_32F);
+  if (info.has_texture && planes.size() >= 4)
+    image.texture.create(info.height, info.width, CV_32F);
+  else
+    image.texture.release();
   rows(planes, info, image);
   image.domain_mask = info.domain_mask.clone();
   image.index = frame_number;
   image.timestamp = Timestamp(static_cast<int64_t>(std::llround(frame_number * 1e9 / info.fps)));
-  return image;
 }
 
 }  // namespace
 
-GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
-                                  int64_t frame_number) {
+void dequantize_geometry_into(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                              int64_t frame_number, GeometryImage& image) {
 #if defined(GVKIT_X86_SIMD)
   if (detail::cpu_has_avx2())
-    return dequantize_geometry_with(dequantize_rows_avx2, planes, info, frame_number);
+    return dequantize_geometry_with(dequantize_rows_avx2, planes, info, frame_number, image);
 #endif
-  return dequantize_geometry_with(dequantize_rows_reference, planes, info, frame_number);
+  dequantize_geometry_with(dequantize_rows_reference, planes, info, frame_number, image);
+}
+
+GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                                  int64_t frame_number) {
+  GeometryImage image;
+  dequantize_geometry_into(planes, info, frame_number, image);
+  return image;
 }
 
 GeometryImage dequantize_geometry_reference(const std::vector<SamplePlane>& planes,
                                             const SequenceInfo& info, int64_t frame_number) {
-  return dequantize_geometry_with(dequantize_rows_reference, planes, info, frame_number);
+  GeometryImage image;
+  dequantize_geometry_with(dequantize_rows_reference, planes, info, frame_number, image);
+  return image;
 }
 
 }  // namespace gvkit::codec

@@ -192,9 +192,9 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   if (is_anchor(index)) {
     GVKIT_ASSIGN_OR_RETURN(const std::shared_ptr<const Decoded> d,
                            decode_anchor(index, index, where));
-    return decoded_geometry(d->planes, info_, index);
+    return output_image(d->planes, index);
   }
-  if (last_b_ && last_b_->index == index) return decoded_geometry(last_b_->planes, info_, index);
+  if (last_b_ && last_b_->index == index) return output_image(last_b_->planes, index);
   GVKIT_ASSIGN_OR_RETURN(const int64_t before, neighbour_anchor(index, -1, where));
   GVKIT_ASSIGN_OR_RETURN(const int64_t after, neighbour_anchor(index, 1, where));
   if (before < 0) return corrupt_data(where + ": B frame without an anchor frame before it");
@@ -210,7 +210,13 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
   if (!planes.is_ok()) return planes.status().with_context(where);
   d->planes = std::move(planes).value();
   last_b_ = d;
-  return decoded_geometry(d->planes, info_, index);
+  return output_image(d->planes, index);
+}
+
+GeometryImage GvidReader::output_image(const std::vector<SamplePlane>& planes, int64_t index) {
+  const auto alone = [](const cv::Mat& m) { return !m.u || m.u->refcount == 1; };
+  if (!alone(output_.xyz_mm) || !alone(output_.texture)) output_ = GeometryImage();
+  return decoded_geometry(planes, info_, index, &output_);
 }
 
 int GvidReader::frame_references(int64_t index) const {

@@ -3,6 +3,7 @@
 #include "gvkit/codec/motion_compensation.hpp"
 
 #include <algorithm>
+#include <array>
 
 #include "cpu_features.hpp"
 #if defined(__SSE2__)
@@ -112,9 +113,10 @@ void predict_motion_block_reference(const SamplePlane& ref, int x0, int y0, int 
 namespace {
 
 // The quarter-sample path of predict_motion_block with eight 32-bit lanes: the same window, the
-// same half-sample planes over (w + 1) x (h + 1) and the same integer arithmetic (every 6-tap sum
-// fits 32 bits, as in the plain loops), so the same samples. Rows are padded to whole vectors:
-// the window to 32 columns (the taps of 24 columns), the planes to 24.
+// same half-sample values and the same integer arithmetic (every 6-tap sum fits 32 bits, as in
+// the plain loops), so the same samples; only the planes the phase reads are computed, over the
+// rows and whole vectors it reads (the plain loops take (w + 1) x (h + 1) of each). Rows are
+// padded to whole vectors: the window to 32 columns (the taps of 24 columns), the planes to 24.
 constexpr int kWinStride = 32, kPlaneStride = 24;
 
 GVKIT_TARGET_AVX2 inline __m256i tap6_avx2(__m256i e, __m256i f, __m256i g, __m256i h, __m256i i,
@@ -156,61 +158,74 @@ GVKIT_TARGET_AVX2 void predict_quarter_block_avx2(const SamplePlane& ref, int x0
     }
   }
   const int phase = fy * 4 + fx;
-  const bool need_b = (0xE0EE >> phase) & 1, need_h = (0xBBB0 >> phase) & 1,
-             need_j = (0x4E40 >> phase) & 1;
-  // Columns computed: up to 8 past the start of each row's last output vector (whose lanes read
-  // one column right at most), so that no lane reads an unset value.
-  const int vectors = (w - 1) / 8 + 2;
+  const PhaseTaps& t = kPhaseTaps[phase];
+  // Per plane (G, b, h, j): whether the phase reads it, and how far right (dx) and down (dy) of
+  // the block's samples. A plane is computed over h + dy rows and the vectors whose lanes the
+  // combination below reads: its loads start at columns 0, 8, .. below w, plus dx.
+  bool need[4] = {};
+  int dx[4] = {}, dy[4] = {};
+  for (const auto [plane, x, y] :
+       {std::array<int, 3>{t.plane1, t.dx1, t.dy1}, std::array<int, 3>{t.plane2, t.dx2, t.dy2}}) {
+    if (plane < 0) continue;
+    need[plane] = true;
+    dx[plane] = std::max(dx[plane], x);
+    dy[plane] = std::max(dy[plane], y);
+  }
+  const auto vectors = [&](int plane) { return (w - 1) / 8 + 1 + dx[plane]; };
   const __m256i zero = _mm256_setzero_si256(), max_value = _mm256_set1_epi32((1 << bit_depth) - 1);
   const __m256i r16 = _mm256_set1_epi32(16), r512 = _mm256_set1_epi32(512);
   alignas(32) int32_t b1[(kMaxMotionBlock + 6) * kPlaneStride];
   alignas(32) int32_t b[(kMaxMotionBlock + 1) * kPlaneStride],
       hh[(kMaxMotionBlock + 1) * kPlaneStride], j[(kMaxMotionBlock + 1) * kPlaneStride];
-  if (need_b || need_j) {
-    const int first = need_j ? 0 : 2, last = need_j ? h + 6 : h + 3;
+  if (need[1] || need[3]) {
+    // b reads b1's rows 2 .. h + dy + 1, j its rows 0 .. h + dy + 4 (six taps down).
+    const int first = need[3] ? 0 : 2;
+    const int last = std::max(need[1] ? h + dy[1] + 2 : 0, need[3] ? h + dy[3] + 5 : 0);
+    const int columns = std::max(need[1] ? vectors(1) : 0, need[3] ? vectors(3) : 0);
     for (int y = first; y < last; ++y)
-      for (int v = 0; v < vectors; ++v) {
+      for (int v = 0; v < columns; ++v) {
         const int32_t* s = win + y * kWinStride + 8 * v;
         _mm256_store_si256(reinterpret_cast<__m256i*>(b1 + y * kPlaneStride + 8 * v),
                            tap6_avx2(load8(s), load8(s + 1), load8(s + 2), load8(s + 3),
                                      load8(s + 4), load8(s + 5)));
       }
   }
-  for (int y = 0; y <= h; ++y)
-    for (int v = 0; v < vectors; ++v) {
-      const int o = y * kPlaneStride + 8 * v;
-      if (need_b) {
-        const __m256i t =
+  const auto clip = [&](__m256i v) GVKIT_TARGET_AVX2 {
+    return _mm256_min_epi32(_mm256_max_epi32(v, zero), max_value);
+  };
+  if (need[1])
+    for (int y = 0; y < h + dy[1]; ++y)
+      for (int v = 0; v < vectors(1); ++v) {
+        const __m256i t1 =
             _mm256_srai_epi32(_mm256_add_epi32(load8(b1 + (y + 2) * kPlaneStride + 8 * v), r16), 5);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(b + o),
-                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(b + y * kPlaneStride + 8 * v), clip(t1));
       }
-      if (need_h) {
+  if (need[2])
+    for (int y = 0; y < h + dy[2]; ++y)
+      for (int v = 0; v < vectors(2); ++v) {
         const int32_t* s = win + y * kWinStride + 8 * v + 2;
-        const __m256i t = _mm256_srai_epi32(
+        const __m256i t1 = _mm256_srai_epi32(
             _mm256_add_epi32(tap6_avx2(load8(s), load8(s + kWinStride), load8(s + 2 * kWinStride),
                                        load8(s + 3 * kWinStride), load8(s + 4 * kWinStride),
                                        load8(s + 5 * kWinStride)),
                              r16),
             5);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(hh + o),
-                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(hh + y * kPlaneStride + 8 * v), clip(t1));
       }
-      if (need_j) {
+  if (need[3])
+    for (int y = 0; y < h + dy[3]; ++y)
+      for (int v = 0; v < vectors(3); ++v) {
         const int32_t* s = b1 + y * kPlaneStride + 8 * v;
-        const __m256i t = _mm256_srai_epi32(
+        const __m256i t1 = _mm256_srai_epi32(
             _mm256_add_epi32(tap6_avx2(load8(s), load8(s + kPlaneStride),
                                        load8(s + 2 * kPlaneStride), load8(s + 3 * kPlaneStride),
                                        load8(s + 4 * kPlaneStride), load8(s + 5 * kPlaneStride)),
                              r512),
             10);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(j + o),
-                           _mm256_min_epi32(_mm256_max_epi32(t, zero), max_value));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(j + y * kPlaneStride + 8 * v), clip(t1));
       }
-    }
   const int32_t* const plane_of[4] = {&win[2 * kWinStride + 2], b, hh, j};
   const int stride_of[4] = {kWinStride, kPlaneStride, kPlaneStride, kPlaneStride};
-  const PhaseTaps& t = kPhaseTaps[phase];
   const int s1 = stride_of[t.plane1];
   const int32_t* p1 = plane_of[t.plane1] + t.dy1 * s1 + t.dx1;
   const int s2 = t.plane2 < 0 ? 0 : stride_of[t.plane2];

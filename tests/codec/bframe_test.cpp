@@ -238,6 +238,52 @@ TEST(BFrames, RandomAccessInAnyOrderGivesTheSequentialFrames) {
   }
 }
 
+// The reader writes a frame into the buffers of the frame it returned last only when its caller
+// has let that one go: a frame still held is never written over.
+TEST(BFrames, TheReaderReusesOnlyTheBuffersOfFramesItsCallerReleased) {
+  const auto frames = moving_video(32, 5);
+  const SequenceInfo info = info_for(frames);
+  EncoderOptions o;
+  o.preset = Preset::kFast;
+  o.intra_period = 5;
+  auto bytes = encode_gvid(frames, info, o);
+  ASSERT_TRUE(bytes.is_ok());
+  std::vector<GeometryImage> expected;
+  {
+    auto fresh = open_bytes(*bytes);
+    ASSERT_TRUE(fresh);
+    for (int f = 0; f < 5; ++f) {
+      auto frame = fresh->decode_frame(f);
+      ASSERT_TRUE(frame.is_ok()) << frame.status().message();
+      GeometryImage copy = *frame;
+      copy.xyz_mm = frame->xyz_mm.clone();
+      expected.push_back(std::move(copy));
+    }
+  }
+  auto reader = open_bytes(*bytes);
+  ASSERT_TRUE(reader);
+  auto held = reader->decode_frame(0);
+  ASSERT_TRUE(held.is_ok());
+  const uchar* held_data = held->xyz_mm.data;
+  const uchar* released_data = nullptr;
+  {
+    auto next = reader->decode_frame(1);  // frame 0 is still held: new buffers
+    ASSERT_TRUE(next.is_ok());
+    EXPECT_NE(next->xyz_mm.data, held_data);
+    EXPECT_TRUE(same_samples(*next, expected[1]));
+    released_data = next->xyz_mm.data;
+  }  // frame 1 released
+  for (int f = 2; f < 5; ++f) {
+    auto frame = reader->decode_frame(f);
+    ASSERT_TRUE(frame.is_ok());
+    EXPECT_EQ(frame->xyz_mm.data, released_data) << "frame " << f;  // reused
+    EXPECT_TRUE(same_samples(*frame, expected[f])) << "frame " << f;
+    EXPECT_EQ(frame->index, f);
+  }
+  EXPECT_TRUE(same_samples(*held, expected[0]));  // never written over
+  EXPECT_EQ(held->xyz_mm.data, held_data);
+}
+
 TEST(BFrames, TrailingCandidatesWithoutAFollowingAnchorAreCodedAsP) {
   const auto frames = moving_video(32, 6);
   const SequenceInfo info = info_for(frames);

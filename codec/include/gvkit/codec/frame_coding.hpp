@@ -87,7 +87,9 @@ Result<std::vector<SamplePlane>> decode_frame_planes(
 // The geometry image of a frame's decoded planes (decode_frame_planes' result): upsampled to
 // the header's size when they are at half resolution, then dequantized (dequantize_geometry).
 // decode_frame_packet returns exactly this. Preconditions: at least 3 planes, of info's sizes.
+// With `into`: written into *into's pixel buffers as dequantize_geometry_into does, and returned
+// as a second header of the same buffers.
 GeometryImage decoded_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
-                               int64_t frame_number);
+                               int64_t frame_number, GeometryImage* into = nullptr);
 
 }  // namespace gvkit::codec

@@ -20,6 +20,11 @@ std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const Seq
 // texture = q / 255, the header's domain mask; index and timestamp from frame_number and fps.
 GeometryImage dequantize_geometry(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
                                   int64_t frame_number);
+// The same into `image`, whose xyz_mm and texture buffers are written over where they already
+// have the right size and type (Mat::create): a caller that owns them alone (a decoder reusing
+// the buffers of a frame its user has let go) so saves their allocation and first touch.
+void dequantize_geometry_into(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
+                              int64_t frame_number, GeometryImage& image);
 // The plain version of dequantize_geometry (which uses AVX2 where the processor has it and
 // returns the same values bit for bit).
 GeometryImage dequantize_geometry_reference(const std::vector<SamplePlane>& planes,

@@ -90,7 +90,12 @@ class GvidReader {
       int64_t index, const Decoded* ref0, const Decoded* ref1,
       const std::vector<const Decoded*>& older = {}) const;
 
+  // The geometry image of `planes` (frame `index`), in the buffers of the last one returned when
+  // its user has let them go (no other header shares them), else in new ones.
+  GeometryImage output_image(const std::vector<SamplePlane>& planes, int64_t index);
+
   std::string bytes_, name_;
+  GeometryImage output_;  // headers of the last returned image's buffers
   SequenceInfo info_;
   format::StreamFormat format_;
   size_t header_size_ = 0;
