@@ -35,26 +35,6 @@ double squared_step(int qp) {
   return table[static_cast<size_t>(qp)];
 }
 
-// Per block size: scan position -> raster index and significance-map context.
-struct ScanTables {
-  uint16_t raster[256];
-  uint8_t map[256];
-};
-const ScanTables& scan_tables(int n) {
-  static const auto tables = [] {
-    std::array<ScanTables, 3> t{};
-    for (int k = 0; k < 3; ++k) {
-      const int size = 4 << k;
-      for (int i = 0; i < size * size; ++i) {
-        t[k].raster[i] = static_cast<uint16_t>(scan_position(size, i));
-        t[k].map[i] = static_cast<uint8_t>(sig_context(size, i));
-      }
-    }
-    return t;
-  }();
-  return tables[static_cast<size_t>(residual_category(n))];
-}
-
 // The bits of a level's magnitude and sign, as write_residual codes it, for one state of the
 // level contexts (the counts of levels > 1 and equal to 1 coded before it).
 class LevelBits {
@@ -88,7 +68,8 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
                   int32_t* levels) {
   GVKIT_CHECK((n == 4 || n == 8 || n == 16) && !ctx.adaptive_levels);
   const int count = n * n, cat = residual_category(n);
-  const ScanTables& scan = scan_tables(n);
+  const ResidualScan& scan =
+      n == 4 ? residual_scan<4>() : (n == 8 ? residual_scan<8>() : residual_scan<16>());
   int64_t numer[256];
   const int qbits = n == 16 ? quantization_numerators16x16(coeffs, qp, numer)
                             : quantization_numerators(n, coeffs, qp, numer);
@@ -96,7 +77,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
   // The last coefficient the nearest rounding makes nonzero (numerator >= half a step).
   const int64_t half = int64_t{1} << (qbits - 1);
   int last_nearest = count - 1;
-  while (last_nearest >= 0 && numer[scan.raster[last_nearest]] < half) --last_nearest;
+  while (last_nearest >= 0 && numer[scan.position[last_nearest]] < half) --last_nearest;
   if (last_nearest < 0) return;
   const double inv = 1.0 / static_cast<double>(int64_t{1} << qbits);
   const double unit = squared_step(qp);
@@ -108,14 +89,14 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
   int num_gt1 = 0, num_eq1 = 0;
   LevelBits level_bits(ctx, cat, 0, 0);
   for (int i = last_nearest; i >= 0; --i) {
-    const int64_t v = numer[scan.raster[i]];
+    const int64_t v = numer[scan.position[i]];
     const double q = static_cast<double>(v) * inv;
     const double d0 = q * q * unit;
     zero_distortion[i] = d0;
     all_zero += d0;
     // The last scan position codes no significance flags (it is implied when it is the last).
     const bool flags = i < count - 1;
-    const int c = scan.map[i];
+    const int c = scan.context[i];
     const CabacContext& sig = ctx.sig[cat][c];
     const double sig0 = flags ? bin_bits(sig, 0) : 0.0;
     const int32_t nearest = static_cast<int32_t>((v + half) >> qbits);
@@ -167,7 +148,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
     after += zero_distortion[j];
   }
   for (int i = 0; i <= best_last; ++i) {
-    const int r = scan.raster[i];
+    const int r = scan.position[i];
     levels[r] = coeffs[r] < 0 ? -chosen[i] : chosen[i];
   }
 }
