@@ -138,23 +138,36 @@ GVKIT_TARGET_AVX2 void predict_quarter_block_avx2(const SamplePlane& ref, int x0
   const int fx = mv_x & 3, fy = mv_y & 3;
   const int xi = x0 + (mv_x >> 2) - 2, yi = y0 + (mv_y >> 2) - 2;
   alignas(32) int32_t win[(kMaxMotionBlock + 6) * kWinStride];
-  if (xi >= 0 && yi >= 0 && xi + kWinStride <= ref.width && yi + h + 6 <= ref.height) {
-    for (int y = 0; y < h + 6; ++y) {
-      const uint16_t* row = &ref.samples[static_cast<size_t>(yi + y) * ref.width + xi];
-      for (int x = 0; x < kWinStride; x += 16) {
-        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + x));
-        _mm256_store_si256(reinterpret_cast<__m256i*>(win + y * kWinStride + x),
-                           _mm256_cvtepu16_epi32(_mm256_castsi256_si128(v)));
-        _mm256_store_si256(reinterpret_cast<__m256i*>(win + y * kWinStride + x + 8),
-                           _mm256_cvtepu16_epi32(_mm256_extracti128_si256(v, 1)));
-      }
+  const auto convert_row = [&](const uint16_t* row, int32_t* out) GVKIT_TARGET_AVX2 {
+    for (int x = 0; x < kWinStride; x += 16) {
+      const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + x));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(out + x),
+                         _mm256_cvtepu16_epi32(_mm256_castsi256_si128(v)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(out + x + 8),
+                         _mm256_cvtepu16_epi32(_mm256_extracti128_si256(v, 1)));
     }
+  };
+  if (xi >= 0 && yi >= 0 && xi + kWinStride <= ref.width && yi + h + 6 <= ref.height) {
+    for (int y = 0; y < h + 6; ++y)
+      convert_row(&ref.samples[static_cast<size_t>(yi + y) * ref.width + xi], win + y * kWinStride);
   } else {
+    // Rows clamped to the picture; per row, the columns left of it (x < lo), inside it and right
+    // of it (x >= hi).
+    const int lo = std::clamp(-xi, 0, kWinStride);
+    const int hi = std::clamp(ref.width - xi, lo, kWinStride);
     for (int y = 0; y < h + 6; ++y) {
       const int sy = std::clamp(yi + y, 0, ref.height - 1);
       const uint16_t* row = &ref.samples[static_cast<size_t>(sy) * ref.width];
-      for (int x = 0; x < kWinStride; ++x)
-        win[y * kWinStride + x] = row[std::clamp(xi + x, 0, ref.width - 1)];
+      int32_t* out = win + y * kWinStride;
+      if (lo == 0 && hi == kWinStride) {
+        convert_row(row + xi, out);
+        continue;
+      }
+      const int32_t left = row[0], right = row[ref.width - 1];
+      int x = 0;
+      for (; x < lo; ++x) out[x] = left;
+      for (; x < hi; ++x) out[x] = row[xi + x];
+      for (; x < kWinStride; ++x) out[x] = right;
     }
   }
   const int phase = fy * 4 + fx;
