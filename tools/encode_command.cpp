@@ -39,6 +39,7 @@ struct EncodeArgs {
   double fps = 30.0;
   bool qp_given = false;          // --qp on the command line
   int64_t frame_cache_mb = 1024;  // --frame-cache-mb
+  std::string measures = "full";  // --measures: full | points
 };
 
 // `--tune help`: the keys, their values and what they change (to stdout).
@@ -273,10 +274,11 @@ void run_encode(const EncodeArgs& args) {
     }
     return out;
   };
+  const bool surface_measures = args.measures == "full";
   const auto measure = [&](CompletedFrames frames) {
     for (const auto& c : frames) {
       c->error = codec::geometry_error(*c->input, c->recon);
-      c->surface = codec::surface_error(*c->input, c->recon);
+      if (surface_measures) c->surface = codec::surface_error(*c->input, c->recon);
       c->input = nullptr;  // measured: the memory of both goes back now
       c->recon = GeometryImage();
     }
@@ -296,7 +298,7 @@ void run_encode(const EncodeArgs& args) {
                          {"max_mm", e.max_mm},
                          {"qp", c->qp},
                          {"type", codec::format::frame_type_name(c->type)}});
-    per_frame.back().update(surface_error_json(c->surface));
+    if (surface_measures) per_frame.back().update(surface_error_json(c->surface));
     if (c->encodes >= 0) per_frame.back()["encodes"] = c->encodes;
     nlohmann::json syntax_bits;
     for (size_t p = 0; p < c->stats.planes.size(); ++p)
@@ -381,6 +383,7 @@ void run_encode(const EncodeArgs& args) {
         {"texture_qp", options.texture_qp},
         {"threads", options.threads},
         {"frame_cache_mb", args.frame_cache_mb},
+        {"measures", args.measures},
         {"fps", args.fps}}},
       {"summary",
        {{"frames", frame_count},
@@ -403,7 +406,7 @@ void run_encode(const EncodeArgs& args) {
         {"buffer_bits", writer->rate_controller() ? writer->rate_controller()->buffer_bits() : 0.0},
         {"syntax_bits", bit_accounting(writer->frame_stats(), vertices)}}},
       {"frames", per_frame}};
-  stats["summary"].update(surface_error_json(surface_total));
+  if (surface_measures) stats["summary"].update(surface_error_json(surface_total));
   if (const auto* q = writer->quality_controller()) {
     stats["summary"]["encodes_per_frame"] = q->total_encodes() / n;
     stats["summary"]["frames_missing_target"] = q->frames_missed();
@@ -411,14 +414,20 @@ void run_encode(const EncodeArgs& args) {
   for (auto& f : stats["frames"])
     if (!std::isfinite(f["psnr_db"].get<double>())) f["psnr_db"] = "inf";
   throw_if_error(write_json(args.output + ".stats.json", stats));
+  std::string surface_text;
+  if (surface_measures)
+    surface_text = fmt::format(
+        ", normal error mean {:.2f} / p95 {:.2f} / max {:.1f} deg, Hausdorff {:.4g} mm (outline "
+        "{:.4g} mm)",
+        surface_total.normal_mean_deg(), surface_total.normal_p95_deg(),
+        surface_total.normal_max_deg, surface_total.hausdorff_mm,
+        surface_total.outline_hausdorff_mm);
   std::printf(
-      "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm, "
-      "normal error mean %.2f / p95 %.2f / max %.1f deg, Hausdorff %.4g mm (outline %.4g mm), "
+      "%s: %zu frames %dx%d, %lld bytes, %.4f bits/vertex/frame, PSNR %.2f dB, max %.4g mm%s, "
       "%.1f frames/s (%.1f per CPU second)\n",
       args.output.c_str(), frame_count, info.width, info.height,
-      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, surface_total.normal_mean_deg(),
-      surface_total.normal_p95_deg(), surface_total.normal_max_deg, surface_total.hausdorff_mm,
-      surface_total.outline_hausdorff_mm, n / seconds, n / cpu_seconds);
+      static_cast<long long>(total_bytes), bpv, psnr, total.max_mm, surface_text.c_str(),
+      n / seconds, n / cpu_seconds);
 }
 
 }  // namespace
@@ -480,6 +489,13 @@ void add_encode_command(CLI::App& app) {
                   "depend on it)")
       ->capture_default_str()
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
+  cmd->add_option("--measures", args->measures,
+                  "Per-frame measures of the decoded frames in stats.json: full (point error, "
+                  "normal-angle error and Hausdorff distances) or points (the point error only: "
+                  "PSNR, RMS and max error; with the fast preset about a third less CPU); the "
+                  "stream does not depend on it")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"full", "points"}));
   cmd->add_option("--tune", args->tunes,
                   "key=value: an encoder tool switch or fine setting, for experiments "
                   "(repeatable; '--tune help' lists the keys, docs/encoding.md explains them)")

@@ -120,6 +120,39 @@ TEST(CliCodec, EncodeAndDecodeReportTheSurfaceError) {
   EXPECT_TRUE(contains(bad.output, "two: 2 frame_NNNNNN.exr files for 3 frames")) << bad.output;
 }
 
+// --measures points: the same stream, the point error per frame and in the summary, no surface
+// figures; an unknown value is refused naming the option.
+TEST(CliCodec, PointMeasuresLeaveTheSurfaceFiguresOutAndTheStreamAlone) {
+  TempDir dir;
+  write_frames(dir / "in", 3);
+  const std::string in = (dir / "in").string();
+  const std::string full = (dir / "full.gvid").string(), points = (dir / "points.gvid").string();
+  auto a = run_gvkit("encode " + in + " -o " + full + " --qp 12 --preset fast");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  auto b = run_gvkit("encode " + in + " -o " + points + " --qp 12 --preset fast --measures points");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_FALSE(contains(b.output, "Hausdorff")) << b.output;
+  EXPECT_TRUE(contains(b.output, "PSNR")) << b.output;
+  EXPECT_EQ(read_file(full).value(), read_file(points).value());
+  auto fs = read_json(full + ".stats.json"), ps = read_json(points + ".stats.json");
+  ASSERT_TRUE(fs.is_ok() && ps.is_ok());
+  EXPECT_EQ((*fs)["options"]["measures"], "full");
+  EXPECT_EQ((*ps)["options"]["measures"], "points");
+  for (const char* key : {"psnr_db", "rms_mm", "max_mm"})
+    EXPECT_EQ((*ps)["summary"][key], (*fs)["summary"][key]) << key;
+  EXPECT_FALSE((*ps)["summary"].contains("hausdorff_mm"));
+  EXPECT_TRUE((*fs)["summary"].contains("hausdorff_mm"));
+  ASSERT_EQ((*ps)["frames"].size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ((*ps)["frames"][i]["max_mm"], (*fs)["frames"][i]["max_mm"]) << i;
+    EXPECT_FALSE((*ps)["frames"][i].contains("normal_p95_deg")) << i;
+  }
+  auto bad = run_gvkit("encode " + in + " -o " + points + " --measures none");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "--measures")) << bad.output;
+  EXPECT_EQ(read_file(full).value(), read_file(points).value());  // left as it was
+}
+
 TEST(CliCodec, BFramesAreOptionsInfoShowsTheTypesAndDecodeWritesDisplayOrder) {
   TempDir dir;
   write_frames(dir / "in", 5);
