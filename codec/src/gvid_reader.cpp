@@ -1,6 +1,7 @@
 #include "gvkit/codec/gvid_reader.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "gvkit/codec/crc32.hpp"
 #include "gvkit/core/atomic_file.hpp"
@@ -214,7 +215,11 @@ Result<GeometryImage> GvidReader::decode_frame(int64_t index) {
 }
 
 GeometryImage GvidReader::output_image(const std::vector<SamplePlane>& planes, int64_t index) {
-  const auto alone = [](const cv::Mat& m) { return !m.u || m.u->refcount == 1; };
+  // (Read atomically: a caller may release its header on another thread meanwhile, which
+  // OpenCV counts with an atomic decrement.)
+  const auto alone = [](const cv::Mat& m) {
+    return !m.u || std::atomic_ref<int>(m.u->refcount).load() == 1;
+  };
   if (!alone(output_.xyz_mm) || !alone(output_.texture)) output_ = GeometryImage();
   return decoded_geometry(planes, info_, index, &output_);
 }

@@ -40,7 +40,9 @@ class GvidReader {
   // decodes each frame once. A P frame with several references (format 1.6) gets the up to 5
   // nearest anchors since the previous intra frame. A damaged frame fails this frame and the frames
   // that depend on it (the P frames after it up to the next intra frame, the B frames around them),
-  // whose messages name it ("frame 3: reference frame 4: payload CRC mismatch").
+  // whose messages name it ("frame 3: reference frame 4: payload CRC mismatch"). The image's
+  // pixel buffers are those of the image returned before when its caller has released every
+  // header of it (no new pages per frame); an image still held is never written over.
   Result<GeometryImage> decode_frame(int64_t index);
   // Bits of the frame's packet (header + payload); 0 for an index out of range.
   int64_t frame_bits(int64_t index) const;
