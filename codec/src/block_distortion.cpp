@@ -204,21 +204,21 @@ GVKIT_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src
                            _mm_setzero_si128());
     s[r] = _mm256_broadcastsi128_si256(row);
   }
-  int i = 0;
-  for (; i + 1 < count; i += 2) {
+  // Pairs of blocks; an odd count's last block is paired with itself.
+  for (int i = 0; i < count; i += 2) {
+    const int second = i + 1 < count ? i + 1 : i;
     __m256i d[4];
     for (int r = 0; r < 4; ++r) {
       const __m256i p = _mm256_inserti128_si256(
           _mm256_castsi128_si256(
               _mm_loadu_si128(reinterpret_cast<const __m128i*>(preds[i] + 4 * r))),
-          _mm_loadu_si128(reinterpret_cast<const __m128i*>(preds[i + 1] + 4 * r)), 1);
+          _mm_loadu_si128(reinterpret_cast<const __m128i*>(preds[second] + 4 * r)), 1);
       d[r] = _mm256_sub_epi32(s[r], p);
     }
     const __m256i sum = satd_pair(d[0], d[1], d[2], d[3]);
     out[i] = lane_sum(_mm256_castsi256_si128(sum)) / 2;
-    out[i + 1] = lane_sum(_mm256_extracti128_si256(sum, 1)) / 2;
+    if (second != i) out[second] = lane_sum(_mm256_extracti128_si256(sum, 1)) / 2;
   }
-  if (i < count) distortions4x4_sse2(false, src, src_stride, preds + i, count - i, out + i);
 }
 
 bool has_avx2() {

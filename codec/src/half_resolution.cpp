@@ -161,6 +161,13 @@ GVKIT_TARGET_AVX2 SamplePlane upsample_half_plane_avx2(const SamplePlane& half, 
   const int row_stride = (2 * w + 15) / 16 * 16;  // >= width, whole vectors
   std::vector<int32_t> rows(static_cast<size_t>(row_stride) * h);
   std::vector<int32_t> padded_row(static_cast<size_t>(w8) + 8);
+  // Allocations and the vertical taps first: library code called after 256-bit instructions
+  // (without vzeroupper) would run with the upper register halves in use, which costs.
+  SamplePlane out;
+  out.width = padded(width);
+  out.height = padded(height);
+  out.samples.resize(static_cast<size_t>(out.width) * out.height);
+  const auto row_taps = taps_of(height, h);
   const __m256i t0 = _mm256_set1_epi32(kHalfUpsampleTaps[0]),
                 t1 = _mm256_set1_epi32(kHalfUpsampleTaps[1]),
                 t2 = _mm256_set1_epi32(kHalfUpsampleTaps[2]),
@@ -197,11 +204,6 @@ GVKIT_TARGET_AVX2 SamplePlane upsample_half_plane_avx2(const SamplePlane& half, 
   }
   // Vertical pass: rounded, clamped, eight pixels at a time (the last vector of a row may write
   // into the padding, which pad_plane overwrites).
-  SamplePlane out;
-  out.width = padded(width);
-  out.height = padded(height);
-  out.samples.resize(static_cast<size_t>(out.width) * out.height);
-  const auto row_taps = taps_of(height, h);
   const __m256i round = _mm256_set1_epi32(2048), zero = _mm256_setzero_si256(),
                 max_value = _mm256_set1_epi32((1 << bit_depth) - 1);
   for (int y = 0; y < height; ++y) {
