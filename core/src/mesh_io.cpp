@@ -159,32 +159,37 @@ std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, 
   return out;
 }
 
-// Text output with numbers in their shortest exact form (std::to_chars), formatted straight into
-// one growing buffer (no per-value string appends).
+// Text output with numbers in their shortest exact form (std::to_chars), formatted into a small
+// staging buffer that is appended to the reserved text 4 KiB at a time (no per-value string
+// append, no zero fill of the whole text).
 class TextOut {
  public:
-  explicit TextOut(size_t reserve) { out_.resize(std::max<size_t>(reserve, 64)); }
+  explicit TextOut(size_t reserve) { out_.reserve(reserve); }
   TextOut& text(std::string_view s) {
-    room(s.size());
-    std::memcpy(out_.data() + size_, s.data(), s.size());
-    size_ += s.size();
+    if (s.size() > kStage - used_) {
+      flush();
+      if (s.size() > kStage) {
+        out_.append(s);
+        return *this;
+      }
+    }
+    std::memcpy(stage_ + used_, s.data(), s.size());
+    used_ += s.size();
     return *this;
   }
   TextOut& text(char c) {
     room(1);
-    out_[size_++] = c;
+    stage_[used_++] = c;
     return *this;
   }
   TextOut& number(float v) {
     room(kMaxNumberChars);
-    size_ = static_cast<size_t>(
-        std::to_chars(out_.data() + size_, out_.data() + out_.size(), v).ptr - out_.data());
+    used_ = static_cast<size_t>(std::to_chars(stage_ + used_, stage_ + kStage, v).ptr - stage_);
     return *this;
   }
   TextOut& number(uint64_t v) {
     room(kMaxNumberChars);
-    size_ = static_cast<size_t>(
-        std::to_chars(out_.data() + size_, out_.data() + out_.size(), v).ptr - out_.data());
+    used_ = static_cast<size_t>(std::to_chars(stage_ + used_, stage_ + kStage, v).ptr - stage_);
     return *this;
   }
   // " a b c" for count floats at v.
@@ -193,18 +198,24 @@ class TextOut {
     return *this;
   }
   std::string take() {
-    out_.resize(size_);
+    flush();
     return std::move(out_);
   }
 
  private:
   // The longest shortest form of a float ("-1.1754944e-38", 14) or a uint64 (20 digits).
   static constexpr size_t kMaxNumberChars = 24;
+  static constexpr size_t kStage = 4096;
   void room(size_t n) {
-    if (size_ + n > out_.size()) out_.resize(std::max(2 * out_.size(), size_ + n));
+    if (used_ + n > kStage) flush();
   }
-  std::string out_;  // the first size_ characters are the text
-  size_t size_ = 0;
+  void flush() {
+    out_.append(stage_, used_);
+    used_ = 0;
+  }
+  std::string out_;
+  char stage_[kStage];
+  size_t used_ = 0;  // characters in stage_, after out_'s
 };
 
 std::string ply_ascii_text(const MeshArrays& a, bool normals, bool texcoords, bool colors) {

@@ -35,9 +35,7 @@ class CabacDecoder {
     value_ -= scaled & mask;
     range_ ^= (range_ ^ lps) & static_cast<uint32_t>(mask);
     const int bin = ctx.mps ^ static_cast<int>(is_lps);
-    const uint8_t next = kCabacTransition[ctx.state][is_lps];
-    ctx.mps = static_cast<uint8_t>(ctx.mps ^ (next >> 7));
-    ctx.state = next & 63;
+    cabac_transition(ctx, static_cast<int>(is_lps));
     renormalize();
     return bin;
   }

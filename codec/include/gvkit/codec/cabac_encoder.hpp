@@ -43,13 +43,10 @@ class CabacEncoder {
 // Adds up -log2(p) of each bin (in 1/256 bit) and adapts the contexts like the encoder would.
 class CabacBitCounter {
  public:
-  // Without branches on the bin (it is unpredictable): kCabacTransition holds both outcomes.
   void encode(CabacContext& ctx, int bin) {
     const int is_lps = bin != ctx.mps ? 1 : 0;
     cost_ += kCabacBitCost[ctx.state][is_lps];
-    const uint8_t next = kCabacTransition[ctx.state][is_lps];
-    ctx.mps = static_cast<uint8_t>(ctx.mps ^ (next >> 7));
-    ctx.state = next & 63;
+    cabac_transition(ctx, is_lps);
   }
   void encode_bypass(int) { cost_ += 256; }
   void encode_terminate(int) {}
