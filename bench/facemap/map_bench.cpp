@@ -14,10 +14,12 @@
 #include <optional>
 #include <string>
 
+#include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/face_landmarks_io.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/ict_face_model.hpp"
 #include "gvkit/core/mesh_io.hpp"
+#include "gvkit/facemap/block_matching.hpp"
 #include "gvkit/facemap/canonical_domain.hpp"
 #include "gvkit/facemap/eip_map.hpp"
 #include "gvkit/facemap/face_annulus.hpp"
@@ -255,6 +257,41 @@ void BM_MapFaceHm(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MapFaceHm)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
+
+// The temporal MSE of `facemap map` (full-search block matching) between frames 0 and 1 of the
+// geometry images in $GVKIT_BENCH_GV (a `facemap map` output), else between the 320 x 320 maps of
+// ICT faces 0 and 1. range(0): 0 = block_matching_error_reference, 1 = block_matching_error
+// (AVX2 where the processor has it).
+void BM_BlockMatching(benchmark::State& state) {
+  static const std::optional<std::pair<GeometryImage, GeometryImage>> frames =
+      []() -> std::optional<std::pair<GeometryImage, GeometryImage>> {
+    if (const char* dir = std::getenv("GVKIT_BENCH_GV")) {
+      auto a = read_geometry_image_exr(std::filesystem::path(dir) / "frame_000000.exr");
+      auto b = read_geometry_image_exr(std::filesystem::path(dir) / "frame_000001.exr");
+      if (!a.is_ok() || !b.is_ok()) return std::nullopt;
+      return std::pair(*a, *b);
+    }
+    const CanonicalDomain* d = domain(320);
+    const Face* f0 = face(0);
+    const Face* f1 = face(1);
+    if (!d || !f0 || !f1) return std::nullopt;
+    auto a = map_face_eip(f0->mesh, f0->landmarks, *d, heat_geodesic_distance());
+    auto b = map_face_eip(f1->mesh, f1->landmarks, *d, heat_geodesic_distance());
+    if (!a.is_ok() || !b.is_ok()) return std::nullopt;
+    return std::pair(a->image, b->image);
+  }();
+  if (!frames) return state.SkipWithError("no geometry images ($GVKIT_BENCH_GV or ../shared/data)");
+  double mse = 0;
+  for (auto _ : state) {
+    auto e = state.range(0) ? block_matching_error(frames->first, frames->second)
+                            : block_matching_error_reference(frames->first, frames->second);
+    if (!e.is_ok()) return state.SkipWithError(e.status().message().c_str());
+    mse = e->mean_mse_mm2;
+  }
+  state.counters["mean_mse_mm2"] = mse;
+  state.SetLabel(state.range(0) ? "dispatch" : "reference");
+}
+BENCHMARK(BM_BlockMatching)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace gvkit::facemap

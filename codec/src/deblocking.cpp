@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -214,7 +214,7 @@ GVKIT_TARGET_AVX2 void deblock_plane_avx2(SamplePlane& plane, const DeblockingSt
 void deblock_plane(SamplePlane& plane, const DeblockingStrengths& strengths, int qp_prime,
                    int bit_depth, const DeblockingParams& params) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) {
+  if (gvkit::detail::cpu_has_avx2()) {
     const DeblockingThresholds t = deblocking_thresholds(plane, strengths, qp_prime, params);
     if (!t.filters()) return;
     deblock_plane_avx2(plane, strengths, static_cast<int32_t>(t.beta), static_cast<int32_t>(t.tc1),

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "gvkit/codec/transform16x16.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec::detail {
 namespace {
@@ -69,17 +70,12 @@ template <class = void>
     for (int j = 0; j < 16; ++j) coeffs[i * 16 + j] = b[i][j];
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
-__attribute__((target("avx2"))) void forward16_32_avx2(const int32_t* residual, int32_t* coeffs) {
+#if defined(GVKIT_X86_SIMD)
+GVKIT_TARGET_AVX2 void forward16_32_avx2(const int32_t* residual, int32_t* coeffs) {
   forward16_32(residual, coeffs);
-}
-bool cpu_has_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
 }
 #else
 void forward16_32_avx2(const int32_t* residual, int32_t* coeffs) { forward16_32(residual, coeffs); }
-bool cpu_has_avx2() { return false; }
 #endif
 
 }  // namespace
@@ -95,7 +91,7 @@ void forward_transform16x16_32(const int32_t* residual, int32_t* coeffs) {
 }
 
 void forward_transform16x16_32_avx2(const int32_t* residual, int32_t* coeffs) {
-  if (cpu_has_avx2())
+  if (gvkit::detail::cpu_has_avx2())
     forward16_32_avx2(residual, coeffs);
   else
     forward16_32(residual, coeffs);

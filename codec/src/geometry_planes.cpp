@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -260,7 +260,7 @@ void dequantize_geometry_with(void (*rows)(const std::vector<SamplePlane>&, cons
 void dequantize_geometry_into(const std::vector<SamplePlane>& planes, const SequenceInfo& info,
                               int64_t frame_number, GeometryImage& image) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2())
+  if (gvkit::detail::cpu_has_avx2())
     return dequantize_geometry_with(dequantize_rows_avx2, planes, info, frame_number, image);
 #endif
   dequantize_geometry_with(dequantize_rows_reference, planes, info, frame_number, image);

@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "cpu_features.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -237,7 +237,8 @@ GVKIT_TARGET_AVX2 SamplePlane upsample_half_plane_avx2(const SamplePlane& half, 
 
 SamplePlane upsample_half_plane(const SamplePlane& half, int width, int height, int bit_depth) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) return upsample_half_plane_avx2(half, width, height, bit_depth);
+  if (gvkit::detail::cpu_has_avx2())
+    return upsample_half_plane_avx2(half, width, height, bit_depth);
 #endif
   return upsample_half_plane_reference(half, width, height, bit_depth);
 }

@@ -8,9 +8,9 @@
 // ones; larger blocks take the reference.
 #include "gvkit/codec/inverse_residual.hpp"
 
-#include "cpu_features.hpp"
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -129,7 +129,8 @@ void inverse_residual_reference(int n, const int32_t* levels, int qp_prime, int3
 
 void inverse_residual(int n, const int32_t* levels, int qp_prime, int32_t* residual) {
 #if defined(GVKIT_X86_SIMD)
-  if (n == 16 && detail::cpu_has_avx2() && inverse_residual16x16_avx2(levels, qp_prime, residual))
+  if (n == 16 && gvkit::detail::cpu_has_avx2() &&
+      inverse_residual16x16_avx2(levels, qp_prime, residual))
     return;
 #endif
   inverse_residual_reference(n, levels, qp_prime, residual);

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <array>
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -284,7 +284,7 @@ void predict_motion_block(const SamplePlane& ref, int x0, int y0, int w, int h, 
     return;
   }
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2())
+  if (gvkit::detail::cpu_has_avx2())
     return predict_quarter_block_avx2(ref, x0, y0, w, h, mv_x, mv_y, bit_depth, pred);
 #endif
   // Every sample of the block has the same fractional phase: gather the clamped integer window

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 
@@ -253,7 +253,7 @@ GVKIT_TARGET_AVX2 uint32_t spheres_within_reach_avx2(const cv::Vec3d& p, const S
 
 uint32_t spheres_within_reach(const cv::Vec3d& p, const SphereArrays& s, int n, double reach) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) return spheres_within_reach_avx2(p, s, n, reach);
+  if (gvkit::detail::cpu_has_avx2()) return spheres_within_reach_avx2(p, s, n, reach);
 #endif
   return spheres_within_reach_reference(p, s, n, reach);
 }
@@ -261,7 +261,7 @@ uint32_t spheres_within_reach(const cv::Vec3d& p, const SphereArrays& s, int n, 
 double nearest_triangle_distance2(const cv::Vec3d& p, const VertexArrays& v,
                                   const TriangleIndices& t, int n, double bound) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) return nearest_triangle_distance2_avx2(p, v, t, n, bound);
+  if (gvkit::detail::cpu_has_avx2()) return nearest_triangle_distance2_avx2(p, v, t, n, bound);
 #endif
   return nearest_triangle_distance2_reference(p, v, t, n, bound);
 }

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 namespace {
@@ -107,7 +107,7 @@ int64_t quadratic_fit(const uint16_t* plane, int stride, int x0, int y0, int64_t
   for (int x = -2; x <= -1; ++x)
     for (int y = 0; y < 16; ++y) s[k++] = at(x, y) - base;
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) {
+  if (gvkit::detail::cpu_has_avx2()) {
     fit_coefficients_avx2(s, c);
     return base;
   }
@@ -178,7 +178,7 @@ void predict_quadratic16_reference(const uint16_t* plane, int stride, int x0, in
 void predict_quadratic16(const uint16_t* plane, int stride, int x0, int y0, int max_value,
                          int32_t* out) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2()) {
+  if (gvkit::detail::cpu_has_avx2()) {
     int64_t c[6];
     const int64_t base = quadratic_fit(plane, stride, x0, y0, c);
     alignas(32) int64_t row[16], down[16];  // q(x, 0), and q(x, 1) - q(x, 0)

@@ -1,6 +1,6 @@
 #include "gvkit/codec/reconstruction_store.hpp"
 
-#include "cpu_features.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 namespace gvkit::codec {
 
@@ -69,7 +69,7 @@ GVKIT_TARGET_AVX2 void store_reconstruction_avx2(int n, const int32_t* pred, int
 void store_reconstruction(int n, const int32_t* pred, int pred_stride, const int32_t* residual,
                           int max_value, uint16_t* dst, ptrdiff_t dst_stride) {
 #if defined(GVKIT_X86_SIMD)
-  if (detail::cpu_has_avx2())
+  if (gvkit::detail::cpu_has_avx2())
     return store_reconstruction_avx2(n, pred, pred_stride, residual, max_value, dst, dst_stride);
 #endif
   store_reconstruction_reference(n, pred, pred_stride, residual, max_value, dst, dst_stride);

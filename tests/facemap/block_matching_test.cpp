@@ -75,6 +75,63 @@ TEST(BlockMatching, RejectsMismatchedImagesAndBadOptions) {
   EXPECT_FALSE(block_matching_error(smooth_image(0), smooth_image(0), bad).is_ok());
 }
 
+// A smooth surface with noise over an elliptic domain with a hole, moved by (shift_x, shift_y)
+// px, `missing` pixels of it left out at random, in a view of a larger image (rows not contiguous).
+GeometryImage noisy_face(cv::Size size, int shift_x, int shift_y, int missing, uint64_t seed) {
+  cv::RNG rng(seed);
+  cv::Mat xyz(size.height + 4, size.width + 7, CV_32FC3), mask(xyz.size(), CV_8U, cv::Scalar(0));
+  for (int y = 0; y < xyz.rows; ++y)
+    for (int x = 0; x < xyz.cols; ++x) {
+      const float u = static_cast<float>(x - shift_x), v = static_cast<float>(y - shift_y);
+      xyz.at<cv::Vec3f>(y, x) =
+          cv::Vec3f(0.7f * u, 0.7f * v, 0.004f * (u * u + 2 * v * v) + rng.uniform(-0.3f, 0.3f));
+    }
+  // An ellipse around the centre without a disc right of the centre.
+  const double cx = size.width / 2.0 + shift_x, cy = size.height / 2.0 + shift_y;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      const double ex = (x - cx) / (0.4 * size.width), ey = (y - cy) / (0.45 * size.height);
+      const double hx = x - cx - size.width / 8.0, hy = y - cy, hr = size.width / 12.0;
+      if (ex * ex + ey * ey <= 1 && hx * hx + hy * hy > hr * hr) mask.at<uint8_t>(y, x) = 255;
+    }
+  for (int k = 0; k < missing; ++k)  // scattered missing pixels
+    mask.at<uint8_t>(rng.uniform(0, mask.rows), rng.uniform(0, mask.cols)) = 0;
+  const cv::Rect view(3, 2, size.width, size.height);
+  GeometryImage g;
+  g.xyz_mm = xyz(view);
+  g.domain_mask = mask(view);
+  return g;
+}
+
+TEST(BlockMatching, TheAvx2PathGivesTheReferenceFigures) {
+  struct Case {
+    cv::Size size;
+    BlockMatchingOptions options;
+  };
+  BlockMatchingOptions wide;
+  wide.block_size = 70;  // more than the 64 pixels of one mask word
+  wide.search_range = 5;
+  BlockMatchingOptions narrow;
+  narrow.block_size = 5;
+  narrow.search_range = 3;
+  const std::vector<Case> cases = {
+      {{96, 80}, {}}, {{101, 83}, {}}, {{150, 141}, wide}, {{37, 29}, narrow}};
+  for (const Case& c : cases)
+    for (int seed = 1; seed <= 3; ++seed) {
+      const GeometryImage a = noisy_face(c.size, 0, 0, 2, seed);
+      const GeometryImage b = noisy_face(c.size, 3, -2, 30, seed + 10);
+      const auto fast = block_matching_error(a, b, c.options);
+      const auto plain = block_matching_error_reference(a, b, c.options);
+      ASSERT_TRUE(fast.is_ok() && plain.is_ok());
+      SCOPED_TRACE(::testing::Message() << c.size << " block " << c.options.block_size);
+      EXPECT_LT(plain->mean_mse_mm2, plain->zero_motion_mean_mse_mm2);  // the search matters
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(fast->mse_mm2[k], plain->mse_mm2[k]);
+      EXPECT_EQ(fast->mean_mse_mm2, plain->mean_mse_mm2);
+      EXPECT_EQ(fast->zero_motion_mean_mse_mm2, plain->zero_motion_mean_mse_mm2);
+      EXPECT_EQ(fast->area_weighted_mean_mse_mm2, plain->area_weighted_mean_mse_mm2);
+    }
+}
+
 TEST(MapMetrics, CarriedImageSamplesTheSameSurfacePoints) {
   // Frame a: a 2 x 2 image whose pixels sample vertices 0-2 (pixel 3 was filled from its
   // neighbours, without a sample of its own).

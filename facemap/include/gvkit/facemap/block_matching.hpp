@@ -28,9 +28,17 @@ struct BlockMatchingError {
   double area_weighted_mean_mse_mm2 = 0;
 };
 
-// Fails when the images differ in size or type.
+// Fails when the images differ in size or type. Sums each candidate's squared differences with
+// AVX2 where the processor has it; the figures are those of block_matching_error_reference (a
+// candidate's sum may differ from the plain one in its last bits, so a choice between two
+// candidates whose sums differ by that little may differ).
 Result<BlockMatchingError> block_matching_error(const GeometryImage& reference,
                                                 const GeometryImage& current,
                                                 const BlockMatchingOptions& options = {});
+
+// The plain C++ version of block_matching_error.
+Result<BlockMatchingError> block_matching_error_reference(const GeometryImage& reference,
+                                                          const GeometryImage& current,
+                                                          const BlockMatchingOptions& options = {});
 
 }  // namespace gvkit::facemap
