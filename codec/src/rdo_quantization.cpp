@@ -10,18 +10,28 @@
 namespace gvkit::codec::detail {
 namespace {
 
-// Bits of coding `bin` with context c in its current state.
-inline double bin_bits(const CabacContext& c, int bin) {
-  return kCabacBitCost[c.state][bin != c.mps ? 1 : 0] * (1.0 / 256.0);
+// kCabacBitCost in bits: [state][0] the MPS's, [state][1] the LPS's (the same values as
+// kCabacBitCost[s][b] * (1.0 / 256.0), which are exact in double).
+const std::array<std::array<double, 2>, 64>& bit_cost_table() {
+  static const auto table = [] {
+    std::array<std::array<double, 2>, 64> t{};
+    for (size_t s = 0; s < 64; ++s)
+      for (size_t b = 0; b < 2; ++b) t[s][b] = kCabacBitCost[s][b] * (1.0 / 256.0);
+    return t;
+  }();
+  return table;
 }
 
-// Bypass bits of write_exp_golomb0(value, 0).
+// Bits of coding `bin` with context c in its current state.
+inline double bin_bits(const std::array<std::array<double, 2>, 64>& table, const CabacContext& c,
+                       int bin) {
+  return table[c.state][bin != c.mps ? 1 : 0];
+}
+
+// Bypass bits of write_exp_golomb0(value, 0): 2k + 1 for the k with 2^k - 1 <= value <
+// 2^(k+1) - 1.
 inline double exp_golomb0_bits(uint32_t value) {
-  int k = 0;
-  while (value >= (1u << k)) {
-    value -= 1u << k;
-    ++k;
-  }
+  const int k = 31 - __builtin_clz(value + 1);
   return 2.0 * k + 1.0;
 }
 
@@ -39,13 +49,14 @@ double squared_step(int qp) {
 // level contexts (the counts of levels > 1 and equal to 1 coded before it).
 class LevelBits {
  public:
-  LevelBits(const ContextSet& ctx, int cat, int num_gt1, int num_eq1) {
+  LevelBits(const std::array<std::array<double, 2>, 64>& table, const ContextSet& ctx, int cat,
+            int num_gt1, int num_eq1) {
     const CabacContext& first = ctx.level[cat][num_gt1 ? 0 : std::min(4, 1 + num_eq1)];
     const CabacContext& rest = ctx.level[cat][5 + std::min(4, num_gt1)];
-    one_ = 1.0 + bin_bits(first, 0);
-    more_ = 1.0 + bin_bits(first, 1);
-    rest1_ = bin_bits(rest, 1);
-    rest0_ = bin_bits(rest, 0);
+    one_ = 1.0 + bin_bits(table, first, 0);
+    more_ = 1.0 + bin_bits(table, first, 1);
+    rest1_ = bin_bits(table, rest, 1);
+    rest0_ = bin_bits(table, rest, 0);
   }
   // level >= 1.
   double operator()(int32_t level) const {
@@ -86,8 +97,9 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
   double chosen_cost[256], zero_distortion[256], last_extra[256];
   double all_zero = 0;  // the distortion of the block coded as all zero
   int32_t chosen[256];
+  const auto& table = bit_cost_table();
   int num_gt1 = 0, num_eq1 = 0;
-  LevelBits level_bits(ctx, cat, 0, 0);
+  LevelBits level_bits(table, ctx, cat, 0, 0);
   for (int i = last_nearest; i >= 0; --i) {
     const int64_t v = numer[scan.position[i]];
     const double q = static_cast<double>(v) * inv;
@@ -98,7 +110,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
     const bool flags = i < count - 1;
     const int c = scan.context[i];
     const CabacContext& sig = ctx.sig[cat][c];
-    const double sig0 = flags ? bin_bits(sig, 0) : 0.0;
+    const double sig0 = flags ? bin_bits(table, sig, 0) : 0.0;
     const int32_t nearest = static_cast<int32_t>((v + half) >> qbits);
     if (nearest == 0) {
       chosen[i] = 0;
@@ -107,8 +119,8 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
       continue;
     }
     const CabacContext& last = ctx.last[cat][c];
-    const double sig1 = flags ? bin_bits(sig, 1) + bin_bits(last, 0) : 0.0;
-    last_extra[i] = flags ? lambda * (bin_bits(last, 1) - bin_bits(last, 0)) : 0.0;
+    const double sig1 = flags ? bin_bits(table, sig, 1) + bin_bits(table, last, 0) : 0.0;
+    last_extra[i] = flags ? lambda * (bin_bits(table, last, 1) - bin_bits(table, last, 0)) : 0.0;
     double best = d0 + lambda * sig0;
     int32_t best_level = 0;
     for (int32_t l = nearest; l >= std::max(1, nearest - 1); --l) {
@@ -122,11 +134,14 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
     chosen[i] = best_level;
     chosen_cost[i] = best;
     if (best_level == 0) continue;
+    // The level contexts' indices stop changing after four levels of 1 or the first above 1
+    // and four more above 1.
+    const bool saturated = num_gt1 >= 4 || (num_gt1 == 0 && num_eq1 >= 3);
     if (best_level == 1)
       ++num_eq1;
     else
       ++num_gt1;
-    level_bits = LevelBits(ctx, cat, num_gt1, num_eq1);
+    if (!saturated || num_gt1 == 1) level_bits = LevelBits(table, ctx, cat, num_gt1, num_eq1);
   }
 
   // The last significant position: coefficients before it cost what was decided, the one at it
