@@ -30,8 +30,13 @@ void residual_of(const SparseMatrix& a, const Eigen::VectorXd& b, const Eigen::V
 
 // One Gauss-Seidel sweep over the unknowns, forward or backward (a symmetric pair of sweeps
 // around the coarse correction keeps the V-cycle symmetric, as conjugate gradients need).
-void gauss_seidel(const SparseMatrix& a, const Eigen::VectorXd& inverse_diagonal,
-                  const Eigen::VectorXd& b, Eigen::VectorXd* x, bool forward) {
+// diagonal[i] is the position of a_ii among column i's entries (sorted by row), so each column is
+// summed in two runs, the entries above and below the diagonal, without a test per entry. With
+// from_zero (x = 0 on entry, forward only) the entries below the diagonal, which multiply zeros,
+// are left out: the same sums.
+void gauss_seidel(const SparseMatrix& a, const std::vector<int>& diagonal,
+                  const Eigen::VectorXd& inverse_diagonal, const Eigen::VectorXd& b,
+                  Eigen::VectorXd* x, bool forward, bool from_zero) {
   const int n = static_cast<int>(a.cols());
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
@@ -40,8 +45,10 @@ void gauss_seidel(const SparseMatrix& a, const Eigen::VectorXd& inverse_diagonal
   for (int step = 0; step < n; ++step) {
     const int i = forward ? step : n - 1 - step;
     double sum = b[i];
-    for (int k = outer[i]; k < outer[i + 1]; ++k)
-      if (inner[k] != i) sum -= value[k] * xs[inner[k]];
+    const int d = diagonal[i];
+    for (int k = outer[i]; k < d; ++k) sum -= value[k] * xs[inner[k]];
+    if (!from_zero)
+      for (int k = d + 1; k < outer[i + 1]; ++k) sum -= value[k] * xs[inner[k]];
     xs[i] = sum * inverse_diagonal[i];
   }
 }
@@ -232,6 +239,7 @@ struct MultigridSolver::Hierarchy {
   struct Level {
     SparseMatrix a;                    // this level's matrix
     Eigen::VectorXd inverse_diagonal;  // of a
+    std::vector<int> diagonal;         // position of a_ii in a's column i
     RowMatrix p;                       // prolongation to this level from the next
     // The V-cycle's work vectors (one solve at a time).
     mutable Eigen::VectorXd residual, coarse_b, coarse_x;
@@ -256,12 +264,14 @@ struct MultigridSolver::Hierarchy {
       return;
     }
     x->setZero(b.size());
-    for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, true);
+    for (int k = 0; k < sweeps; ++k)
+      gauss_seidel(level.a, level.diagonal, level.inverse_diagonal, b, x, true, k == 0);
     residual_of(level.a, b, *x, &level.residual);
     level.coarse_b.noalias() = level.p.transpose() * level.residual;
     cycle(l + 1, level.coarse_b, &level.coarse_x);
     x->noalias() += level.p * level.coarse_x;
-    for (int k = 0; k < sweeps; ++k) gauss_seidel(level.a, level.inverse_diagonal, b, x, false);
+    for (int k = 0; k < sweeps; ++k)
+      gauss_seidel(level.a, level.diagonal, level.inverse_diagonal, b, x, false, false);
   }
 };
 
@@ -299,10 +309,15 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
     level.a = std::move(current);
     const int n = static_cast<int>(level.a.cols());
     level.inverse_diagonal = Eigen::VectorXd::Zero(n);
+    level.diagonal.assign(n, -1);
+    const int* outer = level.a.outerIndexPtr();
+    const int* inner = level.a.innerIndexPtr();
     for (int i = 0; i < n; ++i) {
-      double d = 0;
-      for (Eigen::SparseMatrix<double>::InnerIterator it(level.a, i); it; ++it)
-        if (it.row() == i) d = it.value();
+      for (int k = outer[i]; k < outer[i + 1]; ++k) {
+        GVKIT_CHECK(k == outer[i] || inner[k] > inner[k - 1], "columns with sorted rows");
+        if (inner[k] == i) level.diagonal[i] = k;
+      }
+      const double d = level.diagonal[i] >= 0 ? level.a.valuePtr()[level.diagonal[i]] : 0.0;
       if (!(d > 0))
         return failed_precondition("multigrid: diagonal entry " + std::to_string(i) + " of level " +
                                    std::to_string(depth) + " is not positive");

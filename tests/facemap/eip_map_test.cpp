@@ -135,6 +135,7 @@ TEST(EipMap, EdgePathCutsMapLikeDescentCuts) {
 // of the whole-mesh cut, on less than half the vertices.
 TEST(EipMap, CroppedDistanceFieldsCutLikeTheWholeMesh) {
   REQUIRE_FIXTURE();
+  (void)domain;
   const auto pos = model.evaluate({{"jawOpen", 0.3}, {"mouthSmile_L", 0.4}});
   const Mesh mesh = model.face_mesh(pos);
   const FaceLandmarks landmarks = ict_landmarks(model, pos);

@@ -88,7 +88,8 @@ int untangle_flow_coordinates(const TriSurface& surface, const std::vector<char>
 // min_cotan_weight: the floor of the Laplacian's edge weights (cotan_laplacian()); -infinity
 // solves with the plain cotangent weights (the seed's; the reference).
 // solver: how f and psi are solved (harmonic_field.hpp); kAuto decides on the annulus's number
-// of vertices. The multigrid solution equals the direct one to about 1e-10.
+// of vertices. The multigrid solution equals the direct one to about 1e-10
+// of its largest value.
 Result<FlowCoordinates> flow_coordinates(const FaceAnnulus& annulus,
                                          const std::map<std::string, double>& key_u = {},
                                          RimCorrespondence rim = RimCorrespondence::kAngle,

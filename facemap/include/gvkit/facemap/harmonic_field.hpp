@@ -31,7 +31,7 @@ std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& 
 
 // How the systems below are solved. kDirect: a sparse LDL' factorization (the reference).
 // kMultigrid: conjugate gradients with an algebraic multigrid preconditioner (MultigridSolver,
-// relative residual 1e-10), about linear in the number of unknowns: faster from about 100K
+// relative residual 1e-8), about linear in the number of unknowns: faster from about 100K
 // vertices on. kAuto: kMultigrid from kMultigridMinVertices free vertices on, else kDirect; when
 // the multigrid iteration fails (does not converge) kAuto factorizes instead, kMultigrid fails.
 enum class HarmonicSolver { kAuto, kDirect, kMultigrid };

@@ -32,8 +32,9 @@ struct MultigridOptions {
   // solutions, up to an added constant.
   bool constant_null_space = false;
   int max_levels = 16;
-  // Stop when |b - A x| <= tolerance * |b| (Euclidean norms).
-  double tolerance = 1e-10;
+  // Stop when |b - A x| <= tolerance * |b| (Euclidean norms). At 1e-8 the map's f and psi on a
+  // 250K-vertex face are within about 2e-11 of their largest value of the direct solution.
+  double tolerance = 1e-8;
   int max_iterations = 300;
   Status check() const;
 };
@@ -45,8 +46,9 @@ class MultigridSolver {
   MultigridSolver(MultigridSolver&&) noexcept;
   MultigridSolver& operator=(MultigridSolver&&) noexcept;
 
-  // Builds the hierarchy of a (square, symmetric, both triangles stored, positive diagonal;
-  // positive definite, or semi-definite with constant_null_space). Fails when the coarsest level
+  // Builds the hierarchy of a (square, symmetric, both triangles stored, positive diagonal, the
+  // rows of each column in increasing order as Eigen keeps them; positive definite, or
+  // semi-definite with constant_null_space). Fails when the coarsest level
   // cannot be factorized. Keeps a copy of a.
   Status compute(const Eigen::SparseMatrix<double>& a);
   // Solves a x = b; x holds the initial guess on entry (resized to zero when its size differs).
