@@ -302,6 +302,9 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
   GVKIT_CHECK(a.rows() == a.cols(), "a square matrix");
   auto h = std::make_unique<Hierarchy>();
   h->sweeps = options_.sweeps;
+  // Room for every level up front: a Level is copied, not moved, when the vector grows (Eigen's
+  // sparse matrices do not move without the chance of an exception).
+  h->levels.reserve(static_cast<size_t>(options_.max_levels));
   SparseMatrix current = a;
   current.makeCompressed();
   for (int depth = 0;; ++depth) {
