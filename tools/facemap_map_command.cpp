@@ -421,7 +421,7 @@ void add_facemap_map_command(CLI::App& app) {
   cmd->add_option("--solver", o->solver,
                   "EIP: how f and its conjugate are solved: direct (sparse LDL'), multigrid "
                   "(conjugate gradients with an algebraic multigrid preconditioner, to 1e-10) or "
-                  "auto (multigrid from 100,000 vertices on)")
+                  "auto (multigrid from 30,000 vertices on)")
       ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
