@@ -33,8 +33,9 @@ std::vector<int> laplacian_elimination_order(const Eigen::SparseMatrix<double>& 
 // kMultigrid: conjugate gradients with an algebraic multigrid preconditioner (MultigridSolver,
 // relative residual 1e-8), about linear in the number of unknowns: faster from about 25K
 // vertices on (10K-vertex ICT faces: 27 against 20 ms for f and psi; 43K-vertex main-job faces:
-// 108 against 149 ms with the shared order). kAuto: kMultigrid from kMultigridMinVertices free vertices on, else kDirect; when
-// the multigrid iteration fails (does not converge) kAuto factorizes instead, kMultigrid fails.
+// 108 against 149 ms with the shared order). kAuto: kMultigrid from kMultigridMinVertices free
+// vertices on, else kDirect; when the multigrid iteration fails (does not converge) kAuto
+// factorizes instead, kMultigrid fails.
 enum class HarmonicSolver { kAuto, kDirect, kMultigrid };
 inline constexpr int kMultigridMinVertices = 30000;
 // The solver kAuto picks for a system of n_free unknowns (others are returned as given).
