@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "gvkit/core/cpu_features.hpp"
 
@@ -29,13 +30,22 @@ void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int he
   }
   const int cw = (width + 1) / 2, ch = (height + 1) / 2;
   std::vector<double> cv_(static_cast<size_t>(cw) * ch, 0.0), cwt(cv_.size(), 0.0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const size_t i = static_cast<size_t>(y) * width + x,
-                   c = static_cast<size_t>(y / 2) * cw + x / 2;
-      cv_[c] += v[i];
-      cwt[c] += w[i];
+  // Each coarse cell sums its pixels row by row, left to right.
+  for (int y = 0; y < height; ++y) {
+    const double* vr = &v[static_cast<size_t>(y) * width];
+    const double* wr = &w[static_cast<size_t>(y) * width];
+    double* cvr = &cv_[static_cast<size_t>(y / 2) * cw];
+    double* cwr = &cwt[static_cast<size_t>(y / 2) * cw];
+    int x = 0;
+    for (; x + 2 <= width; x += 2) {
+      cvr[x / 2] = (cvr[x / 2] + vr[x]) + vr[x + 1];
+      cwr[x / 2] = (cwr[x / 2] + wr[x]) + wr[x + 1];
     }
+    if (x < width) {
+      cvr[x / 2] += vr[x];
+      cwr[x / 2] += wr[x];
+    }
+  }
   push_pull(cv_, cwt, cw, ch);
   // Bilinear weights from the coarse level at each pixel's centre, per column and per row.
   struct Tap {
@@ -57,37 +67,189 @@ void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int he
     const double* c0 = &cv_[static_cast<size_t>(row[y].i0) * cw];
     const double* c1 = &cv_[static_cast<size_t>(row[y].i1) * cw];
     const double ay = row[y].a;
+    double* vr = &v[static_cast<size_t>(y) * width];
+    const double* wr = &w[static_cast<size_t>(y) * width];
     for (int x = 0; x < width; ++x) {
-      const size_t i = static_cast<size_t>(y) * width + x;
-      if (w[i] > 0) {
-        if (w[i] != 1.0) v[i] /= w[i];  // x / 1 is x exactly: skip most of the divisions
+      if (wr[x] > 0) {
+        if (wr[x] != 1.0) vr[x] /= wr[x];  // x / 1 is x exactly: skip most of the divisions
         continue;
       }
       const Tap& t = col[x];
       const double ax = t.a;
-      v[i] = (1 - ay) * ((1 - ax) * c0[t.i0] + ax * c0[t.i1]) +
-             ay * ((1 - ax) * c1[t.i0] + ax * c1[t.i1]);
+      vr[x] = (1 - ay) * ((1 - ax) * c0[t.i0] + ax * c0[t.i1]) +
+              ay * ((1 - ax) * c1[t.i0] + ax * c1[t.i1]);
     }
   }
 }
 
 }  // namespace
 
-SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value) {
+namespace {
+
+// One sample of to_plane: v rounded (halves away from zero) and clamped to [0, max_value].
+inline uint16_t to_sample(double v, int max_value) {
+  // std::lround's value wherever it is defined (|v| < 2^52 here: v mixes samples in range).
+  const long r =
+      std::abs(v) < 4503599627370496.0 ? static_cast<long>(round_half_away(v)) : std::lround(v);
+  return static_cast<uint16_t>(std::clamp<long>(r, 0, max_value));
+}
+
+void to_plane_rows_reference(const double* values, int width, int height, int max_value,
+                             SamplePlane& p) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      p.at(x, y) = to_sample(values[static_cast<size_t>(y) * width + x], max_value);
+}
+
+#if defined(GVKIT_X86_SIMD)
+// Four values of |v| < 2^31 at a time with the scalar's operations (truncation, the fraction's
+// two tests, the clamp), exact in double; a group with a value outside that range takes the
+// scalar path.
+GVKIT_TARGET_AVX2 void to_plane_rows_avx2(const double* values, int width, int height,
+                                          int max_value, SamplePlane& p) {
+  const __m256d sign = _mm256_set1_pd(-0.0), limit = _mm256_set1_pd(2147483648.0),
+                half = _mm256_set1_pd(0.5), minus_half = _mm256_set1_pd(-0.5),
+                one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(),
+                top = _mm256_set1_pd(static_cast<double>(max_value));
+  for (int y = 0; y < height; ++y) {
+    const double* in = values + static_cast<size_t>(y) * width;
+    uint16_t* out = &p.samples[static_cast<size_t>(y) * p.width];
+    int x = 0;
+    for (; x + 4 <= width; x += 4) {
+      const __m256d v = _mm256_loadu_pd(in + x);
+      if (_mm256_movemask_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, v), limit, _CMP_LT_OQ)) != 15) {
+        for (int k = 0; k < 4; ++k) out[x + k] = to_sample(in[x + k], max_value);
+        continue;
+      }
+      const __m256d t = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+      const __m256d f = _mm256_sub_pd(v, t);
+      __m256d r = _mm256_add_pd(t, _mm256_and_pd(_mm256_cmp_pd(f, half, _CMP_GE_OQ), one));
+      r = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(f, minus_half, _CMP_LE_OQ), one));
+      r = _mm256_min_pd(_mm256_max_pd(r, zero), top);
+      const __m128i i32 = _mm256_cvttpd_epi32(r);
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + x), _mm_packus_epi32(i32, i32));
+    }
+    for (; x < width; ++x) out[x] = to_sample(in[x], max_value);
+  }
+}
+#endif
+
+// Pads p beyond width x height by repeating the last column and row.
+void pad_plane(int width, int height, SamplePlane& p) {
+  for (int y = 0; y < height; ++y)
+    for (int x = width; x < p.width; ++x) p.at(x, y) = p.at(width - 1, y);
+  for (int y = height; y < p.height; ++y)
+    std::copy_n(&p.samples[static_cast<size_t>(height - 1) * p.width], p.width,
+                &p.samples[static_cast<size_t>(y) * p.width]);
+}
+
+// to_plane, its rows by AVX2 where the processor has it unless `plain`.
+SamplePlane make_plane(const std::vector<double>& values, int width, int height, int max_value,
+                       bool plain) {
   SamplePlane p;
   p.width = padded(width);
   p.height = padded(height);
   p.samples.resize(static_cast<size_t>(p.width) * p.height);
-  for (int y = 0; y < p.height; ++y)
-    for (int x = 0; x < p.width; ++x) {
-      const double v =
-          values[static_cast<size_t>(std::min(y, height - 1)) * width + std::min(x, width - 1)];
-      // std::lround's value wherever it is defined (|v| < 2^52 here: v mixes samples in range).
-      const long r =
-          std::abs(v) < 4503599627370496.0 ? static_cast<long>(round_half_away(v)) : std::lround(v);
-      p.at(x, y) = static_cast<uint16_t>(std::clamp<long>(r, 0, max_value));
-    }
+#if defined(GVKIT_X86_SIMD)
+  if (!plain && gvkit::detail::cpu_has_avx2())
+    to_plane_rows_avx2(values.data(), width, height, max_value, p);
+  else
+#endif
+    to_plane_rows_reference(values.data(), width, height, max_value, p);
+  (void)plain;
+  pad_plane(width, height, p);
   return p;
+}
+
+// Quantizes axis `axis` of a row of xyz pixels into row[0, width): the position's steps from
+// box_min, rounded (halves away from zero) and clamped to [0, max_value]; 0 where not finite.
+void quantize_row_reference(const float* xyz, int axis, int width, double box_min, double step,
+                            int max_value, double* row) {
+  const float* p = xyz + axis;
+  // The divisions first, in a loop the compiler vectorizes, then the rounding.
+  for (int x = 0; x < width; ++x) row[x] = (p[3 * x] - box_min) / step;
+  for (int x = 0; x < width; ++x) {
+    const double q = row[x];
+    row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
+  }
+}
+
+#if defined(GVKIT_X86_SIMD)
+// The same operations four pixels at a time: the float widened, the difference and quotient in
+// double, the rounding by truncation and the fraction's two tests (exact in double, also from
+// 2^52 on, where the truncation is the value itself), the clamp, 0 where not finite.
+GVKIT_TARGET_AVX2 void quantize_row_avx2(const float* xyz, int axis, int width, double box_min,
+                                         double step, int max_value, double* row) {
+  const float* p = xyz + axis;
+  const __m256d min_v = _mm256_set1_pd(box_min), step_v = _mm256_set1_pd(step),
+                sign = _mm256_set1_pd(-0.0),
+                infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
+                half = _mm256_set1_pd(0.5), minus_half = _mm256_set1_pd(-0.5),
+                one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(),
+                top = _mm256_set1_pd(static_cast<double>(max_value));
+  int x = 0;
+  for (; x + 4 <= width; x += 4) {
+    const __m128 f4 = _mm_setr_ps(p[3 * x], p[3 * x + 3], p[3 * x + 6], p[3 * x + 9]);
+    const __m256d q = _mm256_div_pd(_mm256_sub_pd(_mm256_cvtps_pd(f4), min_v), step_v);
+    const __m256d finite = _mm256_cmp_pd(_mm256_andnot_pd(sign, q), infinity, _CMP_LT_OQ);
+    const __m256d t = _mm256_round_pd(q, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+    const __m256d f = _mm256_sub_pd(q, t);
+    __m256d r = _mm256_add_pd(t, _mm256_and_pd(_mm256_cmp_pd(f, half, _CMP_GE_OQ), one));
+    r = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(f, minus_half, _CMP_LE_OQ), one));
+    r = _mm256_min_pd(_mm256_max_pd(r, zero), top);
+    _mm256_storeu_pd(row + x, _mm256_and_pd(r, finite));
+  }
+  for (; x < width; ++x) {
+    const double q = (p[3 * x] - box_min) / step;
+    row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
+  }
+}
+#endif
+
+// quantize_geometry, plain (the reference) or with the AVX2 rows where the processor has them.
+std::vector<SamplePlane> quantize_geometry_with(const GeometryImage& image,
+                                                const SequenceInfo& info, bool plain) {
+  GVKIT_CHECK(image.xyz_mm.type() == CV_32FC3 && image.xyz_mm.rows == info.height &&
+              image.xyz_mm.cols == info.width);
+  const int w = info.width, h = info.height;
+  const double step = info.step_mm();
+  const int max_value = (1 << info.bit_depth) - 1;
+  std::vector<SamplePlane> planes;
+  std::vector<double> values(static_cast<size_t>(w) * h);
+  for (int a = 0; a < 3; ++a) {
+    for (int y = 0; y < h; ++y) {
+      const float* xyz = image.xyz_mm.ptr<float>(y);
+      double* row = &values[static_cast<size_t>(y) * w];
+#if defined(GVKIT_X86_SIMD)
+      if (!plain && gvkit::detail::cpu_has_avx2()) {
+        quantize_row_avx2(xyz, a, w, info.box_min_mm[a], step, max_value, row);
+        continue;
+      }
+#endif
+      quantize_row_reference(xyz, a, w, info.box_min_mm[a], step, max_value, row);
+    }
+    fill_outside_domain(values, w, h, info.domain_mask);
+    planes.push_back(make_plane(values, w, h, max_value, plain));
+  }
+  if (info.has_texture) {
+    const bool texture = !image.texture.empty();
+    for (int y = 0; y < h; ++y) {
+      const float* row = texture ? image.texture.ptr<float>(y) : nullptr;
+      for (int x = 0; x < w; ++x) {
+        const float t = texture ? row[x] : 0.f;
+        values[static_cast<size_t>(y) * w + x] =
+            std::isfinite(t) ? std::clamp(round_half_away(t * 255.0), 0.0, 255.0) : 0.0;
+      }
+    }
+    planes.push_back(make_plane(values, w, h, 255, plain));
+  }
+  return planes;
+}
+
+}  // namespace
+
+SamplePlane to_plane(const std::vector<double>& values, int width, int height, int max_value) {
+  return make_plane(values, width, height, max_value, false);
 }
 
 void fill_outside_domain(std::vector<double>& values, int width, int height, const cv::Mat& mask) {
@@ -102,38 +264,12 @@ void fill_outside_domain(std::vector<double>& values, int width, int height, con
 }
 
 std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const SequenceInfo& info) {
-  GVKIT_CHECK(image.xyz_mm.type() == CV_32FC3 && image.xyz_mm.rows == info.height &&
-              image.xyz_mm.cols == info.width);
-  const int w = info.width, h = info.height;
-  const double step = info.step_mm();
-  const int max_value = (1 << info.bit_depth) - 1;
-  std::vector<SamplePlane> planes;
-  std::vector<double> values(static_cast<size_t>(w) * h);
-  for (int a = 0; a < 3; ++a) {
-    const double box_min = info.box_min_mm[a];
-    for (int y = 0; y < h; ++y) {
-      const float* p = image.xyz_mm.ptr<float>(y) + a;
-      double* row = &values[static_cast<size_t>(y) * w];
-      // The divisions first, in a loop the compiler vectorizes, then the rounding.
-      for (int x = 0; x < w; ++x) row[x] = (p[3 * x] - box_min) / step;
-      for (int x = 0; x < w; ++x) {
-        const double q = row[x];
-        row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
-      }
-    }
-    fill_outside_domain(values, w, h, info.domain_mask);
-    planes.push_back(to_plane(values, w, h, max_value));
-  }
-  if (info.has_texture) {
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const float t = image.texture.empty() ? 0.f : image.texture.at<float>(y, x);
-        values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(t) ? std::clamp(round_half_away(t * 255.0), 0.0, 255.0) : 0.0;
-      }
-    planes.push_back(to_plane(values, w, h, 255));
-  }
-  return planes;
+  return quantize_geometry_with(image, info, false);
+}
+
+std::vector<SamplePlane> quantize_geometry_reference(const GeometryImage& image,
+                                                     const SequenceInfo& info) {
+  return quantize_geometry_with(image, info, true);
 }
 
 namespace {

@@ -1,12 +1,16 @@
 // The encoder's optimised kernels return exactly what their plain reference versions return: SAD
 // and SATD (SSE2, and AVX2 where the processor has it), table-driven quantization, and
 // quarter-sample prediction from precomputed half-sample planes (inside the margin and beyond it,
-// at every phase, at 8 and 16 bits).
+// at every phase, at 8 and 16 bits), and a geometry image's quantization into coded planes.
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "gvkit/codec/block_distortion.hpp"
+#include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/motion_compensation.hpp"
 #include "gvkit/codec/transform.hpp"
 
@@ -102,6 +106,67 @@ TEST(EncoderKernels, InterpolatedReferenceEqualsTheSampleBySamplePrediction) {
     EXPECT_EQ(interp.whole_block(48 + 6 - 16, 32 + 6 - 16, 16, 16) != nullptr, true);
     EXPECT_EQ(interp.whole_block(48 + 6 - 15, 0, 16, 16), nullptr);
   }
+}
+
+// Positions inside and outside the box, halves, non-finite values and texture values beyond
+// [0, 1], at sizes that are not multiples of 4 or 16, with and without a texture, at 16 and 10
+// bits: the same samples as the plain version.
+TEST(EncoderKernels, QuantizeGeometryEqualsTheReference) {
+  std::mt19937 rng(11);
+  const float nan = std::numeric_limits<float>::quiet_NaN(),
+              inf = std::numeric_limits<float>::infinity();
+  for (const cv::Size size : {cv::Size(37, 29), cv::Size(64, 48), cv::Size(101, 7)})
+    for (const bool texture : {false, true})
+      for (const int bit_depth : {16, 10}) {
+        SequenceInfo info;
+        info.width = size.width;
+        info.height = size.height;
+        info.bit_depth = bit_depth;
+        info.has_texture = texture;
+        // A step of 2^-6 mm, so that positions halfway between two samples are exact in float.
+        const double extent = ((1 << bit_depth) - 1) / 64.0;
+        info.box_min_mm = cv::Vec3d(-8, -8, 600);
+        info.box_max_mm = info.box_min_mm + cv::Vec3d(extent, extent, extent);
+        GeometryImage image;
+        image.xyz_mm = cv::Mat(size, CV_32FC3);
+        image.domain_mask = cv::Mat(size, CV_8U, cv::Scalar(0));
+        if (texture) image.texture = cv::Mat(size, CV_32F);
+        std::uniform_real_distribution<float> u(-0.1f, 1.1f), t(-0.2f, 1.2f);
+        const double step = info.step_mm();
+        for (int y = 0; y < size.height; ++y)
+          for (int x = 0; x < size.width; ++x) {
+            cv::Vec3f& p = image.xyz_mm.at<cv::Vec3f>(y, x);
+            for (int a = 0; a < 3; ++a) {
+              const double lo = info.box_min_mm[a], hi = info.box_max_mm[a];
+              switch (rng() % 8) {
+                case 0:  // exactly halfway between two samples, inside the box or below it
+                  p[a] =
+                      static_cast<float>(lo + (static_cast<int>(rng() % 1000) - 20 + 0.5) * step);
+                  break;
+                case 1:
+                  p[a] = rng() % 2 ? nan : (rng() % 2 ? inf : -inf);
+                  break;
+                case 2:
+                  p[a] = static_cast<float>(rng() % 2 ? 1e30 : -1e30);
+                  break;
+                default:
+                  p[a] = static_cast<float>(lo + u(rng) * (hi - lo));
+              }
+            }
+            if (texture) image.texture.at<float>(y, x) = rng() % 16 ? t(rng) : nan;
+            image.domain_mask.at<uint8_t>(y, x) = rng() % 5 ? 255 : 0;
+          }
+        info.domain_mask = image.domain_mask;
+        const std::vector<SamplePlane> fast = quantize_geometry(image, info);
+        const std::vector<SamplePlane> plain = quantize_geometry_reference(image, info);
+        ASSERT_EQ(fast.size(), plain.size());
+        for (size_t i = 0; i < fast.size(); ++i) {
+          EXPECT_EQ(fast[i].width, plain[i].width);
+          EXPECT_EQ(fast[i].height, plain[i].height);
+          EXPECT_TRUE(fast[i].samples == plain[i].samples)
+              << size << " plane " << i << " bit depth " << bit_depth;
+        }
+      }
 }
 
 }  // namespace

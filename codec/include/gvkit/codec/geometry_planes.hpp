@@ -13,8 +13,12 @@
 namespace gvkit::codec {
 
 // Planes X, Y, Z (B bits) and, if info.has_texture, T (8 bits), each padded to multiples of 16.
-// Preconditions (contract): image size equals info's, image.check() passes.
+// Preconditions (contract): image size equals info's, image.check() passes. Rounds with AVX2
+// where the processor has it: the same samples as quantize_geometry_reference.
 std::vector<SamplePlane> quantize_geometry(const GeometryImage& image, const SequenceInfo& info);
+// The plain version of quantize_geometry.
+std::vector<SamplePlane> quantize_geometry_reference(const GeometryImage& image,
+                                                     const SequenceInfo& info);
 
 // The inverse: xyz_mm = box_min + q * step (outside the domain too: smooth filler values),
 // texture = q / 255, the header's domain mask; index and timestamp from frame_number and fps.
