@@ -18,8 +18,9 @@ namespace gvkit::codec::detail {
 //   motion differs (reference, lists, or a vector component by a whole sample or more);
 // - else 0. No edge lies inside a 16x16 transform but the edges of inter partitions.
 inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay, int bx, int by) {
-  const size_t ma = static_cast<size_t>(ay / 4) * st.mbs_x + ax / 4,
-               mb = static_cast<size_t>(by / 4) * st.mbs_x + bx / 4;
+  // (Block coordinates are >= 0: shifts, not signed divisions.)
+  const size_t ma = static_cast<size_t>(ay >> 2) * st.mbs_x + (ax >> 2),
+               mb = static_cast<size_t>(by >> 2) * st.mbs_x + (bx >> 2);
   const bool internal = ma == mb;
   const bool transform_edge = !internal || st.transform[ma] != 2;
   const int w4 = st.w4();
@@ -46,7 +47,7 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
     return 0;
   }
   if (st.partitions) {  // format 1.7: motion per 8x8 block
-    const size_t ga = st.grid.index(ax / 2, ay / 2), gb = st.grid.index(bx / 2, by / 2);
+    const size_t ga = st.grid.index(ax >> 1, ay >> 1), gb = st.grid.index(bx >> 1, by >> 1);
     if (st.grid.ref[ga] != st.grid.ref[gb]) return 1;
     return differs(st.grid.mv_x[ga], st.grid.mv_y[ga], st.grid.mv_x[gb], st.grid.mv_y[gb]) ? 1 : 0;
   }
@@ -59,15 +60,15 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
 inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
   const int w4 = st.w4(), h4 = st.mbs_y * 4;
   out.reset(w4, h4);
-  for (int gy = 0; gy < h4; ++gy)
-    for (int gx = 0; gx < w4; ++gx) {
-      const size_t i = static_cast<size_t>(gy) * w4 + gx;
-      if (gx > 0 && gx % 2 == 0)
-        out.vertical[i] = static_cast<uint8_t>(edge_strength(st, quarter_pel, gx - 1, gy, gx, gy));
-      if (gy > 0 && gy % 2 == 0)
-        out.horizontal[i] =
-            static_cast<uint8_t>(edge_strength(st, quarter_pel, gx, gy - 1, gx, gy));
-    }
+  for (int gy = 0; gy < h4; ++gy) {
+    uint8_t* vertical = &out.vertical[static_cast<size_t>(gy) * w4];
+    for (int gx = 2; gx < w4; gx += 2)
+      vertical[gx] = static_cast<uint8_t>(edge_strength(st, quarter_pel, gx - 1, gy, gx, gy));
+    if (gy % 2 != 0 || gy == 0) continue;
+    uint8_t* horizontal = &out.horizontal[static_cast<size_t>(gy) * w4];
+    for (int gx = 0; gx < w4; ++gx)
+      horizontal[gx] = static_cast<uint8_t>(edge_strength(st, quarter_pel, gx, gy - 1, gx, gy));
+  }
 }
 
 // The deblocking of a coded plane after its last macroblock (encoder and decoder), when
