@@ -178,6 +178,9 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
       Eigen::Vector3d p = Eigen::Vector3d::Zero();
       float tex = 0;
       SourceWeights src;
+      const auto& corners = s.triangles[best.triangle];
+      src.reserve(s.source[corners[0]].size() + s.source[corners[1]].size() +
+                  s.source[corners[2]].size());
       for (int j = 0; j < 3; ++j) {
         const int v = s.triangles[best.triangle][j];
         const double w = std::clamp(best.barycentric[j], 0.0, 1.0);
