@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "gvkit/codec/transform.hpp"
+#include "gvkit/core/cpu_features.hpp"
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -139,13 +140,11 @@ void distortions4x4_sse2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
   }
 }
 
-#if defined(__GNUC__) && defined(__x86_64__)
+#if defined(GVKIT_X86_SIMD)
 // AVX2: two 4x4 blocks side by side, one per 128-bit lane (the unpacks work within lanes). The
 // sixteen coefficients of a block all have the parity of its sum of differences, so each block's
 // sum of magnitudes is even and halving the total equals halving each block.
-#define GVKIT_AVX2 __attribute__((target("avx2")))
-
-GVKIT_AVX2 inline void hadamard4_avx2(__m256i& a, __m256i& b, __m256i& c, __m256i& d) {
+GVKIT_TARGET_AVX2 inline void hadamard4_avx2(__m256i& a, __m256i& b, __m256i& c, __m256i& d) {
   const __m256i a0 = _mm256_add_epi32(a, b), a1 = _mm256_sub_epi32(a, b);
   const __m256i a2 = _mm256_add_epi32(c, d), a3 = _mm256_sub_epi32(c, d);
   a = _mm256_add_epi32(a0, a2);
@@ -155,7 +154,7 @@ GVKIT_AVX2 inline void hadamard4_avx2(__m256i& a, __m256i& b, __m256i& c, __m256
 }
 
 // Sum of |coefficients| of the two blocks whose rows are r0..r3, per lane (4 partial sums each).
-GVKIT_AVX2 inline __m256i satd_pair(__m256i r0, __m256i r1, __m256i r2, __m256i r3) {
+GVKIT_TARGET_AVX2 inline __m256i satd_pair(__m256i r0, __m256i r1, __m256i r2, __m256i r3) {
   hadamard4_avx2(r0, r1, r2, r3);
   const __m256i t0 = _mm256_unpacklo_epi32(r0, r1), t1 = _mm256_unpacklo_epi32(r2, r3);
   const __m256i t2 = _mm256_unpackhi_epi32(r0, r1), t3 = _mm256_unpackhi_epi32(r2, r3);
@@ -168,16 +167,16 @@ GVKIT_AVX2 inline __m256i satd_pair(__m256i r0, __m256i r1, __m256i r2, __m256i 
                           _mm256_add_epi32(_mm256_abs_epi32(r2), _mm256_abs_epi32(r3)));
 }
 
-GVKIT_AVX2 inline __m256i diff8(const uint16_t* src, const int32_t* pred) {
+GVKIT_TARGET_AVX2 inline __m256i diff8(const uint16_t* src, const int32_t* pred) {
   return _mm256_sub_epi32(
       _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(src))),
       _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pred)));
 }
 
-GVKIT_AVX2 inline int32_t lane_sum(__m128i v) { return horizontal_sum(v); }
+GVKIT_TARGET_AVX2 inline int32_t lane_sum(__m128i v) { return horizontal_sum(v); }
 
-GVKIT_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride,
-                                   const int32_t* pred) {
+GVKIT_TARGET_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                          const int32_t* pred) {
   if (n == 4) return satd_block_sse2(n, src, src_stride, pred);
   // Per lane at most 8 blocks x 16 coefficients < 2^21 each: < 2^28, no overflow.
   __m256i acc = _mm256_setzero_si256();
@@ -194,8 +193,8 @@ GVKIT_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_str
   return lane_sum(v) / 2;
 }
 
-GVKIT_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
-                                    const int32_t (*preds)[16], int count, int64_t* out) {
+GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
+                                           const int32_t (*preds)[16], int count, int64_t* out) {
   if (sad) return distortions4x4_sse2(sad, src, src_stride, preds, count, out);
   __m256i s[4];
   for (int r = 0; r < 4; ++r) {
@@ -221,12 +220,7 @@ GVKIT_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src
   }
 }
 
-bool has_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
 #else
-bool has_avx2() { return false; }
 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   return satd_block_sse2(n, src, src_stride, pred);
 }
@@ -239,13 +233,13 @@ void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
 }  // namespace
 
 int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
-  return has_avx2() ? satd_block_avx2(n, src, src_stride, pred)
-                    : satd_block_sse2(n, src, src_stride, pred);
+  return gvkit::detail::cpu_has_avx2() ? satd_block_avx2(n, src, src_stride, pred)
+                                       : satd_block_sse2(n, src, src_stride, pred);
 }
 
 void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
                     int count, int64_t* out) {
-  if (has_avx2())
+  if (gvkit::detail::cpu_has_avx2())
     distortions4x4_avx2(sad, src, src_stride, preds, count, out);
   else
     distortions4x4_sse2(sad, src, src_stride, preds, count, out);

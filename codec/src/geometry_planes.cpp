@@ -22,6 +22,37 @@ inline double round_half_away(double q) {
   return t + static_cast<double>(f >= 0.5) - static_cast<double>(f <= -0.5);
 }
 
+// A sample's value: q rounded (halves away from zero) and clamped to [0, max_value]; 0 where q
+// is not finite.
+inline double rounded_sample(double q, double max_value) {
+  return std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, max_value) : 0.0;
+}
+
+#if defined(GVKIT_X86_SIMD)
+// round_half_away of four values, clamped to [0, top], with the scalar's operations (truncation,
+// the fraction's two tests, the clamp), exact in double (from 2^52 on the truncation is the value
+// itself). A NaN lane gives 0 or top: callers mask or avoid them.
+GVKIT_TARGET_AVX2 inline __m256d round_half_away_clamped_avx2(__m256d v, __m256d top) {
+  const __m256d one = _mm256_set1_pd(1.0);
+  const __m256d t = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+  const __m256d f = _mm256_sub_pd(v, t);
+  __m256d r =
+      _mm256_add_pd(t, _mm256_and_pd(_mm256_cmp_pd(f, _mm256_set1_pd(0.5), _CMP_GE_OQ), one));
+  r = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(f, _mm256_set1_pd(-0.5), _CMP_LE_OQ), one));
+  return _mm256_min_pd(_mm256_max_pd(r, _mm256_setzero_pd()), top);
+}
+#endif
+
+// Whether the AVX2 rows run: where the processor has AVX2, unless the plain version is asked for.
+inline bool use_avx2(bool plain) {
+#if defined(GVKIT_X86_SIMD)
+  return !plain && gvkit::detail::cpu_has_avx2();
+#else
+  (void)plain;
+  return false;
+#endif
+}
+
 // Push-pull on (value * weight, weight) images: returns the filled values.
 void push_pull(std::vector<double>& v, std::vector<double>& w, int width, int height) {
   if (width <= 1 && height <= 1) {
@@ -102,14 +133,11 @@ void to_plane_rows_reference(const double* values, int width, int height, int ma
 }
 
 #if defined(GVKIT_X86_SIMD)
-// Four values of |v| < 2^31 at a time with the scalar's operations (truncation, the fraction's
-// two tests, the clamp), exact in double; a group with a value outside that range takes the
-// scalar path.
+// Four values of |v| < 2^31 at a time (round_half_away_clamped_avx2); a group with a value outside
+// that range (or not a number) takes the scalar path.
 GVKIT_TARGET_AVX2 void to_plane_rows_avx2(const double* values, int width, int height,
                                           int max_value, SamplePlane& p) {
   const __m256d sign = _mm256_set1_pd(-0.0), limit = _mm256_set1_pd(2147483648.0),
-                half = _mm256_set1_pd(0.5), minus_half = _mm256_set1_pd(-0.5),
-                one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(),
                 top = _mm256_set1_pd(static_cast<double>(max_value));
   for (int y = 0; y < height; ++y) {
     const double* in = values + static_cast<size_t>(y) * width;
@@ -121,12 +149,7 @@ GVKIT_TARGET_AVX2 void to_plane_rows_avx2(const double* values, int width, int h
         for (int k = 0; k < 4; ++k) out[x + k] = to_sample(in[x + k], max_value);
         continue;
       }
-      const __m256d t = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
-      const __m256d f = _mm256_sub_pd(v, t);
-      __m256d r = _mm256_add_pd(t, _mm256_and_pd(_mm256_cmp_pd(f, half, _CMP_GE_OQ), one));
-      r = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(f, minus_half, _CMP_LE_OQ), one));
-      r = _mm256_min_pd(_mm256_max_pd(r, zero), top);
-      const __m128i i32 = _mm256_cvttpd_epi32(r);
+      const __m128i i32 = _mm256_cvttpd_epi32(round_half_away_clamped_avx2(v, top));
       _mm_storel_epi64(reinterpret_cast<__m128i*>(out + x), _mm_packus_epi32(i32, i32));
     }
     for (; x < width; ++x) out[x] = to_sample(in[x], max_value);
@@ -151,12 +174,11 @@ SamplePlane make_plane(const std::vector<double>& values, int width, int height,
   p.height = padded(height);
   p.samples.resize(static_cast<size_t>(p.width) * p.height);
 #if defined(GVKIT_X86_SIMD)
-  if (!plain && gvkit::detail::cpu_has_avx2())
+  if (use_avx2(plain))
     to_plane_rows_avx2(values.data(), width, height, max_value, p);
   else
 #endif
     to_plane_rows_reference(values.data(), width, height, max_value, p);
-  (void)plain;
   pad_plane(width, height, p);
   return p;
 }
@@ -168,41 +190,27 @@ void quantize_row_reference(const float* xyz, int axis, int width, double box_mi
   const float* p = xyz + axis;
   // The divisions first, in a loop the compiler vectorizes, then the rounding.
   for (int x = 0; x < width; ++x) row[x] = (p[3 * x] - box_min) / step;
-  for (int x = 0; x < width; ++x) {
-    const double q = row[x];
-    row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
-  }
+  for (int x = 0; x < width; ++x) row[x] = rounded_sample(row[x], max_value);
 }
 
 #if defined(GVKIT_X86_SIMD)
 // The same operations four pixels at a time: the float widened, the difference and quotient in
-// double, the rounding by truncation and the fraction's two tests (exact in double, also from
-// 2^52 on, where the truncation is the value itself), the clamp, 0 where not finite.
+// double, round_half_away_clamped_avx2, 0 where not finite.
 GVKIT_TARGET_AVX2 void quantize_row_avx2(const float* xyz, int axis, int width, double box_min,
                                          double step, int max_value, double* row) {
   const float* p = xyz + axis;
   const __m256d min_v = _mm256_set1_pd(box_min), step_v = _mm256_set1_pd(step),
                 sign = _mm256_set1_pd(-0.0),
                 infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
-                half = _mm256_set1_pd(0.5), minus_half = _mm256_set1_pd(-0.5),
-                one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(),
                 top = _mm256_set1_pd(static_cast<double>(max_value));
   int x = 0;
   for (; x + 4 <= width; x += 4) {
     const __m128 f4 = _mm_setr_ps(p[3 * x], p[3 * x + 3], p[3 * x + 6], p[3 * x + 9]);
     const __m256d q = _mm256_div_pd(_mm256_sub_pd(_mm256_cvtps_pd(f4), min_v), step_v);
     const __m256d finite = _mm256_cmp_pd(_mm256_andnot_pd(sign, q), infinity, _CMP_LT_OQ);
-    const __m256d t = _mm256_round_pd(q, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
-    const __m256d f = _mm256_sub_pd(q, t);
-    __m256d r = _mm256_add_pd(t, _mm256_and_pd(_mm256_cmp_pd(f, half, _CMP_GE_OQ), one));
-    r = _mm256_sub_pd(r, _mm256_and_pd(_mm256_cmp_pd(f, minus_half, _CMP_LE_OQ), one));
-    r = _mm256_min_pd(_mm256_max_pd(r, zero), top);
-    _mm256_storeu_pd(row + x, _mm256_and_pd(r, finite));
+    _mm256_storeu_pd(row + x, _mm256_and_pd(round_half_away_clamped_avx2(q, top), finite));
   }
-  for (; x < width; ++x) {
-    const double q = (p[3 * x] - box_min) / step;
-    row[x] = std::isfinite(q) ? std::clamp(round_half_away(q), 0.0, double(max_value)) : 0.0;
-  }
+  for (; x < width; ++x) row[x] = rounded_sample((p[3 * x] - box_min) / step, max_value);
 }
 #endif
 
@@ -221,7 +229,7 @@ std::vector<SamplePlane> quantize_geometry_with(const GeometryImage& image,
       const float* xyz = image.xyz_mm.ptr<float>(y);
       double* row = &values[static_cast<size_t>(y) * w];
 #if defined(GVKIT_X86_SIMD)
-      if (!plain && gvkit::detail::cpu_has_avx2()) {
+      if (use_avx2(plain)) {
         quantize_row_avx2(xyz, a, w, info.box_min_mm[a], step, max_value, row);
         continue;
       }
@@ -237,8 +245,7 @@ std::vector<SamplePlane> quantize_geometry_with(const GeometryImage& image,
       const float* row = texture ? image.texture.ptr<float>(y) : nullptr;
       for (int x = 0; x < w; ++x) {
         const float t = texture ? row[x] : 0.f;
-        values[static_cast<size_t>(y) * w + x] =
-            std::isfinite(t) ? std::clamp(round_half_away(t * 255.0), 0.0, 255.0) : 0.0;
+        values[static_cast<size_t>(y) * w + x] = rounded_sample(t * 255.0, 255.0);
       }
     }
     planes.push_back(make_plane(values, w, h, 255, plain));
