@@ -355,6 +355,7 @@ void run_encode(const EncodeArgs& args) {
         {"rdoq", options.rdoq},
         {"intra_rdo", options.intra_rdo},
         {"skip_check", options.skip_check},
+        {"td_whole_retry", options.td_whole_retry},
         {"max_transform", options.max_transform},
         {"cross_plane", options.cross_plane},
         {"cross_plane_contexts", options.cross_plane_contexts},

@@ -24,6 +24,7 @@
 //                            [--resolution-only]
 //                            [--speed-only [--speed-preset fast|slow]]
 //                            [--threads-only [--threads-preset fast|slow]]
+//                            [--tune-variant "KEY=VALUE [KEY=VALUE...]"]... [--variants-preset P]
 //                            [--qps Q1,Q2,...]
 // (--rate-only: the rate-control and threads tables only; --subpel-only: the motion precision
 // rows and x265; --bits-only: where the bits go at QP -6, 0, 6, 12; --motion-only: the format
@@ -55,6 +56,10 @@
 // together: encode frames per CPU second over all frames of each curve and the BD-rate against
 // the decisions off; --threads-only: wall-clock encode rates with one and two threads (frame-level
 // threads), three alternating rounds per preset and QP (default -10, 0, 12), bytes identical;
+// --tune-variant (repeatable): the defaults and each variant (encoder tune keys, encoder_tune.hpp,
+// space-separated in one argument), each as one curve: encode frames per CPU second over all frames
+// of the curve and the BD-rate against the defaults, in both presets (or the one of
+// --variants-preset);
 // --no-texture: a --gv folder's X, Y, Z only;
 // --write-streams DIR: also write every stream
 // of ours to DIR/NNN_PRESET_qpQ.gvid, NNN in run order, e.g. for codec_decoder_benchmark;
@@ -76,6 +81,7 @@
 
 #include "bd_rate.hpp"
 #include "geometry_video_material.hpp"
+#include "gvkit/codec/encoder_tune.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
 #include "gvkit/codec/gvid_reader.hpp"
@@ -1014,7 +1020,8 @@ int main(int argc, char** argv) {
        deblock_only = false, intra_rdo_only = false, temporal_only = false, merge_only = false,
        td16_only = false, quadratic_only = false, resolution_only = false, speed_only = false,
        threads_only = false, no_texture = false;
-  DeblockingParams deblock;  // --deblock-beta / --deblock-tc (format 1.8)
+  std::vector<std::string> tune_variants;  // --tune-variant
+  DeblockingParams deblock;                // --deblock-beta / --deblock-tc (format 1.8)
   std::vector<Preset> refs_presets = {Preset::kFast, Preset::kSlow};
   Preset mode_preset = Preset::kFast;
   int gop = 30, bframes = -1;
@@ -1059,6 +1066,8 @@ int main(int argc, char** argv) {
       speed_only = true;
     else if (a == "--threads-only")
       threads_only = true;
+    else if (a == "--tune-variant" && i + 1 < argc)
+      tune_variants.push_back(argv[++i]);
     else if (a == "--merge-only")
       merge_only = true;
     else if (a == "--td16-only")
@@ -1100,7 +1109,7 @@ int main(int argc, char** argv) {
       refs_only = true;
     else if ((a == "--refs-preset" || a == "--partitions-preset" || a == "--rdoq-preset" ||
               a == "--deblock-preset" || a == "--temporal-contexts-preset" ||
-              a == "--speed-preset" || a == "--threads-preset") &&
+              a == "--speed-preset" || a == "--threads-preset" || a == "--variants-preset") &&
              i + 1 < argc) {
       Preset preset;
       if (!read_preset(argv[++i], &preset)) return 2;
@@ -1123,6 +1132,8 @@ int main(int argc, char** argv) {
           "[--intra-rdo-only] [--temporal-contexts-only [--temporal-contexts-preset P]] "
           "[--merge-only] [--td16-only] "
           "[--quadratic-intra-only] [--resolution-only] "
+          "[--speed-only [--speed-preset P]] [--threads-only [--threads-preset P]] "
+          "[--tune-variant \"KEY=VALUE [KEY=VALUE...]\"]... [--variants-preset P] "
           "[--write-streams DIR] [--qps Q1,Q2,...]\n");
       return 2;
     }
@@ -1218,6 +1229,27 @@ int main(int argc, char** argv) {
   if (threads_only) {
     report_thread_scaling(m, base, qp_list.empty() ? std::vector<int>{-10, 0, 12} : qp_list,
                           refs_presets, 3);
+    return 0;
+  }
+  if (!tune_variants.empty()) {
+    std::vector<SpeedVariant> variants = {{"defaults", [](EncoderOptions&) {}}};
+    for (const std::string& v : tune_variants) {
+      std::vector<std::string> settings;
+      std::stringstream list(v);
+      for (std::string kv; list >> kv;) {
+        EncoderOptions probe;  // the key and value checked before any encode
+        const Status status = apply_tune(kv, &probe);
+        if (!status.is_ok()) {
+          std::fprintf(stderr, "--tune-variant %s: %s\n", kv.c_str(), status.message().c_str());
+          return 2;
+        }
+        settings.push_back(kv);
+      }
+      variants.push_back({v, [settings](EncoderOptions& o) {
+                            for (const std::string& kv : settings) (void)apply_tune(kv, &o);
+                          }});
+    }
+    report_speed(m, base, qps, refs_presets, variants);
     return 0;
   }
   if (speed_only) {

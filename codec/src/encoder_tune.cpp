@@ -185,6 +185,10 @@ const std::vector<Entry>& entries() {
       {{"skip-check", "on|off",
         "encoder only: try the predicted vector first, take a skip found there at once"},
        flag(&EncoderOptions::skip_check)},
+      {{"td-whole-retry", "on|off",
+        "encoder only, fast preset: TD tried again at the whole-sample vector where TD beat plain "
+        "inter (default off; the slow preset always tries it)"},
+       flag(&EncoderOptions::td_whole_retry)},
       {{"buffer-seconds", "0.1..100", "rate control (--bitrate): buffer in seconds (default 1)"},
        real(&EncoderOptions::buffer_seconds)},
       {{"target-rms-mm", "> 0",

@@ -316,6 +316,7 @@ EncodedFrame encode_planes(const std::vector<SamplePlane>& planes, bool half,
       p.inter_decimation = options.inter_decimation;
       p.rdoq = options.rdoq;
       p.skip_check = options.skip_check;
+      p.td_whole_retry = options.td_whole_retry;
       p.end_of_plane_bin = false;               // compact packets
       if (p.subpel) p.subpel = options.subpel;  // the encoder's refinement precision
       const MotionField* shared = shared_motion && (i == 1 || i == 2) ? &coded[0].motion : nullptr;

@@ -157,8 +157,9 @@ class MacroblockEncoder {
         consider(kMbInter, true);
         // The sub-sample vector suits plain inter prediction; the temporal difference from a
         // whole-sample vector is often smoother, so TD also tries the whole-sample search result
-        // (lossy fast preset: only when TD with the sub-sample vector beat plain inter).
-        if ((p_.lossless || p_.rdo || best.mb.td) &&
+        // (lossy fast preset: only with td_whole_retry, when TD with the sub-sample vector beat
+        // plain inter).
+        if ((p_.lossless || p_.rdo || (p_.td_whole_retry && best.mb.td)) &&
             (mv_x_ != whole_mv_x_ || mv_y_ != whole_mv_y_)) {
           mv_x_ = whole_mv_x_;
           mv_y_ = whole_mv_y_;

@@ -47,6 +47,7 @@ const std::map<std::string, std::string> kSamples = {
     {"decimation", "off"},
     {"joint-motion-search", "on"},
     {"skip-check", "yes"},
+    {"td-whole-retry", "on"},
     {"texture-qp", "30"},
     {"outline-weight", "3"},
     {"rdo-shortlist", "2"},
@@ -66,9 +67,9 @@ std::string fields(const EncoderOptions& o) {
     << o.shared_motion << static_cast<int>(o.value_prediction) << ' ' << o.plane_qp_offset[0] << ' '
     << o.plane_qp_offset[1] << ' ' << o.plane_qp_offset[2] << ' ' << o.p_qp_offset << ' '
     << o.b_qp_offset << ' ' << o.search_range << o.rdoq << o.intra_rdo << o.inter_decimation
-    << o.joint_motion_search << o.skip_check << ' ' << o.rdo_shortlist << o.transform_early_exit
-    << ' ' << o.outline_weight << ' ' << o.texture_qp << ' ' << o.buffer_seconds << ' '
-    << o.target_rms_mm << ' ' << o.intra_target_offset_db;
+    << o.joint_motion_search << o.skip_check << o.td_whole_retry << ' ' << o.rdo_shortlist
+    << o.transform_early_exit << ' ' << o.outline_weight << ' ' << o.texture_qp << ' '
+    << o.buffer_seconds << ' ' << o.target_rms_mm << ' ' << o.intra_target_offset_db;
   return s.str();
 }
 

@@ -105,6 +105,12 @@ struct EncoderOptions {
   // P frames: try the predicted vector before the motion search and, in the fast preset, take a
   // skip found there at once (encoder only: about 2x faster, slightly lower quality).
   bool skip_check = false;
+  // Fast preset, lossy P frames: where TD at the searched sub-sample vector beat plain inter, TD
+  // is tried again at the whole-sample search result (encoder only). Off by default: 1.04x the
+  // fast encode speed at +0.08 % BD-rate on the main-job video, 1.02x at -0.05 % on the ICT face
+  // (docs/benchmarks.md, "The fast preset without the whole-sample TD retry"). The slow preset,
+  // lossless and near-lossless frames always try it.
+  bool td_whole_retry = false;
   int plane_qp_offset[3] = {0, 0, 0};  // added to qp for X, Y, Z (lossy frames), -12..12
   // Lossy frames of a sequence with a texture plane: the texture's QP (8-bit units, 0..51) in I
   // frames, P and B frames and half resolution shifting it as they shift the frame QP (coded as

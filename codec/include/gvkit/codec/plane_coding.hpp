@@ -74,6 +74,9 @@ struct PlaneCodingParams {
   // Encoder only, P planes: try the predicted vector on its own before the search (a skip
   // found there is taken at once by the fast path).
   bool skip_check = false;
+  // Encoder only, P planes without rdo: TD is tried again at the whole-sample search result
+  // where TD at the sub-sample vector beat plain inter (with rdo and lossless always).
+  bool td_whole_retry = true;
   // Encoder only, lossy planes: rate-distortion optimised quantization (rdo_quantization.hpp)
   // instead of the intra rounding and the inter dead zone.
   bool rdoq = false;
