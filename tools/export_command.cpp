@@ -38,7 +38,9 @@ struct ExportCommandOptions {
   std::string input, output, format = "ply", frames = ":";
   bool ascii = false, partial_quads = true;
   double max_edge_mm = 0;
-  int threads = 0;  // 0 = the machine's hardware threads, at most 4
+  // Workers; 0 = two per hardware thread, at most 8: a worker waits while its file reaches the
+  // disk (write_file_atomically's fsync), and the other one keeps the core busy meanwhile.
+  int threads = 0;
 };
 
 // One decoded frame's file, written on a worker: its stats.json entry, or why it failed
@@ -161,7 +163,7 @@ void run_export(const ExportCommandOptions& o) {
   MeshWriteOptions write_options;
   write_options.binary = !o.ascii;
   write_options.vertex_normals = true;
-  const int threads = command_threads(o.threads, 4);
+  const int threads = o.threads > 0 ? o.threads : std::min(2 * command_threads(0, 4), 8);
   std::vector<std::string> failures;
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("export", static_cast<int64_t>(indices.size()));
@@ -233,8 +235,8 @@ void add_export_command(CLI::App& app) {
   cmd->add_flag("!--no-partial-quads", o->partial_quads,
                 "Triangulate only quads with all four pixels in the domain");
   cmd->add_option("--threads", o->threads,
-                  "Frames meshed and written in parallel (0 = the hardware threads, at most 4; "
-                  "the files do not depend on it)")
+                  "Frames meshed and written in parallel (0 = two per hardware thread, at most 8, "
+                  "as each waits while its file reaches the disk; the files do not depend on it)")
       ->capture_default_str();
   cmd->callback([o] { run_export(*o); });
 }

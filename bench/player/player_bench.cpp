@@ -51,6 +51,19 @@ void BM_MeshFromGeometryImage(benchmark::State& state) {
 }
 BENCHMARK(BM_MeshFromGeometryImage)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The manifold check of gvkit export's direct writer on a 320x320 frame: the eight-lane check
+// (fast:1) against its pairwise reference (fast:0).
+void BM_MeshBuffersManifold(benchmark::State& state) {
+  const MeshBuffers buffers =
+      mesh_buffers_from_geometry_image(testing::make_face_like_image(kSize, 0));
+  bool manifold = false;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(manifold = state.range(0) ? mesh_buffers_manifold(buffers)
+                                                       : mesh_buffers_manifold_reference(buffers));
+  state.counters["manifold"] = manifold;
+}
+BENCHMARK(BM_MeshBuffersManifold)->Arg(0)->Arg(1)->ArgName("fast")->Unit(benchmark::kMillisecond);
+
 #ifdef GVKIT_WITH_PLAYER
 std::unique_ptr<Renderer> make_renderer(int msaa) {
   RenderOptions options;

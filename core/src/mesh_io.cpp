@@ -16,6 +16,7 @@
 #include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/mesh.hpp"
+#include "gvkit/core/shortest_float.hpp"
 #include "ply_header.hpp"
 
 namespace gvkit {
@@ -159,7 +160,40 @@ std::string ply_binary_bytes(const MeshArrays& a, bool normals, bool texcoords, 
   return out;
 }
 
-// Text output with numbers in their shortest exact form (std::to_chars), formatted into a small
+// The texts of recently written floats (write_shortest_float's), 1024 slots addressed by a hash
+// of the float's bits: a column of texture coordinates (u takes one value per image column, v one
+// per row) or of grey levels written as r = g = b repeats a few values, and copying a text is
+// cheaper than finding it again. A slot holds the last value that hashed to it.
+class FloatTexts {
+ public:
+  // As write_shortest_float(out, v) (kShortestFloatRoom bytes at out).
+  char* write(char* out, float v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    Slot& slot = slots_[(bits * 0x9E3779B1u) >> (32 - kSlotBits)];
+    if (slot.length != 0 && slot.bits == bits) {
+      std::memcpy(out, slot.text, sizeof slot.text);
+      return out + slot.length;
+    }
+    char* end = write_shortest_float(out, v);
+    slot.bits = bits;
+    slot.length = static_cast<uint8_t>(end - out);  // 1..15
+    std::memcpy(slot.text, out, sizeof slot.text);
+    return end;
+  }
+
+ private:
+  static constexpr int kSlotBits = 10;
+  struct Slot {
+    uint32_t bits = 0;
+    uint8_t length = 0;  // 0: empty
+    char text[16];
+  };
+  std::vector<Slot> slots_ = std::vector<Slot>(size_t{1} << kSlotBits);
+};
+
+// Text output with numbers in their shortest exact form (std::to_chars's text; floats through
+// write_shortest_float, the same characters faster), formatted into a small
 // staging buffer that is appended to the reserved text 4 KiB at a time (no per-value string
 // append, no zero fill of the whole text).
 class TextOut {
@@ -184,7 +218,7 @@ class TextOut {
   }
   TextOut& number(float v) {
     room(kMaxNumberChars);
-    used_ = static_cast<size_t>(std::to_chars(stage_ + used_, stage_ + kStage, v).ptr - stage_);
+    used_ = static_cast<size_t>(write_shortest_float(stage_ + used_, v) - stage_);
     return *this;
   }
   TextOut& number(uint64_t v) {
@@ -197,14 +231,24 @@ class TextOut {
     for (int k = 0; k < count; ++k) text(' ').number(v[k]);
     return *this;
   }
+  // The same through a cache of texts (for columns of few distinct values).
+  TextOut& numbers(const float* v, int count, FloatTexts& cache) {
+    for (int k = 0; k < count; ++k) {
+      room(1 + kMaxNumberChars);
+      stage_[used_++] = ' ';
+      used_ = static_cast<size_t>(cache.write(stage_ + used_, v[k]) - stage_);
+    }
+    return *this;
+  }
   std::string take() {
     flush();
     return std::move(out_);
   }
 
  private:
-  // The longest shortest form of a float ("-1.1754944e-38", 14) or a uint64 (20 digits).
-  static constexpr size_t kMaxNumberChars = 24;
+  // Room for a float (kShortestFloatRoom) or a uint64 (20 digits).
+  static constexpr size_t kMaxNumberChars = 32;
+  static_assert(kShortestFloatRoom <= kMaxNumberChars);
   static constexpr size_t kStage = 4096;
   void room(size_t n) {
     if (used_ + n > kStage) flush();
@@ -222,11 +266,12 @@ std::string ply_ascii_text(const MeshArrays& a, bool normals, bool texcoords, bo
   TextOut out(a.vertex_count * 120 + a.triangle_count * 24);
   out.text(ply_header(false, a.vertex_count, a.triangle_count, normals, texcoords, colors));
   float grey[3];
+  FloatTexts texcoord_texts, color_texts;
   for (size_t i = 0; i < a.vertex_count; ++i) {
     out.number(a.positions_mm[3 * i]).numbers(a.positions_mm + 3 * i + 1, 2);
     if (normals) out.numbers(a.normals + 3 * i, 3);
-    if (texcoords) out.numbers(a.texcoords + 2 * i, 2);
-    if (colors) out.numbers(vertex_color(a, i, grey), 3);
+    if (texcoords) out.numbers(a.texcoords + 2 * i, 2, texcoord_texts);
+    if (colors) out.numbers(vertex_color(a, i, grey), 3, color_texts);
     out.text('\n');
   }
   for (size_t t = 0; t < a.triangle_count; ++t) {
@@ -244,19 +289,27 @@ std::string obj_text(const MeshArrays& a, bool normals, bool texcoords) {
   out.number(uint64_t{a.triangle_count}).text(" faces\n");
   for (size_t i = 0; i < a.vertex_count; ++i)
     out.text('v').numbers(a.positions_mm + 3 * i, 3).text('\n');
-  if (texcoords)
+  if (texcoords) {
+    FloatTexts texcoord_texts;
     for (size_t i = 0; i < a.vertex_count; ++i)
-      out.text("vt").numbers(a.texcoords + 2 * i, 2).text('\n');
+      out.text("vt").numbers(a.texcoords + 2 * i, 2, texcoord_texts).text('\n');
+  }
   if (normals)
     for (size_t i = 0; i < a.vertex_count; ++i)
       out.text("vn").numbers(a.normals + 3 * i, 3).text('\n');
   for (size_t t = 0; t < a.triangle_count; ++t) {
     out.text('f');
     for (int k = 0; k < 3; ++k) {
-      const uint64_t v = uint64_t{a.indices[3 * t + k]} + 1;
-      out.text(' ').number(v);
-      if (texcoords) out.text('/').number(v);
-      if (normals) out.text(texcoords ? "/" : "//").number(v);
+      // The 1-based index, formatted once for v, vt and vn.
+      char digits[24];
+      const std::string_view v(
+          digits,
+          static_cast<size_t>(
+              std::to_chars(digits, digits + sizeof digits, a.indices[3 * t + k] + 1ull).ptr -
+              digits));
+      out.text(' ').text(v);
+      if (texcoords) out.text('/').text(v);
+      if (normals) out.text(texcoords ? "/" : "//").text(v);
     }
     out.text('\n');
   }

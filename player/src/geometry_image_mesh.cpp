@@ -2,6 +2,10 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace gvkit::player {
 namespace {
@@ -33,6 +37,13 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
   // Vertex numbering: domain pixels with finite xyz, row-major.
   const int step = options.stride;
   std::vector<int32_t> vertex_of(static_cast<size_t>(w) * h, -1);
+  // Room for every sampled pixel and two triangles per quad (no regrowth and copy).
+  const size_t samples = static_cast<size_t>((w + step - 1) / step) * ((h + step - 1) / step);
+  out.pixel_index.reserve(samples);
+  out.positions_mm.reserve(3 * samples);
+  out.texcoords.reserve(2 * samples);
+  if (has_grey) out.grey.reserve(samples);
+  out.indices.reserve(6 * samples);
   for (int y = 0; y < h; y += step) {
     const cv::Vec3f* p = image.xyz_mm.ptr<cv::Vec3f>(y);
     const uint8_t* m = image.domain_mask.ptr<uint8_t>(y);
@@ -115,18 +126,106 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
   return out;
 }
 
-bool mesh_buffers_manifold(const MeshBuffers& buffers) {
+namespace {
+
+// Whether the link edges e[0, k) of one vertex (the edges of its triangles opposite it, in the
+// triangles' winding) chain into one path or one cycle, as mesh_buffers_manifold defines it; the
+// plain O(k^2) definition.
+bool link_is_one_fan_reference(const std::array<uint32_t, 2>* e, size_t k) {
+  // A repeated start is a directed edge v -> start in two triangles, a repeated end one
+  // end -> v in two; then the link is one path or cycle iff a walk from the path's start (or,
+  // with no start, from any edge) follows all k edges.
+  size_t begin = 0, starts = 0;
+  for (size_t i = 0; i < k; ++i) {
+    bool is_end_of_another = false;
+    for (size_t j = 0; j < k; ++j) {
+      if (j == i) continue;
+      if (e[j][0] == e[i][0] || e[j][1] == e[i][1]) return false;
+      if (e[j][1] == e[i][0]) is_end_of_another = true;
+    }
+    if (!is_end_of_another) {
+      begin = i;
+      ++starts;
+    }
+  }
+  if (starts > 1) return false;
+  size_t walked = 1;
+  for (uint32_t at = e[begin][1]; walked < k; ++walked) {
+    size_t next = k;
+    for (size_t j = 0; j < k; ++j)
+      if (e[j][0] == at) next = j;
+    if (next == k || next == begin) break;
+    at = e[next][1];
+  }
+  return walked == k;
+}
+
+// The same for k <= 8 with the comparisons of one edge against all eight lanes at once (SSE2:
+// two 4-lane compares; bit j of a mask is edge j). An edge never matches itself (a triangle has
+// three different vertices), so a start or end shared with another edge shows as a second bit.
+constexpr size_t kLinkLanes = 8;
+struct Lanes {
+#if defined(__SSE2__)
+  __m128i low, high;
+  explicit Lanes(const uint32_t* v)
+      : low(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v))),
+        high(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v + 4))) {}
+  uint32_t equal(uint32_t value) const {
+    const __m128i x = _mm_set1_epi32(static_cast<int>(value));
+    return static_cast<uint32_t>(
+        _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(low, x))) |
+        (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(high, x))) << 4));
+  }
+#else
+  const uint32_t* v;
+  explicit Lanes(const uint32_t* values) : v(values) {}
+  uint32_t equal(uint32_t value) const {
+    uint32_t mask = 0;
+    for (size_t j = 0; j < kLinkLanes; ++j) mask |= static_cast<uint32_t>(v[j] == value) << j;
+    return mask;
+  }
+#endif
+};
+bool link_is_one_fan_small(const std::array<uint32_t, 2>* e, size_t k) {
+  uint32_t start_values[kLinkLanes], end_values[kLinkLanes];
+  for (size_t j = 0; j < kLinkLanes; ++j) {
+    start_values[j] = j < k ? e[j][0] : e[0][0];  // padding lanes repeat edge 0; masked off
+    end_values[j] = j < k ? e[j][1] : e[0][1];
+  }
+  const Lanes starts(start_values), ends(end_values);
+  const uint32_t valid = (1u << k) - 1;
+  uint8_t next[kLinkLanes];
+  size_t begin = 0, start_count = 0;
+  for (size_t i = 0; i < k; ++i) {
+    const uint32_t same = (starts.equal(start_values[i]) | ends.equal(end_values[i])) & valid;
+    if (same != (1u << i)) return false;
+    if ((ends.equal(start_values[i]) & valid) == 0) {  // no edge ends where this one starts
+      begin = i;
+      ++start_count;
+    }
+    const uint32_t successor = starts.equal(end_values[i]) & valid;
+    next[i] = static_cast<uint8_t>(successor ? __builtin_ctz(successor) : k);
+  }
+  if (start_count > 1) return false;
+  size_t walked = 1;
+  for (size_t at = next[begin]; walked < k && at != k && at != begin; at = next[at]) ++walked;
+  return walked == k;
+}
+
+// The link edges of every vertex, gathered in compressed rows; false (nothing checked) when an
+// index is out of range or a triangle repeats a vertex.
+template <class LinkCheck>
+bool every_link_one_fan(const MeshBuffers& buffers, const LinkCheck& check) {
   const size_t n = buffers.vertex_count(), triangles = buffers.triangle_count();
   const uint32_t* idx = buffers.indices.data();
-  // Per vertex, the edges of its triangles opposite it (link edges, in the triangles' winding),
-  // gathered in compressed rows.
   std::vector<uint32_t> offset(n + 1, 0);
   for (size_t k = 0; k < 3 * triangles; ++k) {
     if (idx[k] >= n) return false;
     ++offset[idx[k] + 1];
   }
   for (size_t v = 0; v < n; ++v) offset[v + 1] += offset[v];
-  std::vector<std::array<uint32_t, 2>> link(3 * triangles);
+  // (Every slot is written below: no zero fill of the 24 bytes per triangle.)
+  const std::unique_ptr<std::array<uint32_t, 2>[]> link(new std::array<uint32_t, 2>[3 * triangles]);
   std::vector<uint32_t> fill(offset.begin(), offset.end() - 1);
   for (size_t t = 0; t < triangles; ++t) {
     const uint32_t a = idx[3 * t], b = idx[3 * t + 1], c = idx[3 * t + 2];
@@ -136,37 +235,22 @@ bool mesh_buffers_manifold(const MeshBuffers& buffers) {
     link[fill[c]++] = {a, b};
   }
   for (size_t v = 0; v < n; ++v) {
-    const std::array<uint32_t, 2>* e = link.data() + offset[v];
     const size_t k = offset[v + 1] - offset[v];
-    if (k == 0) continue;
-    // A repeated start is a directed edge v -> start in two triangles, a repeated end one
-    // end -> v in two; then the link is one path or cycle iff a walk from the path's start (or,
-    // with no start, from any edge) follows all k edges.
-    size_t begin = 0, starts = 0;
-    for (size_t i = 0; i < k; ++i) {
-      bool is_end_of_another = false;
-      for (size_t j = 0; j < k; ++j) {
-        if (j == i) continue;
-        if (e[j][0] == e[i][0] || e[j][1] == e[i][1]) return false;
-        if (e[j][1] == e[i][0]) is_end_of_another = true;
-      }
-      if (!is_end_of_another) {
-        begin = i;
-        ++starts;
-      }
-    }
-    if (starts > 1) return false;
-    size_t walked = 1;
-    for (uint32_t at = e[begin][1]; walked < k; ++walked) {
-      size_t next = k;
-      for (size_t j = 0; j < k; ++j)
-        if (e[j][0] == at) next = j;
-      if (next == k || next == begin) break;
-      at = e[next][1];
-    }
-    if (walked != k) return false;
+    if (k > 0 && !check(link.get() + offset[v], k)) return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool mesh_buffers_manifold(const MeshBuffers& buffers) {
+  return every_link_one_fan(buffers, [](const std::array<uint32_t, 2>* e, size_t k) {
+    return k <= kLinkLanes ? link_is_one_fan_small(e, k) : link_is_one_fan_reference(e, k);
+  });
+}
+
+bool mesh_buffers_manifold_reference(const MeshBuffers& buffers) {
+  return every_link_one_fan(buffers, link_is_one_fan_reference);
 }
 
 MeshArrays mesh_arrays(const MeshBuffers& buffers) {

@@ -204,6 +204,58 @@ TEST(GeometryImageMesh, ManifoldCheckFindsTwoFansAtAVertexAndRepeatedEdges) {
   EXPECT_FALSE(mesh_buffers_manifold(buffers_with(3, {0, 1, 3})));
 }
 
+// The eight-lane check against its plain definition on random triangle sets over few vertices
+// (repeated edges, bow ties, open and closed fans, degenerate triangles, valences above eight)
+// and on grids with random triangles removed; both outcomes occur often.
+TEST(GeometryImageMesh, ManifoldCheckEqualsItsReference) {
+  std::mt19937 rng(11);
+  int manifold = 0, not_manifold = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const size_t n = 3 + rng() % 12;
+    std::vector<uint32_t> indices;
+    if (trial % 2 == 0) {
+      // A fan around vertex 0 (closed or open), then a few random triangles.
+      const uint32_t rim = static_cast<uint32_t>(n - 1);
+      const uint32_t count = 1 + static_cast<uint32_t>(rng() % rim);
+      for (uint32_t i = 0; i < count; ++i)
+        indices.insert(indices.end(), {0, 1 + i, 1 + (i + 1) % rim});
+      for (uint32_t extra = static_cast<uint32_t>(rng() % 3); extra > 0; --extra)
+        for (int c = 0; c < 3; ++c) indices.push_back(static_cast<uint32_t>(rng() % n));
+    } else {
+      for (uint32_t t = static_cast<uint32_t>(1 + rng() % 12); t > 0; --t) {
+        const uint32_t a = static_cast<uint32_t>(rng() % n);
+        uint32_t b = static_cast<uint32_t>(rng() % n), c = static_cast<uint32_t>(rng() % n);
+        if (rng() % 16 != 0) {  // mostly non-degenerate
+          while (b == a) b = static_cast<uint32_t>(rng() % n);
+          while (c == a || c == b) c = static_cast<uint32_t>(rng() % n);
+        }
+        indices.insert(indices.end(), {a, b, c});
+      }
+    }
+    const MeshBuffers b = buffers_with(n, indices);
+    const bool expected = mesh_buffers_manifold_reference(b);
+    ASSERT_EQ(mesh_buffers_manifold(b), expected) << "trial " << trial;
+    (expected ? manifold : not_manifold) += 1;
+  }
+  for (int trial = 0; trial < 200; ++trial) {
+    // A 12 x 12 grid of split quads with random triangles removed (pinches at their corners).
+    const int g = 12;
+    std::vector<uint32_t> indices;
+    for (int y = 0; y + 1 < g; ++y)
+      for (int x = 0; x + 1 < g; ++x) {
+        const uint32_t a = y * g + x, b = a + 1, c = a + g, d = c + 1;
+        if (rng() % 10 != 0) indices.insert(indices.end(), {a, c, d});
+        if (rng() % 10 != 0) indices.insert(indices.end(), {a, d, b});
+      }
+    const MeshBuffers b = buffers_with(g * g, indices);
+    const bool expected = mesh_buffers_manifold_reference(b);
+    ASSERT_EQ(mesh_buffers_manifold(b), expected) << "grid trial " << trial;
+    (expected ? manifold : not_manifold) += 1;
+  }
+  EXPECT_GT(manifold, 1000);
+  EXPECT_GT(not_manifold, 1000);
+}
+
 // Over random domains (holes, partial quads, long edges dropped, with and without grey): where
 // the check says manifold, OpenMesh takes every triangle and the PLY written from the arrays
 // is byte for byte the PLY written from mesh_from_buffers; both outcomes occur.

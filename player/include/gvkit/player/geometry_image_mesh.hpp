@@ -56,6 +56,9 @@ MeshBuffers mesh_buffers_from_geometry_image(const GeometryImage& image,
 // opposite the vertex chain into one path or one closed cycle). False where partial quads or
 // dropped triangles leave two fans touching at one pixel.
 bool mesh_buffers_manifold(const MeshBuffers& buffers);
+// The same check by its plain definition (each vertex's link edges compared pairwise), which
+// mesh_buffers_manifold, comparing eight edges at once, must agree with (tested).
+bool mesh_buffers_manifold_reference(const MeshBuffers& buffers);
 
 // The buffers seen as core MeshArrays (borrowed pointers: valid while `buffers` lives and is
 // not changed; grey null when the buffers have none).
