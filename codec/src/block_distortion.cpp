@@ -44,6 +44,19 @@ int64_t sad_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, co
   return sum;
 }
 
+void distortions4x4_of_reference(bool sad, const int32_t* source, const int32_t (*preds)[16],
+                                 int count, int64_t* out) {
+  for (int i = 0; i < count; ++i) {
+    int32_t diff[16];
+    int64_t sum = 0;
+    for (int k = 0; k < 16; ++k) {
+      diff[k] = source[k] - preds[i][k];
+      sum += std::abs(diff[k]);
+    }
+    out[i] = sad ? sum : satd4x4(diff, 4);
+  }
+}
+
 #if defined(__SSE2__)
 namespace {
 
@@ -121,13 +134,19 @@ int64_t satd_block_sse2(int n, const uint16_t* src, ptrdiff_t src_stride, const 
   return sum;
 }
 
-void distortions4x4_sse2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
-                         const int32_t (*preds)[16], int count, int64_t* out) {
-  const __m128i zero = _mm_setzero_si128();
-  __m128i s[4];
+// The source block's rows as 32-bit lanes: from 16-bit samples, or given as 32-bit values.
+void source_rows(const uint16_t* src, ptrdiff_t src_stride, __m128i (&s)[4]) {
   for (int r = 0; r < 4; ++r)
-    s[r] = _mm_unpacklo_epi16(
-        _mm_loadl_epi64(reinterpret_cast<const __m128i*>(src + r * src_stride)), zero);
+    s[r] =
+        _mm_unpacklo_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(src + r * src_stride)),
+                           _mm_setzero_si128());
+}
+void source_rows(const int32_t* source, __m128i (&s)[4]) {
+  for (int r = 0; r < 4; ++r) s[r] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(source) + r);
+}
+
+void distortions4x4_sse2(bool sad, const __m128i (&s)[4], const int32_t (*preds)[16], int count,
+                         int64_t* out) {
   for (int i = 0; i < count; ++i) {
     const __m128i* p = reinterpret_cast<const __m128i*>(preds[i]);
     const __m128i d0 = _mm_sub_epi32(s[0], _mm_loadu_si128(p)),
@@ -193,16 +212,11 @@ GVKIT_TARGET_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t 
   return lane_sum(v) / 2;
 }
 
-GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
+GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const __m128i (&rows)[4],
                                            const int32_t (*preds)[16], int count, int64_t* out) {
-  if (sad) return distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+  if (sad) return distortions4x4_sse2(sad, rows, preds, count, out);
   __m256i s[4];
-  for (int r = 0; r < 4; ++r) {
-    const __m128i row =
-        _mm_unpacklo_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(src + r * src_stride)),
-                           _mm_setzero_si128());
-    s[r] = _mm256_broadcastsi128_si256(row);
-  }
+  for (int r = 0; r < 4; ++r) s[r] = _mm256_broadcastsi128_si256(rows[r]);
   // Pairs of blocks; an odd count's last block is paired with itself.
   for (int i = 0; i < count; i += 2) {
     const int second = i + 1 < count ? i + 1 : i;
@@ -224,9 +238,9 @@ GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdif
 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   return satd_block_sse2(n, src, src_stride, pred);
 }
-void distortions4x4_avx2(bool sad, const uint16_t* src, ptrdiff_t src_stride,
-                         const int32_t (*preds)[16], int count, int64_t* out) {
-  distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+void distortions4x4_avx2(bool sad, const __m128i (&rows)[4], const int32_t (*preds)[16], int count,
+                         int64_t* out) {
+  distortions4x4_sse2(sad, rows, preds, count, out);
 }
 #endif
 
@@ -239,10 +253,22 @@ int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32
 
 void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
                     int count, int64_t* out) {
+  __m128i rows[4];
+  source_rows(src, src_stride, rows);
   if (gvkit::detail::cpu_has_avx2())
-    distortions4x4_avx2(sad, src, src_stride, preds, count, out);
+    distortions4x4_avx2(sad, rows, preds, count, out);
   else
-    distortions4x4_sse2(sad, src, src_stride, preds, count, out);
+    distortions4x4_sse2(sad, rows, preds, count, out);
+}
+
+void distortions4x4_of(bool sad, const int32_t* source, const int32_t (*preds)[16], int count,
+                       int64_t* out) {
+  __m128i rows[4];
+  source_rows(source, rows);
+  if (gvkit::detail::cpu_has_avx2())
+    distortions4x4_avx2(sad, rows, preds, count, out);
+  else
+    distortions4x4_sse2(sad, rows, preds, count, out);
 }
 
 int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
@@ -261,6 +287,11 @@ void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const i
   for (int i = 0; i < count; ++i)
     out[i] = sad ? sad_block_reference(4, src, src_stride, preds[i])
                  : satd_block_reference(4, src, src_stride, preds[i]);
+}
+
+void distortions4x4_of(bool sad, const int32_t* source, const int32_t (*preds)[16], int count,
+                       int64_t* out) {
+  distortions4x4_of_reference(sad, source, preds, count, out);
 }
 
 int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdiff_t b_stride) {

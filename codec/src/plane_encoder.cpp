@@ -897,13 +897,22 @@ class MacroblockEncoder {
       int32_t preds[kIntra4x4ModeCount][16];
       int64_t distortion[kIntra4x4ModeCount];
       predict_intra4x4_modes(nb, max_value_, mode_count, preds);
-      if (td)
-        for (int mode = 0; mode < mode_count; ++mode)
-          for (int i = 0; i < 16; ++i) preds[mode][i] += ref_block[i];
-      if (alpha_)
-        for (int mode = 0; mode < mode_count; ++mode) add_cross(4, x0, y0, preds[mode]);
-      distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
-                     src_.width, preds, mode_count, distortion);
+      // The temporal-difference reference and the cross-plane term, which every mode's
+      // prediction adds, are taken from the source once instead (the same differences).
+      int32_t shared[16] = {};
+      const bool has_shared = td || alpha_;
+      if (has_shared) {
+        int32_t source[16];
+        if (td) std::copy(ref_block, ref_block + 16, shared);
+        add_cross(4, x0, y0, shared);
+        for (int y = 0; y < 4; ++y)
+          for (int x = 0; x < 4; ++x)
+            source[y * 4 + x] = static_cast<int32_t>(src_.at(x0 + x, y0 + y)) - shared[y * 4 + x];
+        distortions4x4_of(p_.lossless, source, preds, mode_count, distortion);
+      } else {
+        distortions4x4(p_.lossless, &src_.samples[static_cast<size_t>(y0) * src_.width + x0],
+                       src_.width, preds, mode_count, distortion);
+      }
       double costs[kIntra4x4ModeCount];
       for (int mode = 0; mode < mode_count; ++mode) {
         costs[mode] =
@@ -921,7 +930,7 @@ class MacroblockEncoder {
         for (int k = 0; k < std::min(shortlist, mode_count); ++k) listed[order[k]] = true;
         best_cost = std::numeric_limits<double>::infinity();
       } else {
-        std::copy(preds[best_mode], preds[best_mode] + 16, best_pred);
+        for (int i = 0; i < 16; ++i) best_pred[i] = preds[best_mode][i] + shared[i];
       }
     }
     for (int mode = 0; mode < mode_count && (n != 4 || p_.rdo); ++mode) {
@@ -948,7 +957,13 @@ class MacroblockEncoder {
       }
     }
     const bool coded = make_levels(n, best_pred, x0, y0, chosen_levels, false, trial);
-    const int64_t ssd = reconstruct(n, best_pred, chosen_levels, x0, y0);
+    // (The fast decision's cost is the SATD estimate: no SSD needed.)
+    int64_t ssd = 0;
+    if (p_.rdo)
+      ssd = reconstruct(n, best_pred, chosen_levels, x0, y0);
+    else
+      reconstruct_block(n, best_pred, chosen_levels, p_, recon_.samples.data(), recon_.width, x0,
+                        y0);
     *chosen_mode = static_cast<int8_t>(best_mode);
     const double bits = p_.rdo ? count_block_bits(trial, n, best_mode, mpm, mode_count,
                                                   chosen_levels, coded, gx, gy)

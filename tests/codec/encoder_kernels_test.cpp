@@ -48,6 +48,24 @@ TEST(EncoderKernels, SadAndSatdEqualTheReference) {
       for (int m = 0; m < count; ++m)
         ASSERT_EQ(out[m], sad ? sad_block_reference(4, pa, 40, preds[m])
                               : satd_block_reference(4, pa, 40, preds[m]));
+      // The source less a shared term t, against the predictions without it: the same figures
+      // as the source against the predictions plus t (and as the plain loops).
+      int32_t term[16], source[16], shifted[16][16];
+      std::uniform_int_distribution<int> t(-65535, 65535);
+      for (int i = 0; i < 16; ++i) {
+        term[i] = trial % 3 == 0 ? 0 : t(rng);
+        source[i] = static_cast<int32_t>(pa[(i / 4) * 40 + i % 4]) - term[i];
+      }
+      for (int m = 0; m < count; ++m)
+        for (int i = 0; i < 16; ++i) shifted[m][i] = preds[m][i] + term[i];
+      int64_t with_term[16], of[16], of_reference[16];
+      distortions4x4(sad, pa, 40, shifted, count, with_term);
+      distortions4x4_of(sad, source, preds, count, of);
+      distortions4x4_of_reference(sad, source, preds, count, of_reference);
+      for (int m = 0; m < count; ++m) {
+        ASSERT_EQ(of[m], with_term[m]);
+        ASSERT_EQ(of[m], of_reference[m]);
+      }
     }
   }
   // All-max against all-zero: the largest SAD.

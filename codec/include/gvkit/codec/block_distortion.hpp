@@ -27,5 +27,13 @@ int64_t sad_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, co
 // count predictions preds[0 .. count - 1] into out[i].
 void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
                     int count, int64_t* out);
+// The same for a source block given as 16 values (row-major, each within +-2^18 of every
+// prediction), e.g. the source less a term every prediction shares: the temporal-difference
+// reference or a cross-plane term (source - (p + t) = (source - t) - p, the same differences).
+void distortions4x4_of(bool sad, const int32_t* source, const int32_t (*preds)[16], int count,
+                       int64_t* out);
+// The plain loops of distortions4x4_of (satd4x4 of each difference block, or its SAD).
+void distortions4x4_of_reference(bool sad, const int32_t* source, const int32_t (*preds)[16],
+                                 int count, int64_t* out);
 
 }  // namespace gvkit::codec
