@@ -2,7 +2,7 @@
 // The shortest decimal text of a float that reads back as the same float, for the ASCII mesh
 // writers (PLY, OBJ): the same characters as std::to_chars(first, last, value) (the shortest
 // digits closest to the value, in fixed or scientific notation, whichever is shorter, fixed on a
-// tie; "inf", "nan", "-0", subnormals), about 1.5x faster. The digits come from fmt's Dragonbox
+// tie; "inf", "nan", "-0", subnormals), about 1.6x faster. The digits come from fmt's Dragonbox
 // (fmt::detail::dragonbox::to_decimal, the algorithm fmt itself formats floats with); the
 // notation is chosen and written here; values whose fixed form would need zeros after the
 // digits (|v| >= 10^digits), zeros, subnormals, infinities and NaNs are handed to
