@@ -163,7 +163,7 @@ void run_export(const ExportCommandOptions& o) {
   MeshWriteOptions write_options;
   write_options.binary = !o.ascii;
   write_options.vertex_normals = true;
-  const int threads = o.threads > 0 ? o.threads : std::min(2 * command_threads(0, 4), 8);
+  const int threads = o.threads > 0 ? o.threads : 2 * command_threads(0, 4);
   std::vector<std::string> failures;
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("export", static_cast<int64_t>(indices.size()));

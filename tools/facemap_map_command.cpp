@@ -420,7 +420,8 @@ void add_facemap_map_command(CLI::App& app) {
                 "interior extrema)");
   cmd->add_option("--solver", o->solver,
                   "EIP: how f and its conjugate are solved: direct (sparse LDL'), multigrid "
-                  "(conjugate gradients with an algebraic multigrid preconditioner, to 1e-10) or "
+                  "(conjugate gradients with an algebraic multigrid preconditioner, to a relative "
+                  "residual of 1e-8) or "
                   "auto (multigrid from 30,000 vertices on)")
       ->capture_default_str();
   cmd->add_option("--domain", o->domain, "Canonical domain JSON (default: the shipped v1)");

@@ -900,8 +900,7 @@ class MacroblockEncoder {
       // The temporal-difference reference and the cross-plane term, which every mode's
       // prediction adds, are taken from the source once instead (the same differences).
       int32_t shared[16] = {};
-      const bool has_shared = td || alpha_;
-      if (has_shared) {
+      if (td || alpha_) {
         int32_t source[16];
         if (td) std::copy(ref_block, ref_block + 16, shared);
         add_cross(4, x0, y0, shared);

@@ -182,7 +182,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
       src.reserve(s.source[corners[0]].size() + s.source[corners[1]].size() +
                   s.source[corners[2]].size());
       for (int j = 0; j < 3; ++j) {
-        const int v = s.triangles[best.triangle][j];
+        const int v = corners[j];
         const double w = std::clamp(best.barycentric[j], 0.0, 1.0);
         p += w * s.xyz[v];
         if (colours)
