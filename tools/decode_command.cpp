@@ -32,6 +32,7 @@ namespace {
 struct DecodeArgs {
   std::string input, output, reference;
   int threads = 0;  // 0 = the hardware threads, at most 16
+  std::string exr_compression = "zip";
 };
 
 nlohmann::json psnr_json(double psnr) {
@@ -41,6 +42,7 @@ nlohmann::json psnr_json(double psnr) {
 void run_decode(const DecodeArgs& args) {
   if (args.threads < 0 || args.threads > 16)
     throw CommandFailed(invalid_argument("--threads must be 0..16 (0 = automatic)"));
+  const ExrCompression compression = value_or_throw(exr_compression_option(args.exr_compression));
   auto reader = value_or_throw(codec::GvidReader::open(args.input));
   throw_if_error(ensure_directory(args.output));
   if (reader->index_rebuilt())
@@ -94,7 +96,8 @@ void run_decode(const DecodeArgs& args) {
   const auto write_and_measure = [&](std::shared_ptr<Decoded> d) {
     if (!d->frame.is_ok()) return d;
     const GeometryImage& frame = *d->frame;
-    throw_if_error(write_geometry_image_exr(frame_path(args.output, d->index, ".exr"), frame));
+    throw_if_error(
+        write_geometry_image_exr(frame_path(args.output, d->index, ".exr"), frame, compression));
     d->entry["status"] = "ok";
     if (!reference_files.empty()) {
       const auto& path = reference_files[static_cast<size_t>(d->index)].path;
@@ -144,6 +147,7 @@ void run_decode(const DecodeArgs& args) {
   const double n = static_cast<double>(reader->frame_count());
   nlohmann::json stats = {{"input", args.input},
                           {"output", args.output},
+                          {"exr_compression", exr_compression_name(compression)},
                           {"summary",
                            {{"frames", reader->frame_count()},
                             {"failed_frames", failed},
@@ -193,6 +197,8 @@ void add_decode_command(CLI::App& app) {
                   "Threads writing and measuring decoded frames, 1..16, or 0: the hardware "
                   "threads, at most 16 (frames are decoded in order; the files do not depend on "
                   "it)")
+      ->capture_default_str();
+  cmd->add_option("--exr-compression", args->exr_compression, kExrCompressionHelp)
       ->capture_default_str();
   cmd->callback([args] { run_decode(*args); });
 }

@@ -35,7 +35,8 @@ namespace {
 using namespace gvkit::player;
 
 struct ExportCommandOptions {
-  std::string input, output, format = "ply", frames = ":";
+  std::string input, output, format = "ply", frames = ":", exr_compression = "zip";
+  ExrCompression compression = ExrCompression::kZip;  // parsed from exr_compression
   bool ascii = false, partial_quads = true;
   double max_edge_mm = 0;
   // Workers; 0 = two per hardware thread, at most 8: a worker waits while its file reaches the
@@ -59,7 +60,7 @@ ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCom
   r.index = i;
   r.stats = {{"index", i}};
   if (o.format == "exr") {
-    r.fatal = write_geometry_image_exr(frame_path(o.output, i, ".exr"), image);
+    r.fatal = write_geometry_image_exr(frame_path(o.output, i, ".exr"), image, o.compression);
     r.stats["domain_pixels"] = cv::countNonZero(image.domain_mask);
     return r;
   }
@@ -146,7 +147,8 @@ class ExportWorkers {
   bool closed_ = false;
 };
 
-void run_export(const ExportCommandOptions& o) {
+void run_export(ExportCommandOptions o) {
+  o.compression = value_or_throw(exr_compression_option(o.exr_compression));
   if (o.format != "ply" && o.format != "obj" && o.format != "exr")
     throw CommandFailed(
         invalid_argument("--format must be ply, obj or exr, got '" + o.format + "'"));
@@ -206,6 +208,7 @@ void run_export(const ExportCommandOptions& o) {
                    {{"format", o.format},
                     {"frames", o.frames},
                     {"ascii", o.ascii},
+                    {"exr_compression", o.exr_compression},
                     {"max_edge_mm", o.max_edge_mm},
                     {"partial_quads", o.partial_quads},
                     {"threads", threads},
@@ -230,6 +233,9 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("--frames", o->frames, "Frames A:B (half-open), A:, :B or N")
       ->capture_default_str();
   cmd->add_flag("--ascii", o->ascii, "ASCII PLY instead of binary");
+  cmd->add_option("--exr-compression", o->exr_compression,
+                  std::string("With --format exr: ") + kExrCompressionHelp)
+      ->capture_default_str();
   cmd->add_option("--max-edge", o->max_edge_mm,
                   "Drop triangles with an edge longer than this (mm)");
   cmd->add_flag("!--no-partial-quads", o->partial_quads,

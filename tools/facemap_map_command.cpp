@@ -38,7 +38,7 @@ using facemap::MappedFace;
 
 struct MapCommandOptions {
   std::string faces, output, size = "320x320", method = "eip", domain, rim = "angle",
-                             solver = "auto";
+                             solver = "auto", exr_compression = "zip";
   int threads = 0;
   bool same_vertices = false;
   bool plain_cotan = false;
@@ -160,6 +160,7 @@ nlohmann::json drift_json(const facemap::DriftStats& d) {
 
 void run(const MapCommandOptions& o) {
   const cv::Size size = value_or_throw(parse_size(o.size));
+  const ExrCompression compression = value_or_throw(exr_compression_option(o.exr_compression));
   if (o.method != "eip" && o.method != "hm")
     throw CommandFailed(invalid_argument("--method must be eip or hm, got '" + o.method + "'"));
   if (o.rim != "arclength" && o.rim != "flow" && o.rim != "angle")
@@ -204,6 +205,7 @@ void run(const MapCommandOptions& o) {
                                   {"threads", o.threads},
                                   {"same_vertices", o.same_vertices},
                                   {"png", o.png},
+                                  {"exr_compression", o.exr_compression},
                                   {"block_matching", {{"block_size", 16}, {"search_range", 16}}}};
   // --same-vertices needs every frame's mapping in memory: no frame is kept from earlier runs.
   FrameStatsFile stats_file(o.output, {{"command", "facemap map"}, {"options", options}},
@@ -244,7 +246,7 @@ void run(const MapCommandOptions& o) {
       return fail(mapped.status().with_context(meshes[i].path.filename().string()));
     mapped->image.index = r.index;
     const Status written =
-        write_geometry_image_exr(frame_path(o.output, r.index, ".exr"), mapped->image);
+        write_geometry_image_exr(frame_path(o.output, r.index, ".exr"), mapped->image, compression);
     const Status png =
         o.png ? write_image(frame_path(o.output, r.index, ".png"), preview(mapped->image))
               : Status::ok();
@@ -430,6 +432,8 @@ void add_facemap_map_command(CLI::App& app) {
                 "Frames share vertex order (ground-truth correspondence): also measure the true "
                 "surface drift at fixed pixels");
   cmd->add_flag("--png", o->png, "Also write frame_NNNNNN.png previews (xyz as RGB)");
+  cmd->add_option("--exr-compression", o->exr_compression, kExrCompressionHelp)
+      ->capture_default_str();
   cmd->add_flag("--resume", o->resume,
                 "Keep the frames an earlier run with the same options finished in the output "
                 "folder (listed in its stats.json, files present); map only the others");

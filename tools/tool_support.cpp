@@ -18,6 +18,18 @@ Result<std::pair<int, int>> parse_size(const std::string& text) {
   return std::make_pair(w, h);
 }
 
+Result<ExrCompression> exr_compression_option(const std::string& text) {
+  Result<ExrCompression> compression = parse_exr_compression(text);
+  if (!compression.is_ok())
+    return invalid_argument("--exr-compression: " + compression.status().message());
+  return compression;
+}
+
+const char* const kExrCompressionHelp =
+    "Compression of the written EXRs, all lossless: zip (the smallest files), rle or none (the "
+    "fastest: a 320x320 geometry image writes in about 3 ms instead of 50 and reads in 8 ms "
+    "instead of 17, in a file 1.4-1.6x larger)";
+
 int command_threads(int requested, int at_most) {
   if (requested > 0) return requested;
   return static_cast<int>(

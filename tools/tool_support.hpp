@@ -14,12 +14,20 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gvkit/core/exr_io.hpp"
 #include "gvkit/core/status.hpp"
 
 namespace gvkit::tools {
 
 // "640x480" -> (640, 480). Fails naming the text.
 Result<std::pair<int, int>> parse_size(const std::string& text);
+
+// The value of a command's --exr-compression option ("zip", "rle" or "none"; exr_io.hpp).
+// Fails naming the option and the text.
+Result<ExrCompression> exr_compression_option(const std::string& text);
+
+// The help text of --exr-compression.
+extern const char* const kExrCompressionHelp;
 
 // The threads a command runs: `requested` when > 0, else (0: automatic) the hardware threads,
 // at least 1 and at most `at_most`.

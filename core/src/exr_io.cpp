@@ -52,9 +52,42 @@ cv::Mat channel_from_mask(const cv::Mat& mask) {
   return m;
 }
 
+Imf::Compression openexr_compression(ExrCompression compression) {
+  switch (compression) {
+    case ExrCompression::kRle:
+      return Imf::RLE_COMPRESSION;
+    case ExrCompression::kNone:
+      return Imf::NO_COMPRESSION;
+    case ExrCompression::kZip:
+      break;
+  }
+  return Imf::ZIP_COMPRESSION;
+}
+
+constexpr ExrCompression kExrCompressions[] = {ExrCompression::kZip, ExrCompression::kRle,
+                                               ExrCompression::kNone};
+
 }  // namespace
 
-Status write_exr(const fs::path& path, const ExrChannels& channels) {
+const char* exr_compression_name(ExrCompression compression) {
+  switch (compression) {
+    case ExrCompression::kRle:
+      return "rle";
+    case ExrCompression::kNone:
+      return "none";
+    case ExrCompression::kZip:
+      break;
+  }
+  return "zip";
+}
+
+Result<ExrCompression> parse_exr_compression(const std::string& name) {
+  for (const ExrCompression c : kExrCompressions)
+    if (name == exr_compression_name(c)) return c;
+  return invalid_argument("EXR compression '" + name + "': expected zip, rle or none");
+}
+
+Status write_exr(const fs::path& path, const ExrChannels& channels, ExrCompression compression) {
   if (channels.empty()) return invalid_argument(path.string() + ": no channels to write");
   const cv::Size size = channels.begin()->second.size();
   if (size.area() == 0) return invalid_argument(path.string() + ": empty image");
@@ -67,7 +100,7 @@ Status write_exr(const fs::path& path, const ExrChannels& channels) {
   return write_via_temp_file(path, [&](const fs::path& temp) -> Status {
     try {
       Imf::Header header(size.width, size.height);
-      header.compression() = Imf::ZIP_COMPRESSION;
+      header.compression() = openexr_compression(compression);
       Imf::FrameBuffer frame_buffer;
       std::vector<cv::Mat> keep;
       for (const auto& [name, plane] : channels) {
@@ -119,14 +152,15 @@ Result<ExrChannels> read_exr(const fs::path& path) {
   }
 }
 
-Status write_range_scan_exr(const fs::path& path, const RangeScan& scan) {
+Status write_range_scan_exr(const fs::path& path, const RangeScan& scan,
+                            ExrCompression compression) {
   GVKIT_RETURN_IF_ERROR(scan.check().with_context(path.string()));
   ExrChannels channels;
   add_xyz(scan.xyz_mm, channels);
   channels["T"] = scan.texture.empty() ? cv::Mat(scan.size(), CV_32F, cv::Scalar(0)) : scan.texture;
   channels["Q"] = scan.quality.empty() ? cv::Mat(scan.size(), CV_32F, cv::Scalar(0)) : scan.quality;
   channels["M"] = channel_from_mask(scan.valid);
-  return write_exr(path, channels);
+  return write_exr(path, channels, compression);
 }
 
 Result<RangeScan> read_range_scan_exr(const fs::path& path) {
@@ -141,13 +175,14 @@ Result<RangeScan> read_range_scan_exr(const fs::path& path) {
   return scan;
 }
 
-Status write_geometry_image_exr(const fs::path& path, const GeometryImage& image) {
+Status write_geometry_image_exr(const fs::path& path, const GeometryImage& image,
+                                ExrCompression compression) {
   GVKIT_RETURN_IF_ERROR(image.check().with_context(path.string()));
   ExrChannels channels;
   add_xyz(image.xyz_mm, channels);
   if (!image.texture.empty()) channels["T"] = image.texture;
   channels["M"] = channel_from_mask(image.domain_mask);
-  return write_exr(path, channels);
+  return write_exr(path, channels, compression);
 }
 
 Result<GeometryImage> read_geometry_image_exr(const fs::path& path) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -36,6 +38,36 @@ TEST(ExrIo, ChannelsRoundTripBitExactly) {
   ASSERT_EQ(back->size(), 2u);
   EXPECT_TRUE(same_bits(back->at("A"), channels["A"]));
   EXPECT_TRUE(same_bits(back->at("B"), channels["B"]));
+}
+
+TEST(ExrIo, EveryCompressionRoundTripsBitExactly) {
+  TempDir dir;
+  // Runs of equal values (which RLE and ZIP shorten) beside noise (which they cannot).
+  cv::Mat runs(64, 48, CV_32F, cv::Scalar(0.0f));
+  runs(cv::Rect(10, 5, 20, 30)).setTo(1.0f);
+  ExrChannels channels{{"N", random_plane({48, 64}, 12)}, {"R", runs}};
+  channels["N"].at<float>(7, 9) = NAN;
+  std::map<ExrCompression, uintmax_t> sizes;
+  for (const ExrCompression c :
+       {ExrCompression::kZip, ExrCompression::kRle, ExrCompression::kNone}) {
+    const std::string name = exr_compression_name(c);
+    const auto path = dir / (name + ".exr");
+    ASSERT_TRUE(write_exr(path, channels, c).is_ok()) << name;
+    auto back = read_exr(path);
+    ASSERT_TRUE(back.is_ok()) << name << ": " << back.status().message();
+    EXPECT_TRUE(same_bits(back->at("N"), channels["N"])) << name;
+    EXPECT_TRUE(same_bits(back->at("R"), channels["R"])) << name;
+    sizes[c] = fs::file_size(path);
+    auto parsed = parse_exr_compression(name);
+    ASSERT_TRUE(parsed.is_ok()) << name;
+    EXPECT_EQ(*parsed, c);
+  }
+  // Compression is what the name says: ZIP smaller than RLE, RLE smaller than none.
+  EXPECT_LT(sizes[ExrCompression::kZip], sizes[ExrCompression::kRle]);
+  EXPECT_LT(sizes[ExrCompression::kRle], sizes[ExrCompression::kNone]);
+  auto bad = parse_exr_compression("piz");
+  ASSERT_FALSE(bad.is_ok());
+  EXPECT_NE(bad.status().message().find("'piz'"), std::string::npos);
 }
 
 TEST(ExrIo, RangeScanRoundTrip) {

@@ -51,14 +51,16 @@ TEST(FacemapCli, MapsAnIctSequenceWithBothMethodsAndCompares) {
   ASSERT_TRUE(plain_image.is_ok() && eip_image.is_ok());
   EXPECT_GT(cv::norm(plain_image->xyz_mm, eip_image->xyz_mm, cv::NORM_INF), 0.0);
   // The multigrid solves (the default from 100K vertices on) give the direct solves' map; each
-  // frame records the map's steps' CPU time.
+  // frame records the map's steps' CPU time. (Written with RLE: the same values.)
   r = testing::run_gvkit("facemap map " + faces + " -o " + (dir / "multigrid").string() +
-                         " --size 64x64 --same-vertices --solver multigrid");
+                         " --size 64x64 --same-vertices --solver multigrid --exr-compression rle");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto multigrid_stats = read_json(dir / "multigrid" / "stats.json");
   ASSERT_TRUE(multigrid_stats.is_ok());
   EXPECT_EQ((*multigrid_stats)["options"]["solver"], "multigrid");
   EXPECT_EQ((*eip_stats)["options"]["solver"], "auto");
+  EXPECT_EQ((*multigrid_stats)["options"]["exr_compression"], "rle");
+  EXPECT_EQ((*eip_stats)["options"]["exr_compression"], "zip");
   EXPECT_GT((*multigrid_stats)["frames"][0]["cpu_ms"]["total"].get<double>(), 0.0);
   EXPECT_EQ((*multigrid_stats)["summary"]["flipped_total"], 0);
   auto multigrid_image = read_geometry_image_exr(dir / "multigrid" / "frame_000001.exr");
@@ -90,6 +92,11 @@ TEST(FacemapCli, BadOptionsAndMissingInputFailWithAMessage) {
                          " --solver lu");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--solver must be auto, direct or multigrid"), std::string::npos)
+      << r.output;
+  r = testing::run_gvkit("facemap map " + dir.path().string() + " -o " + (dir / "out").string() +
+                         " --exr-compression piz");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--exr-compression: EXR compression 'piz'"), std::string::npos)
       << r.output;
 }
 

@@ -1,4 +1,5 @@
 // `gvkit encode`, `gvkit decode` and `gvkit info` on .gvid streams, as a user runs them.
+#include <cstring>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -66,6 +67,50 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
     EXPECT_LT(worst, 0.01);  // 16-bit quantization of a ~300 mm box: ~0.005 mm steps
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
+}
+
+bool same_floats(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() &&
+         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+}
+
+// --exr-compression changes how decode and export write the EXRs, never the values.
+TEST(CliCodec, EveryExrCompressionWritesTheSameValues) {
+  TempDir dir;
+  write_frames(dir / "in", 2);
+  const std::string gvid = (dir / "v.gvid").string();
+  ASSERT_EQ(
+      run_gvkit("encode " + (dir / "in").string() + " -o " + gvid + " --preset fast").exit_code, 0);
+  ASSERT_EQ(run_gvkit("decode " + gvid + " -o " + (dir / "zip").string()).exit_code, 0);
+  for (const std::string c : {"rle", "none"}) {
+    auto dec =
+        run_gvkit("decode " + gvid + " -o " + (dir / c).string() + " --exr-compression " + c);
+    ASSERT_EQ(dec.exit_code, 0) << dec.output;
+    auto stats = read_json(dir / c / "stats.json");
+    ASSERT_TRUE(stats.is_ok());
+    EXPECT_EQ((*stats)["exr_compression"], c);
+    auto exported = run_gvkit("export " + gvid + " --format exr -o " + (dir / ("x" + c)).string() +
+                              " --exr-compression " + c);
+    ASSERT_EQ(exported.exit_code, 0) << exported.output;
+    for (int f = 0; f < 2; ++f) {
+      auto zip = read_geometry_image_exr(frame_path(dir / "zip", f, ".exr"));
+      ASSERT_TRUE(zip.is_ok());
+      for (const auto& folder : {dir / c, dir / ("x" + c)}) {
+        auto other = read_geometry_image_exr(frame_path(folder, f, ".exr"));
+        ASSERT_TRUE(other.is_ok()) << other.status().message();
+        EXPECT_TRUE(same_floats(other->xyz_mm, zip->xyz_mm)) << folder << " frame " << f;
+        EXPECT_TRUE(same_floats(other->domain_mask, zip->domain_mask)) << folder;
+      }
+    }
+  }
+  // Uncompressed files are the larger.
+  EXPECT_GT(std::filesystem::file_size(frame_path(dir / "none", 0, ".exr")),
+            std::filesystem::file_size(frame_path(dir / "zip", 0, ".exr")));
+  auto bad =
+      run_gvkit("decode " + gvid + " -o " + (dir / "bad").string() + " --exr-compression piz");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.output, "--exr-compression")) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "'piz'")) << bad.output;
 }
 
 TEST(CliCodec, EncodeAndDecodeReportTheSurfaceError) {

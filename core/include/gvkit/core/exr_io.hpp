@@ -18,17 +18,32 @@ namespace gvkit {
 // Channel name -> CV_32F plane. All planes share one size.
 using ExrChannels = std::map<std::string, cv::Mat>;
 
-// Writes 32-bit float channels (ZIP compression). Fails on empty input or mismatched sizes.
-Status write_exr(const std::filesystem::path& path, const ExrChannels& channels);
+// The lossless compression of written EXR files (all read back to the same floats):
+//   kZip   OpenEXR's ZIP (zlib over blocks of 16 scanlines): the smallest files and the slowest;
+//   kRle   run lengths: several times faster, larger files where values vary from pixel to pixel;
+//   kNone  uncompressed: the fastest, the largest files.
+// A 320x320 geometry image (X, Y, Z, T, M) on one core (docs/benchmarks.md, "EXR compression"):
+// ZIP about 50 ms to write, 17 ms to read, 1.3-1.5 MB; RLE 7 / 9 ms, 1.8 MB; none 3 / 8 ms,
+// 2.1 MB. A 640x480 range scan with holes: ZIP 1.4 MB, RLE 4.1 MB, none 6.3 MB.
+enum class ExrCompression { kZip, kRle, kNone };
+const char* exr_compression_name(ExrCompression compression);  // "zip", "rle", "none"
+// Fails naming the text when it is none of the names.
+Result<ExrCompression> parse_exr_compression(const std::string& name);
+
+// Writes 32-bit float channels. Fails on empty input or mismatched sizes.
+Status write_exr(const std::filesystem::path& path, const ExrChannels& channels,
+                 ExrCompression compression = ExrCompression::kZip);
 // Reads every channel as CV_32F. Fails with the file name on a missing, truncated or non-EXR file.
 Result<ExrChannels> read_exr(const std::filesystem::path& path);
 
 // RangeScan <-> EXR: X, Y, Z (mm, NaN invalid), T (texture), Q (quality), M (valid, 0 or 1).
-Status write_range_scan_exr(const std::filesystem::path& path, const RangeScan& scan);
+Status write_range_scan_exr(const std::filesystem::path& path, const RangeScan& scan,
+                            ExrCompression compression = ExrCompression::kZip);
 Result<RangeScan> read_range_scan_exr(const std::filesystem::path& path);
 
 // GeometryImage <-> EXR: X, Y, Z (mm), T (texture, only if present), M (domain mask, 0 or 1).
-Status write_geometry_image_exr(const std::filesystem::path& path, const GeometryImage& image);
+Status write_geometry_image_exr(const std::filesystem::path& path, const GeometryImage& image,
+                                ExrCompression compression = ExrCompression::kZip);
 Result<GeometryImage> read_geometry_image_exr(const std::filesystem::path& path);
 
 }  // namespace gvkit
