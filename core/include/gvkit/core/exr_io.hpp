@@ -23,8 +23,9 @@ using ExrChannels = std::map<std::string, cv::Mat>;
 //   kRle   run lengths: several times faster, larger files where values vary from pixel to pixel;
 //   kNone  uncompressed: the fastest, the largest files.
 // A 320x320 geometry image (X, Y, Z, T, M) on one core (docs/benchmarks.md, "EXR compression"):
-// ZIP about 50 ms to write, 17 ms to read, 1.3-1.5 MB; RLE 7 / 9 ms, 1.8 MB; none 3 / 8 ms,
-// 2.1 MB. A 640x480 range scan with holes: ZIP 1.4 MB, RLE 4.1 MB, none 6.3 MB.
+// ZIP about 55-75 ms to write, 20 ms to read, 1.5 MB; RLE 10-15 / 9-11 ms, 1.8 MB; none
+// 3-6 / 7-8 ms, 2.1 MB. The X, Y, Z, T, M channels of a 640x480 range scan with holes: ZIP
+// 1.1 MB, RLE 3.7 MB, none 5.3 MB.
 enum class ExrCompression { kZip, kRle, kNone };
 const char* exr_compression_name(ExrCompression compression);  // "zip", "rle", "none"
 // Fails naming the text when it is none of the names.
