@@ -37,7 +37,8 @@ struct RunArgs {
   std::string projector_size, calibration_unit, images, exclude, ground_truth;
   bool rescale_calibration = false, sliding = false;
   int frames = 30;
-  std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix";
+  std::string size = "512x512", map_size = "320x320", preset = "slow", expressions = "mix",
+              exr_compression = "zip";
   int qp = codec::EncoderOptions().qp;
   double depth_prior_mm = 0;  // 0: reconstruct's default (the session's, else 650 mm)
   bool render = false, restart = false;
@@ -123,6 +124,7 @@ void run(const RunArgs& a) {
   encoder.qp = a.qp;
   throw_if_error(encoder.check());
   throw_if_error(codec::parse_preset(a.preset).status());
+  throw_if_error(exr_compression_option(a.exr_compression).status());
   const fs::path work = a.work;
   const bool synthetic = a.input == "synthetic";
   std::error_code ec;
@@ -165,21 +167,24 @@ void run(const RunArgs& a) {
        [&] {
          return frames_complete(work / "faces", {".ply", ".landmarks.json"});
        }});
-  stages.push_back({"map",
-                    {"facemap", "map", (work / "faces").string(), "-o", (work / "gv").string(),
-                     "--size", a.map_size, "--png", "--resume"},
-                    [&] {
-                      return frames_complete(work / "gv", {".exr", ".png"});
-                    }});
+  stages.push_back(
+      {"map",
+       {"facemap", "map", (work / "faces").string(), "-o", (work / "gv").string(), "--size",
+        a.map_size, "--png", "--resume", "--exr-compression", a.exr_compression},
+       [&] {
+         return frames_complete(work / "gv", {".exr", ".png"});
+       }});
   const std::string gvid = (work / "face.gvid").string();
   stages.push_back({"encode",
                     {"encode", (work / "gv").string(), "-o", gvid, "--qp", std::to_string(a.qp),
                      "--preset", a.preset},
                     [&] { return fs::exists(gvid + ".stats.json") && fs::exists(gvid); }});
-  stages.push_back({"decode", {"decode", gvid, "-o", (work / "decoded").string()}, [&] {
-                      return finished_without_failures(work / "decoded" / "stats.json",
-                                                       "failed_frames");
-                    }});
+  stages.push_back(
+      {"decode",
+       {"decode", gvid, "-o", (work / "decoded").string(), "--exr-compression", a.exr_compression},
+       [&] {
+         return finished_without_failures(work / "decoded" / "stats.json", "failed_frames");
+       }});
   if (a.render) {
 #ifdef GVKIT_WITH_PLAYER
     stages.push_back(
@@ -308,6 +313,10 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--qp", a->qp, "Encoder quantization parameter (encode --qp)")
       ->capture_default_str();
   cmd->add_option("--preset", a->preset, "Encoder preset: fast or slow")->capture_default_str();
+  cmd->add_option("--exr-compression", a->exr_compression,
+                  "Compression of the geometry images of WORK/gv and WORK/decoded (facemap map "
+                  "and decode --exr-compression): zip, rle or none, all lossless")
+      ->capture_default_str();
   cmd->add_flag("--render", a->render,
                 "Also render the decoded video offscreen to WORK/face.mp4 and WORK/contact.png, "
                 "and it beside the input with a normal-error heat map to WORK/compare.mp4 and "

@@ -29,7 +29,8 @@ std::vector<int64_t> done_frames(const fs::path& dir) {
 }
 
 const char* kTiny =
-    " --frames 3 --size 256x256 --map-size 48x48 --preset fast --expressions neutral";
+    " --frames 3 --size 256x256 --map-size 48x48 --preset fast --expressions neutral "
+    "--exr-compression none";
 
 TEST(CliRun, TinySyntheticSessionToGvidThenResumesWhereItStopped) {
   GVKIT_REQUIRE_SHARED_DATA(data);
@@ -52,6 +53,12 @@ TEST(CliRun, TinySyntheticSessionToGvidThenResumesWhereItStopped) {
   auto decoded = list_frame_files(work / "decoded", ".exr");
   ASSERT_TRUE(decoded.is_ok());
   EXPECT_EQ(decoded->size(), mapped.size());
+  // --exr-compression reaches the stages that write geometry images.
+  auto map_stats = read_json(work / "gv" / "stats.json");
+  auto decode_stats = read_json(work / "decoded" / "stats.json");
+  ASSERT_TRUE(map_stats.is_ok() && decode_stats.is_ok());
+  EXPECT_EQ((*map_stats)["options"]["exr_compression"], "none");
+  EXPECT_EQ((*decode_stats)["exr_compression"], "none");
 
   // Interrupted in facemap map: its last frame is gone and its stats.json is unfinished.
   const fs::path last = frame_path(work / "gv", mapped.back(), ".exr");
@@ -115,6 +122,9 @@ TEST(CliRun, BadOptionsAndInputsFailWithAMessage) {
   auto preset = run_gvkit("run synthetic -o " + work + " --preset medium");
   EXPECT_NE(preset.exit_code, 0);
   EXPECT_TRUE(contains(preset.output, "medium")) << preset.output;
+  auto compression = run_gvkit("run synthetic -o " + work + " --exr-compression piz");
+  EXPECT_NE(compression.exit_code, 0);
+  EXPECT_TRUE(contains(compression.output, "--exr-compression")) << compression.output;
   auto input = run_gvkit("run " + (dir / "nowhere").string() + " -o " + work);
   EXPECT_NE(input.exit_code, 0);
   EXPECT_TRUE(contains(input.output, "nowhere: no such folder")) << input.output;
