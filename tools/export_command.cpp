@@ -36,7 +36,6 @@ using namespace gvkit::player;
 
 struct ExportCommandOptions {
   std::string input, output, format = "ply", frames = ":", exr_compression = "zip";
-  ExrCompression compression = ExrCompression::kZip;  // parsed from exr_compression
   bool ascii = false, partial_quads = true;
   double max_edge_mm = 0;
   // Workers; 0 = two per hardware thread, at most 8: a worker waits while its file reaches the
@@ -54,13 +53,13 @@ struct ExportResult {
 };
 
 ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCommandOptions& o,
-                          const GeometryImageMeshOptions& mesh_options,
+                          ExrCompression compression, const GeometryImageMeshOptions& mesh_options,
                           const MeshWriteOptions& write_options) {
   ExportResult r;
   r.index = i;
   r.stats = {{"index", i}};
   if (o.format == "exr") {
-    r.fatal = write_geometry_image_exr(frame_path(o.output, i, ".exr"), image, o.compression);
+    r.fatal = write_geometry_image_exr(frame_path(o.output, i, ".exr"), image, compression);
     r.stats["domain_pixels"] = cv::countNonZero(image.domain_mask);
     return r;
   }
@@ -147,8 +146,8 @@ class ExportWorkers {
   bool closed_ = false;
 };
 
-void run_export(ExportCommandOptions o) {
-  o.compression = value_or_throw(exr_compression_option(o.exr_compression));
+void run_export(const ExportCommandOptions& o) {
+  const ExrCompression compression = value_or_throw(exr_compression_option(o.exr_compression));
   if (o.format != "ply" && o.format != "obj" && o.format != "exr")
     throw CommandFailed(
         invalid_argument("--format must be ply, obj or exr, got '" + o.format + "'"));
@@ -171,7 +170,7 @@ void run_export(ExportCommandOptions o) {
   Progress progress("export", static_cast<int64_t>(indices.size()));
   const auto start = std::chrono::steady_clock::now();
   ExportWorkers workers(threads, [&](int64_t i, const GeometryImage& image) {
-    return export_frame(i, image, o, mesh_options, write_options);
+    return export_frame(i, image, o, compression, mesh_options, write_options);
   });
   for (int64_t i : indices) {
     progress.advance();

@@ -1,9 +1,9 @@
 // `gvkit encode`, `gvkit decode` and `gvkit info` on .gvid streams, as a user runs them.
-#include <cstring>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
+#include "codec_round_trip.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/exr_io.hpp"
@@ -69,11 +69,6 @@ TEST(CliCodec, EncodeInfoDecodeLossless) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "stats.json"));
 }
 
-bool same_floats(const cv::Mat& a, const cv::Mat& b) {
-  return a.size() == b.size() && a.type() == b.type() &&
-         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
-}
-
 // --exr-compression changes how decode and export write the EXRs, never the values.
 TEST(CliCodec, EveryExrCompressionWritesTheSameValues) {
   TempDir dir;
@@ -98,8 +93,8 @@ TEST(CliCodec, EveryExrCompressionWritesTheSameValues) {
       for (const auto& folder : {dir / c, dir / ("x" + c)}) {
         auto other = read_geometry_image_exr(frame_path(folder, f, ".exr"));
         ASSERT_TRUE(other.is_ok()) << other.status().message();
-        EXPECT_TRUE(same_floats(other->xyz_mm, zip->xyz_mm)) << folder << " frame " << f;
-        EXPECT_TRUE(same_floats(other->domain_mask, zip->domain_mask)) << folder;
+        EXPECT_TRUE(testing::same_samples(other->xyz_mm, zip->xyz_mm)) << folder << " frame " << f;
+        EXPECT_TRUE(testing::same_samples(other->domain_mask, zip->domain_mask)) << folder;
       }
     }
   }
