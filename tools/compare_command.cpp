@@ -17,7 +17,6 @@
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "command.hpp"
 #include "gvkit/codec/geometry_metrics.hpp"
@@ -111,7 +110,7 @@ void run_compare(const CompareOptions& o) {
   const std::vector<size_t> sheet_positions = evenly_spaced(indices.size(), o.contact_frames);
   std::vector<cv::Mat> sheet_tiles;
   std::vector<std::string> sheet_labels;
-  cv::VideoWriter writer;
+  opencv_media::VideoWriter writer;
   std::string video_codec;
   std::unique_ptr<ViewCamera> camera;
   codec::GeometryError point_total;
@@ -213,9 +212,9 @@ void run_compare(const CompareOptions& o) {
     cv::Mat row;
     cv::hconcat(std::vector<cv::Mat>{left, middle, right}, row);
     if (!o.output.empty()) {
-      if (!writer.isOpened())
+      if (!writer.is_open())
         video_codec = value_or_throw(open_video(writer, o.output, fps, row.size()));
-      writer.write(row);
+      throw_if_error(writer.write(row));
     }
     if (std::find(sheet_positions.begin(), sheet_positions.end(), k) != sheet_positions.end()) {
       for (const cv::Mat* tile : {&left, &middle, &right}) sheet_tiles.push_back(*tile);

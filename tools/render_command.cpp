@@ -16,7 +16,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "command.hpp"
 #include "gvkit/core/file_extension.hpp"
@@ -177,7 +176,7 @@ void run_render(const RenderCommandOptions& o) {
   prefetch.mesh.stride = mesh_options.stride;
   FramePrefetcher frames(seq, prefetch);
   if (!o.output.empty() && !video) throw_if_error(ensure_directory(o.output));
-  cv::VideoWriter writer;
+  opencv_media::VideoWriter writer;
   std::string codec;
   if (video) {  // opened here: the writer thread only writes
     const cv::Size picture_size(render_options.width, render_options.height);
@@ -237,10 +236,7 @@ void run_render(const RenderCommandOptions& o) {
     const cv::Mat picture = value_or_throw(renderer->render(*camera, style));
     ++rendered;
     if (video) {
-      picture_writer.push([&writer, picture] {
-        writer.write(picture);
-        return Status::ok();
-      });
+      picture_writer.push([&writer, picture] { return writer.write(picture); });
     } else if (!o.output.empty()) {
       picture_writer.push(
           [path = frame_path(o.output, i, ".png"), picture] { return write_image(path, picture); });

@@ -6,13 +6,14 @@
 #include <utility>
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
+#include <opencv2/videoio.hpp>  // the constants only: the codecs are in the plugin
 
 #include "gvkit/capture/session_reader.hpp"
 #include "gvkit/core/file_extension.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/image_io.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "gvkit/core/opencv_media.hpp"
 #include "pacer.hpp"
 
 namespace gvkit {
@@ -151,7 +152,8 @@ class ImageFolderSource final : public FrameSource {
 
 class VideoFileSource final : public FrameSource {
  public:
-  VideoFileSource(fs::path path, cv::VideoCapture capture, const FrameSourceOptions& options)
+  VideoFileSource(fs::path path, opencv_media::VideoCapture capture,
+                  const FrameSourceOptions& options)
       : path_(std::move(path)), capture_(std::move(capture)), options_(options) {
     const double file_fps = capture_.get(cv::CAP_PROP_FPS);
     fps_ = options.fps > 0 ? options.fps : (file_fps > 0 ? file_fps : kDefaultReplayFps);
@@ -161,10 +163,14 @@ class VideoFileSource final : public FrameSource {
   Result<std::optional<CameraFrame>> next() override {
     if (!failure_.is_ok()) return failure_;
     cv::Mat raw;
-    if (!capture_.read(raw) || raw.empty()) {
+    Result<bool> read = capture_.read(&raw);
+    if (!read.is_ok()) return failure_ = read.status().with_context(path_.string());
+    if (!read.value()) {
       if (!options_.loop || delivered_ == 0) return std::optional<CameraFrame>();
       capture_.set(cv::CAP_PROP_POS_FRAMES, 0);
-      if (!capture_.read(raw) || raw.empty())
+      read = capture_.read(&raw);
+      if (!read.is_ok()) return failure_ = read.status().with_context(path_.string());
+      if (!read.value())
         return failure_ = io_error(path_.string() + ": cannot seek back to the first frame");
     }
     cv::Mat grey;
@@ -195,7 +201,7 @@ class VideoFileSource final : public FrameSource {
 
  private:
   fs::path path_;
-  mutable cv::VideoCapture capture_;
+  opencv_media::VideoCapture capture_;
   FrameSourceOptions options_;
   double fps_ = kDefaultReplayFps;
   detail::Pacer pacer_{0};
@@ -296,9 +302,8 @@ Result<std::unique_ptr<FrameSource>> open_file_source(const std::string& path_te
   if (is_image_file(path))
     return unsupported(path_text +
                        ": a single image; file: replays a folder of images or a video file");
-  cv::VideoCapture capture(path_text, cv::CAP_FFMPEG);
-  if (!capture.isOpened())
-    return unsupported(path_text + ": not a video that OpenCV/FFmpeg can open");
+  opencv_media::VideoCapture capture;
+  GVKIT_RETURN_IF_ERROR(capture.open(path_text, cv::CAP_FFMPEG));
   return std::unique_ptr<FrameSource>(
       std::make_unique<VideoFileSource>(path, std::move(capture), options));
 }

@@ -1,10 +1,11 @@
 #include "gvkit/capture/frame_recorder.hpp"
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the flags only: the codecs are in the plugin
 
 #include "gvkit/core/atomic_file.hpp"
 #include "gvkit/core/frame_files.hpp"
 #include "gvkit/core/json_io.hpp"
+#include "gvkit/core/opencv_media.hpp"
 
 namespace gvkit {
 namespace fs = std::filesystem;
@@ -91,8 +92,11 @@ Status FrameRecorder::append(const CameraFrame& frame) {
                            " MiB wanted)"));
   }
   std::vector<uint8_t> png;
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, options_.png_compression}))
-    return stop(io_error("frame " + std::to_string(frames_written_) + ": PNG encoding failed"));
+  const Result<bool> encoded = opencv_media::imencode(
+      ".png", image, &png, {cv::IMWRITE_PNG_COMPRESSION, options_.png_compression});
+  if (!encoded.is_ok() || !encoded.value())
+    return stop(io_error("frame " + std::to_string(frames_written_) + ": PNG encoding failed" +
+                         (encoded.is_ok() ? "" : " (" + encoded.status().message() + ")")));
   const std::string name = frame_file_name(frames_written_, ".png");
   Status written = write_file_atomically(
       dir_ / name, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));

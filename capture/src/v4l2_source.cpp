@@ -11,7 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the flags only: the codecs are in the plugin
+
+#include "gvkit/core/opencv_media.hpp"
 
 #include "v4l2_errors.hpp"
 
@@ -179,6 +181,8 @@ class V4l2Source final : public FrameSource {
                          " and offered " + fourcc_name(fmt.fmt.pix.pixelformat) +
                          " instead; the device offers " + offered_text() + "; " + readable);
     fourcc_ = wanted;
+    if (fourcc_ == V4L2_PIX_FMT_MJPEG)  // its frames are decoded by OpenCV's codecs
+      GVKIT_RETURN_IF_ERROR(opencv_media::load().with_context(device_ + ": MJPG frames"));
     width_ = static_cast<int>(fmt.fmt.pix.width);
     height_ = static_cast<int>(fmt.fmt.pix.height);
     if (width_ <= 0 || height_ <= 0)
@@ -364,9 +368,10 @@ class V4l2Source final : public FrameSource {
       case V4L2_PIX_FMT_MJPEG: {
         if (bytes_used == 0) return {};
         cv::Mat jpeg(1, static_cast<int>(bytes_used), CV_8U, const_cast<uint8_t*>(data));
-        cv::Mat grey = cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
-        if (grey.empty() || grey.cols != width_ || grey.rows != height_) return {};
-        return grey;
+        Result<cv::Mat> grey = opencv_media::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
+        if (!grey.is_ok() || grey->empty() || grey->cols != width_ || grey->rows != height_)
+          return {};
+        return std::move(grey).value();
       }
       default:
         return {};

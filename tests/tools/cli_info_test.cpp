@@ -1,7 +1,11 @@
 // The gvkit binary as a user runs it: `gvkit info` on real files and on bad input.
+#include <cstdlib>
+
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 #include "gvkit/core/atomic_file.hpp"
+#include "gvkit/core/image_io.hpp"
 #include "support/test_support.hpp"
 
 namespace gvkit {
@@ -70,6 +74,33 @@ TEST(CliInfo, DescribesAnImage) {
   auto r = run_gvkit("info " + (data / "slstudio-skull-2x3" / "frame_00.png").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "1688x1352"));
+}
+
+// A command that reads no image starts without OpenCV's codecs (opencv_media.hpp): the dynamic
+// loader's list of the files it loads names OpenCV's core but neither imgcodecs nor videoio. An
+// image still reads, through the plugin; without the plugin the error says what to set.
+TEST(CliInfo, StartsWithoutOpenCvCodecsAndLoadsThemForAnImage) {
+  ::setenv("LD_DEBUG", "files", 1);
+  auto version = run_gvkit("--version");
+  ::unsetenv("LD_DEBUG");
+  ASSERT_EQ(version.exit_code, 0);
+  EXPECT_TRUE(contains(version.output, "libopencv_core")) << "LD_DEBUG gave no file list";
+  EXPECT_FALSE(contains(version.output, "libopencv_imgcodecs"));
+  EXPECT_FALSE(contains(version.output, "libopencv_videoio"));
+
+  TempDir dir;
+  ASSERT_TRUE(write_image(dir / "grey.png", cv::Mat(24, 40, CV_16U, cv::Scalar(1234))).is_ok());
+  auto image = run_gvkit("info " + (dir / "grey.png").string());
+  ASSERT_EQ(image.exit_code, 0) << image.output;
+  EXPECT_TRUE(contains(image.output, "40x24, 1 channel(s), 16-bit, values 1234..1234"))
+      << image.output;
+
+  ::setenv("GVKIT_OPENCV_MEDIA", (dir / "missing_plugin.so").c_str(), 1);
+  auto missing = run_gvkit("info " + (dir / "grey.png").string());
+  ::unsetenv("GVKIT_OPENCV_MEDIA");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_TRUE(contains(missing.output, "missing_plugin.so")) << missing.output;
+  EXPECT_TRUE(contains(missing.output, "set GVKIT_OPENCV_MEDIA")) << missing.output;
 }
 
 TEST(CliInfo, BadInputGivesOneLineAndNonZeroExit) {
