@@ -28,7 +28,7 @@ using detail::OpenCvMediaTable;
 
 // The table of the plugin at `path`, loaded and kept (never closed), or why not.
 Result<const OpenCvMediaTable*> open_table(const std::string& path) {
-  void* library = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  void* library = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
   if (!library) {
     const char* why = dlerror();
     return unsupported(path + ": " + (why ? why : "cannot be loaded"));
