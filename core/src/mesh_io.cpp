@@ -284,7 +284,15 @@ std::string ply_ascii_text(const MeshArrays& a, bool normals, bool texcoords, bo
 
 // OBJ: v, then vt and vn (one per vertex) when written, then f with 1-based v/vt/vn indices.
 std::string obj_text(const MeshArrays& a, bool normals, bool texcoords) {
-  TextOut out(a.vertex_count * 100 + a.triangle_count * 48);
+  // Reserved: the face lines at most (every index with the digits of the largest), the vertex
+  // lines at 12 characters a float. An estimate that falls short doubles the text while it is
+  // written, past glibc's mmap threshold for a 320x320 frame: fresh pages to fault in per frame.
+  size_t digits = 1;
+  for (size_t n = a.vertex_count; n >= 10; n /= 10) ++digits;
+  const size_t per_corner = 1 + digits * (1 + texcoords + normals) + (normals ? 2 : texcoords);
+  const size_t per_vertex =
+      (2 + 3 * 13) + (texcoords ? 3 + 2 * 13 : 0) + (normals ? 3 + 3 * 13 : 0);
+  TextOut out(64 + a.vertex_count * per_vertex + a.triangle_count * (2 + 3 * per_corner));
   out.text("# ").number(uint64_t{a.vertex_count}).text(" vertices, ");
   out.number(uint64_t{a.triangle_count}).text(" faces\n");
   for (size_t i = 0; i < a.vertex_count; ++i)
