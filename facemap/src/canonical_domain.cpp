@@ -228,7 +228,8 @@ Result<CanonicalDomain> CanonicalDomain::create(const CanonicalDomainSpec& spec,
   options.distance_crop_mm = 0;  // Euclidean distances cost nothing to solve
   GVKIT_ASSIGN_OR_RETURN(d.annulus_,
                          make_face_annulus(mesh, landmarks, euclidean_distance, options));
-  GVKIT_ASSIGN_OR_RETURN(d.flow_, flow_coordinates(d.annulus_, {}, rim, min_cotan_weight));
+  GVKIT_ASSIGN_OR_RETURN(
+      d.flow_, flow_coordinates(d.annulus_, {}, rim, min_cotan_weight, HarmonicSolver::kAuto));
 
   const TriSurface& s = d.annulus_.surface;
   d.st_.assign(size.area(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));

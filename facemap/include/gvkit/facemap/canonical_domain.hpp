@@ -42,8 +42,9 @@ struct CanonicalDomainSpec {
 class CanonicalDomain {
  public:
   // Rasterizes the holes at size (each hole at least 3 px thick), meshes the domain pixels
-  // (one vertex per pixel centre), cuts and solves it. Fails when the size is too small for
-  // the holes to stay apart and manifold.
+  // (one vertex per pixel centre), cuts and solves it (f and psi by multigrid from
+  // kMultigridMinVertices vertices on, as the frames' maps: 0.43-0.47 instead of 0.91 s at
+  // 320x320). Fails when the size is too small for the holes to stay apart and manifold.
   // rim, min_cotan_weight: see flow_coordinates(); frames are mapped with the same settings.
   static Result<CanonicalDomain> create(const CanonicalDomainSpec& spec, cv::Size size,
                                         RimCorrespondence rim = RimCorrespondence::kAngle,
