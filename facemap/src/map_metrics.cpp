@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 namespace gvkit::facemap {
 
@@ -13,9 +12,13 @@ MapQuality measure_map_quality(const std::vector<Eigen::Vector3d>& xyz,
   GVKIT_CHECK(xyz.size() == uv.size() && xyz.size() % 3 == 0);
   MapQuality q;
   q.triangles = static_cast<int>(xyz.size() / 3);
+  // The singular values s1, s2 of a triangle's Jacobian J (uv with respect to the triangle's own
+  // 2D frame) enter the measures only as s1 s2 = |det J| and s1^2 + s2^2 = |J|_F^2, so no SVD:
+  // s1 / s2 + s2 / s1 = |J|_F^2 / |det J|. |det J| is the ratio of the areas (uv over 3D).
   struct Tri {
     double area3d;
-    Eigen::Matrix2d jacobian;  // of uv with respect to the triangle's own 2D frame
+    double det;         // |det J|
+    double frobenius2;  // |J|_F^2
   };
   std::vector<Tri> good;
   double total3d = 0, total_uv = 0;
@@ -42,18 +45,18 @@ MapQuality measure_map_quality(const std::vector<Eigen::Vector3d>& xyz,
     x << len1, e2.dot(ax), 0, e2.dot(ay);
     Eigen::Matrix2d u;
     u << du1.x(), du2.x(), du1.y(), du2.y();
-    good.push_back({area, u * x.inverse()});
+    good.push_back({area, signed_uv / area, (u * x.inverse()).squaredNorm()});
     total3d += area;
     total_uv += signed_uv;
   }
   if (good.empty() || !(total_uv > 0)) return q;
-  const double scale = std::sqrt(total3d / total_uv);  // uv -> mm so that the areas agree
+  // uv -> mm so that the areas agree: J scaled by `scale`, its determinant by scale^2.
+  const double scale2 = total3d / total_uv;
   double angle = 0, area_d = 0;
   for (const Tri& t : good) {
-    Eigen::JacobiSVD<Eigen::Matrix2d> svd(t.jacobian * scale);
-    const double s1 = svd.singularValues()[0], s2 = std::max(svd.singularValues()[1], 1e-300);
-    angle += t.area3d * 0.5 * (s1 / s2 + s2 / s1);
-    area_d += t.area3d * 0.5 * (s1 * s2 + 1.0 / (s1 * s2));
+    const double det = std::max(t.det * scale2, 1e-300);
+    angle += t.area3d * 0.5 * (t.frobenius2 * scale2 / det);
+    area_d += t.area3d * 0.5 * (det + 1.0 / det);
   }
   q.eps_angle = angle / total3d;
   q.eps_area = area_d / total3d;
