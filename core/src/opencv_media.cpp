@@ -26,7 +26,7 @@ namespace {
 
 using detail::OpenCvMediaTable;
 
-// The table of the plugin at `path`, loaded and kept (never closed), or why not.
+// The table of the plugin at `path`, loaded and kept (a plugin is never closed), or why not.
 Result<const OpenCvMediaTable*> open_table(const std::string& path) {
   void* library = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
   if (!library) {
@@ -36,11 +36,16 @@ Result<const OpenCvMediaTable*> open_table(const std::string& path) {
   using Entry = const OpenCvMediaTable* (*)();
   auto entry = reinterpret_cast<Entry>(dlsym(library, "gvkit_opencv_media_table"));
   const OpenCvMediaTable* table = entry ? entry() : nullptr;
-  if (!table) return unsupported(path + ": not a gvkit OpenCV media plugin");
-  if (table->abi != detail::kOpenCvMediaAbi || table->size != sizeof(OpenCvMediaTable))
-    return unsupported(path + ": a plugin of another gvkit build (table version " +
-                       std::to_string(table->abi) + ", this build's " +
-                       std::to_string(detail::kOpenCvMediaAbi) + ")");
+  if (!table) {
+    dlclose(library);
+    return unsupported(path + ": not a gvkit OpenCV media plugin");
+  }
+  if (table->abi != detail::kOpenCvMediaAbi || table->size != sizeof(OpenCvMediaTable)) {
+    const std::string versions =
+        std::to_string(table->abi) + ", this build's " + std::to_string(detail::kOpenCvMediaAbi);
+    dlclose(library);
+    return unsupported(path + ": a plugin of another gvkit build (table version " + versions + ")");
+  }
   return table;
 }
 
