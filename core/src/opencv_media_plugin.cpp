@@ -102,13 +102,20 @@ void capture_close(void* capture) {
 }
 
 constexpr OpenCvMediaTable kTable = {
-    kOpenCvMediaAbi, sizeof(OpenCvMediaTable),
-    imread,          imdecode,
-    imwrite,         imencode,
-    writer_open,     writer_write,
-    writer_close,    capture_open,
-    capture_read,    capture_get,
-    capture_set,     capture_close,
+    .abi = kOpenCvMediaAbi,
+    .size = sizeof(OpenCvMediaTable),
+    .imread = imread,
+    .imdecode = imdecode,
+    .imwrite = imwrite,
+    .imencode = imencode,
+    .writer_open = writer_open,
+    .writer_write = writer_write,
+    .writer_close = writer_close,
+    .capture_open = capture_open,
+    .capture_read = capture_read,
+    .capture_get = capture_get,
+    .capture_set = capture_set,
+    .capture_close = capture_close,
 };
 
 }  // namespace

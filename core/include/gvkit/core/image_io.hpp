@@ -1,5 +1,6 @@
 #pragma once
-// 8/16-bit PNG (and any format OpenCV's imgcodecs reads) with Status errors naming the file.
+// 8/16-bit PNG (and any format OpenCV's imgcodecs reads, through opencv_media.hpp's plugin) with
+// Status errors naming the file.
 
 #include <filesystem>
 
