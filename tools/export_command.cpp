@@ -28,6 +28,7 @@
 #include "gvkit/player/frame_range.hpp"
 #include "gvkit/player/frame_sequence.hpp"
 #include "gvkit/player/geometry_image_mesh.hpp"
+#include "gvkit/player/manifold_verdict_cache.hpp"
 #include "tool_support.hpp"
 
 namespace gvkit::tools {
@@ -54,7 +55,7 @@ struct ExportResult {
 
 ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCommandOptions& o,
                           ExrCompression compression, const GeometryImageMeshOptions& mesh_options,
-                          const MeshWriteOptions& write_options) {
+                          const MeshWriteOptions& write_options, ManifoldVerdictCache& verdicts) {
   ExportResult r;
   r.index = i;
   r.stats = {{"index", i}};
@@ -65,7 +66,7 @@ ExportResult export_frame(int64_t i, const GeometryImage& image, const ExportCom
   }
   const MeshBuffers buffers = mesh_buffers_from_geometry_image(image, mesh_options);
   const std::filesystem::path path = frame_path(o.output, i, "." + o.format);
-  if (buffers.triangle_count() > 0 && mesh_buffers_manifold(buffers)) {
+  if (buffers.triangle_count() > 0 && verdicts.manifold(buffers, mesh_options)) {
     // OpenMesh would take every triangle: the file is written from the arrays, without building
     // the halfedge mesh (the same file; player/geometry_image_mesh.hpp).
     r.fatal = write_mesh_arrays(path, mesh_arrays(buffers), write_options);
@@ -169,8 +170,9 @@ void run_export(const ExportCommandOptions& o) {
   nlohmann::json per_frame = nlohmann::json::array();
   Progress progress("export", static_cast<int64_t>(indices.size()));
   const auto start = std::chrono::steady_clock::now();
+  ManifoldVerdictCache verdicts;  // the frames share their domain: one check per video
   ExportWorkers workers(threads, [&](int64_t i, const GeometryImage& image) {
-    return export_frame(i, image, o, compression, mesh_options, write_options);
+    return export_frame(i, image, o, compression, mesh_options, write_options, verdicts);
   });
   for (int64_t i : indices) {
     progress.advance();
