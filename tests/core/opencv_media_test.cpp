@@ -3,16 +3,24 @@
 // binary links gvkit::core only, so what is mapped into it is what core loads.
 #include "gvkit/core/opencv_media.hpp"
 
+#include <dlfcn.h>
 #include <link.h>
 
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "gvkit/core/gl_driver_modules.hpp"
 #include "gvkit/core/image_io.hpp"
 
 namespace gvkit {
@@ -141,6 +149,25 @@ TEST(OpenCvMedia, VideoWrittenAndReadBack) {
   EXPECT_FALSE(refused.is_ok());
   EXPECT_NE(refused.message().find("missing_dir"), std::string::npos);
   fs::remove_all(dir);
+}
+
+// The plugin loads while another thread pins the GL driver's modules (as the player window
+// does when it opens): pin_gl_driver_modules once called dlopen from inside dl_iterate_phdr,
+// which deadlocked against this dlopen. Needs Mesa's GLX module (skipped without it).
+TEST(OpenCvMedia, LoadsWhileGlDriverModulesArePinned) {
+  if (!dlopen("libGLX_mesa.so.0", RTLD_NOW)) GTEST_SKIP() << "no libGLX_mesa.so.0";
+  std::atomic<bool> loaded{false};
+  std::thread pinning([&] {
+    while (!loaded) pin_gl_driver_modules();
+  });
+  std::future<Status> load = std::async(std::launch::async, [] { return opencv_media::load(); });
+  if (load.wait_for(std::chrono::seconds(120)) != std::future_status::ready) {
+    std::fprintf(stderr, "the plugin's load did not finish in 120 s (a deadlock)\n");
+    std::_Exit(1);
+  }
+  loaded = true;
+  pinning.join();
+  EXPECT_TRUE(load.get().is_ok());
 }
 
 TEST(OpenCvMedia, AWrongPluginIsRefusedNamingIt) {
