@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <future>
 #include <string>
 
 #include <dlib/image_processing.h>
@@ -35,6 +36,10 @@ Result<LandmarkDetector> LandmarkDetector::create(const LandmarkDetectorOptions&
   if (!std::filesystem::exists(options.model_path))
     return not_found(path + ": dlib shape predictor model not found (package libdlib-data)");
   LandmarkDetector detector;
+  // dlib's face detector is decompressed from the text embedded in dlib, about as long as reading
+  // the shape predictor's file: the two load side by side.
+  std::future<dlib::frontal_face_detector> face_detector =
+      std::async(std::launch::async, [] { return dlib::get_frontal_face_detector(); });
   try {
     dlib::deserialize(path) >> detector.impl_->predictor;
   } catch (const std::exception& e) {
@@ -44,7 +49,7 @@ Result<LandmarkDetector> LandmarkDetector::create(const LandmarkDetectorOptions&
     return unsupported(path + ": model has " +
                        std::to_string(detector.impl_->predictor.num_parts()) +
                        " parts, expected 68");
-  detector.impl_->face_detector = dlib::get_frontal_face_detector();
+  detector.impl_->face_detector = face_detector.get();
   detector.impl_->upsample = options.upsample;
   return detector;
 }
