@@ -31,7 +31,9 @@ Result<const OpenCvMediaTable*> open_table(const std::string& path) {
   void* library = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
   if (!library) {
     const char* why = dlerror();
-    return unsupported(path + ": " + (why ? why : "cannot be loaded"));
+    const std::string message = why ? why : "cannot be loaded";
+    // dlerror's text usually starts with the path already.
+    return unsupported(message.find(path) == std::string::npos ? path + ": " + message : message);
   }
   using Entry = const OpenCvMediaTable* (*)();
   auto entry = reinterpret_cast<Entry>(dlsym(library, "gvkit_opencv_media_table"));
