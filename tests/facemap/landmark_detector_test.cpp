@@ -4,7 +4,8 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
+
+#include "gvkit/core/image_io.hpp"
 
 namespace gvkit::facemap {
 namespace {
@@ -30,8 +31,9 @@ LandmarkDetector* LandmarkDetectorTest::detector_ = nullptr;
 TEST_F(LandmarkDetectorTest, Finds68PointsInsideTheFaceBox) {
   if (!detector_ || !std::filesystem::exists(kPhoto))
     GTEST_SKIP() << "dlib model or example photo absent (packages libdlib-data, libdlib19.1)";
-  const cv::Mat image = cv::imread(kPhoto, cv::IMREAD_GRAYSCALE);
-  ASSERT_FALSE(image.empty());
+  const Result<cv::Mat> read = read_image(kPhoto, /*grey=*/true);
+  ASSERT_TRUE(read.is_ok()) << read.status().message();
+  const cv::Mat& image = *read;
   const auto faces = detector_->detect_faces(image);
   ASSERT_GE(faces.size(), 1u);
   auto landmarks = detector_->detect(image);
