@@ -171,28 +171,57 @@ BENCHMARK(BM_HarmonicSolves)
 // factorizes), 1 = CHOLMOD supernodal LL' (reference BLAS), 2 = CHOLMOD simplicial LDL',
 // 3 = MultigridSolver (counters: setup and solve wall ms, iterations, levels, max_err = the
 // largest difference to the LDLT solution over its largest value).
-void BM_DirichletSolvers(benchmark::State& state) {
-  REQUIRE_FACE(state);
-  auto a = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
-  if (!a.is_ok()) return state.SkipWithError(a.status().message().c_str());
-  const TriSurface& s = a->surface;
+// f's Dirichlet system on a face's annulus (the free vertices' rows and columns of the floored
+// cotangent Laplacian; b = ones), or with neumann the whole Laplacian, which is singular (psi's
+// system; b = a vector summing to zero). Built once per face.
+struct DirichletSystem {
+  Eigen::SparseMatrix<double> a;
+  Eigen::VectorXd b;
+};
+const DirichletSystem* dirichlet_system(int which, bool neumann) {
+  static std::map<std::pair<int, bool>, std::optional<DirichletSystem>> cache;
+  const auto key = std::make_pair(which, neumann);
+  if (auto it = cache.find(key); it != cache.end()) return it->second ? &*it->second : nullptr;
+  std::optional<DirichletSystem>& out = cache[key];
+  const Face* f = face(which);
+  if (!f) return nullptr;
+  auto annulus = make_face_annulus(f->mesh, f->landmarks, heat_geodesic_distance());
+  if (!annulus.is_ok()) return nullptr;
+  const TriSurface& s = annulus->surface;
   const int n = s.n_vertices();
-  std::vector<char> fixed(n, 0);
-  for (int v : a->outer_loop) fixed[v] = 1;
-  for (int v : a->inner_loop) fixed[v] = 1;
-  std::vector<int> index(n, -1);
-  int m = 0;
-  for (int v = 0; v < n; ++v)
-    if (!fixed[v]) index[v] = m++;
   const auto laplacian = cotan_laplacian(s, kDefaultMinCotanWeight);
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int col = 0; col < n; ++col)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
-      if (index[col] >= 0 && index[it.row()] >= 0)
-        entries.emplace_back(index[it.row()], index[col], it.value());
-  Eigen::SparseMatrix<double> system(m, m);
-  system.setFromTriplets(entries.begin(), entries.end());
-  Eigen::VectorXd b = Eigen::VectorXd::Ones(m);
+  DirichletSystem sys;
+  if (neumann) {
+    sys.a = laplacian;
+    sys.b = Eigen::VectorXd::LinSpaced(n, -1.0, 1.0);
+    sys.b.array() -= sys.b.mean();
+  } else {
+    std::vector<char> fixed(n, 0);
+    for (int v : annulus->outer_loop) fixed[v] = 1;
+    for (int v : annulus->inner_loop) fixed[v] = 1;
+    std::vector<int> index(n, -1);
+    int m = 0;
+    for (int v = 0; v < n; ++v)
+      if (!fixed[v]) index[v] = m++;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int col = 0; col < n; ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
+        if (index[col] >= 0 && index[it.row()] >= 0)
+          entries.emplace_back(index[it.row()], index[col], it.value());
+    sys.a.resize(m, m);
+    sys.a.setFromTriplets(entries.begin(), entries.end());
+    sys.b = Eigen::VectorXd::Ones(m);
+  }
+  out = std::move(sys);
+  return &*out;
+}
+
+void BM_DirichletSolvers(benchmark::State& state) {
+  const DirichletSystem* sys = dirichlet_system(static_cast<int>(state.range(0)), false);
+  if (!sys) return state.SkipWithError("face absent or no annulus");
+  const Eigen::SparseMatrix<double>& system = sys->a;
+  const Eigen::VectorXd& b = sys->b;
+  const auto m = system.rows();
   double nnz = 0;
   Eigen::VectorXd reference;
   if (state.range(1) == 3)
@@ -232,6 +261,50 @@ void BM_DirichletSolvers(benchmark::State& state) {
 BENCHMARK(BM_DirichletSolvers)->ArgsProduct({{2, 3}, {0, 1, 2, 3}})->Unit(benchmark::kMillisecond);
 
 // The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
+
+// The multigrid's hierarchy alone (compute) and its solve alone, on f's Dirichlet system
+// (neumann:0) and on the whole singular Laplacian as psi's (neumann:1), CPU time per call.
+void BM_MultigridCompute(benchmark::State& state) {
+  const bool neumann = state.range(1) != 0;
+  const DirichletSystem* sys = dirichlet_system(static_cast<int>(state.range(0)), neumann);
+  if (!sys) return state.SkipWithError("face absent or no annulus");
+  MultigridOptions options;
+  options.constant_null_space = neumann;
+  for (auto _ : state) {
+    MultigridSolver solver(options);
+    if (!solver.compute(sys->a).is_ok()) return state.SkipWithError("multigrid setup failed");
+    state.counters["levels"] = solver.levels();
+  }
+  state.counters["unknowns"] = static_cast<double>(sys->a.rows());
+}
+BENCHMARK(BM_MultigridCompute)
+    ->ArgsProduct({{2, 3}, {0, 1}})
+    ->ArgNames({"face", "neumann"})
+    ->Unit(benchmark::kMillisecond);
+
+void BM_MultigridSolve(benchmark::State& state) {
+  const bool neumann = state.range(1) != 0;
+  const DirichletSystem* sys = dirichlet_system(static_cast<int>(state.range(0)), neumann);
+  if (!sys) return state.SkipWithError("face absent or no annulus");
+  MultigridOptions options;
+  options.constant_null_space = neumann;
+  MultigridSolver solver(options);
+  if (!solver.compute(sys->a).is_ok()) return state.SkipWithError("multigrid setup failed");
+  Eigen::VectorXd x;
+  for (auto _ : state) {
+    x.resize(0);
+    if (!solver.solve(sys->b, &x).is_ok()) return state.SkipWithError("multigrid solve failed");
+  }
+  state.counters["iterations"] = solver.iterations();
+  state.counters["residual"] = solver.residual();
+  const Eigen::VectorXd r = sys->b - sys->a * x;
+  state.counters["check_residual"] = r.norm() / sys->b.norm();
+}
+BENCHMARK(BM_MultigridSolve)
+    ->ArgsProduct({{2, 3}, {0, 1}})
+    ->ArgNames({"face", "neumann"})
+    ->Unit(benchmark::kMillisecond);
+
 void BM_MapFaceEip(benchmark::State& state) {
   REQUIRE_FACE(state);
   const CanonicalDomain* d = domain(static_cast<int>(state.range(1)));

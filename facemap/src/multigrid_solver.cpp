@@ -53,6 +53,24 @@ void gauss_seidel(const SparseMatrix& a, const std::vector<int>& diagonal,
   }
 }
 
+// r = b - A x right after a single forward sweep from zero (gauss_seidel with from_zero): the
+// sweep made b_i - sum_{j<i} a_ij x_j - a_ii x_i zero, so r_i = -sum_{j>i} a_ij x_j, the entries
+// below the diagonal of column i: half the work of residual_of.
+void residual_after_forward_sweep(const SparseMatrix& a, const std::vector<int>& diagonal,
+                                  const Eigen::VectorXd& x, Eigen::VectorXd* r) {
+  const int n = static_cast<int>(a.cols());
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  const double* value = a.valuePtr();
+  const double* xs = x.data();
+  r->resize(n);
+  for (int i = 0; i < n; ++i) {
+    double sum = 0;
+    for (int k = diagonal[i] + 1; k < outer[i + 1]; ++k) sum -= value[k] * xs[inner[k]];
+    (*r)[i] = sum;
+  }
+}
+
 // Aggregates of the strong-connection graph (Vanek, Mandel and Brezina): a node whose strong
 // neighbours are all free starts an aggregate with them; the nodes left join the aggregate of a
 // strong neighbour (the strongest); what is left still forms aggregates of its free
@@ -109,49 +127,92 @@ int aggregate(const SparseMatrix& a, double threshold, std::vector<int>* aggrega
 }
 
 // A sparse matrix in compressed rows built one row at a time; the entries of a row are summed
-// per column (a marker per column) and left in the order they first appeared.
+// per column and left in the order they first appeared. The sums are gathered in a dense row
+// (a sparse accumulator): add() has no branch, which the choice between a new entry and an
+// existing one would be, and is taken once per term of the Galerkin product.
 class RowBuilder {
  public:
-  RowBuilder(int rows, int cols, size_t reserve) : slot_(cols, -1) {
+  RowBuilder(int rows, int cols, size_t reserve)
+      : sum_(static_cast<size_t>(cols), 0.0),
+        row_of_(static_cast<size_t>(cols), -1),
+        columns_(static_cast<size_t>(cols) + 1) {
     outer_.reserve(rows + 1);
     outer_.push_back(0);
     inner_.reserve(reserve);
     value_.reserve(reserve);
   }
   void add(int col, double x) {
-    const int row_start = outer_.back();
-    if (slot_[col] >= row_start) {
-      value_[slot_[col]] += x;
-    } else {
-      slot_[col] = static_cast<int>(inner_.size());
-      inner_.push_back(col);
-      value_.push_back(x);
-    }
+    sum_[col] += x;
+    columns_[count_] = col;
+    count_ += row_of_[col] != row_ ? 1 : 0;
+    row_of_[col] = row_;
   }
-  void end_row() { outer_.push_back(static_cast<int>(inner_.size())); }
-  // The matrix (rows x cols, row-major); with sort, each row's columns in increasing order.
-  RowMatrix finish(int cols, bool sort) {
+  void end_row() {
+    for (int k = 0; k < count_; ++k) {
+      const int col = columns_[k];
+      inner_.push_back(col);
+      value_.push_back(sum_[col]);
+      sum_[col] = 0.0;
+    }
+    count_ = 0;
+    ++row_;
+    outer_.push_back(static_cast<int>(inner_.size()));
+  }
+  // The rows built so far, in compressed form.
+  const std::vector<int>& outer() const { return outer_; }
+  const std::vector<int>& inner() const { return inner_; }
+  const std::vector<double>& value() const { return value_; }
+  // The matrix (rows x cols, row-major).
+  RowMatrix finish(int cols) const {
     const int rows = static_cast<int>(outer_.size()) - 1;
     RowMatrix m(rows, cols);
     m.resizeNonZeros(static_cast<Eigen::Index>(inner_.size()));
     std::copy(outer_.begin(), outer_.end(), m.outerIndexPtr());
-    std::vector<std::pair<int, double>> row;
-    for (int r = 0; r < rows; ++r) {
-      if (sort) {
-        row.clear();
-        for (int k = outer_[r]; k < outer_[r + 1]; ++k) row.emplace_back(inner_[k], value_[k]);
-        std::sort(row.begin(), row.end());
-        for (int k = outer_[r]; k < outer_[r + 1]; ++k)
-          inner_[k] = row[k - outer_[r]].first, value_[k] = row[k - outer_[r]].second;
-      }
-    }
     std::copy(inner_.begin(), inner_.end(), m.innerIndexPtr());
     std::copy(value_.begin(), value_.end(), m.valuePtr());
     return m;
   }
+  // The rows with each row's columns in increasing order, stored as the columns of a
+  // column-major matrix (for a symmetric matrix, the matrix itself). Two counting sorts, by
+  // column and back by row, instead of a sort per row.
+  SparseMatrix sorted_rows_as_columns(int cols) const {
+    const int rows = static_cast<int>(outer_.size()) - 1;
+    const size_t nnz = inner_.size();
+    std::vector<int> col_start(static_cast<size_t>(cols) + 1, 0);
+    for (int col : inner_) ++col_start[col + 1];
+    for (int c = 0; c < cols; ++c) col_start[c + 1] += col_start[c];
+    std::vector<int> by_col_row(nnz);
+    std::vector<double> by_col_value(nnz);
+    {
+      std::vector<int> fill(col_start.begin(), col_start.end() - 1);
+      for (int r = 0; r < rows; ++r)
+        for (int k = outer_[r]; k < outer_[r + 1]; ++k) {
+          const int at = fill[inner_[k]]++;
+          by_col_row[at] = r;
+          by_col_value[at] = value_[k];
+        }
+    }
+    SparseMatrix m(cols, rows);
+    m.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+    std::copy(outer_.begin(), outer_.end(), m.outerIndexPtr());
+    std::vector<int> fill(outer_.begin(), outer_.end() - 1);
+    int* index = m.innerIndexPtr();
+    double* values = m.valuePtr();
+    for (int c = 0; c < cols; ++c)
+      for (int k = col_start[c]; k < col_start[c + 1]; ++k) {
+        const int at = fill[by_col_row[k]]++;
+        index[at] = c;
+        values[at] = by_col_value[k];
+      }
+    return m;
+  }
 
  private:
-  std::vector<int> slot_, outer_, inner_;
+  std::vector<double> sum_;   // per column, the current row's sum (0 elsewhere)
+  std::vector<int> row_of_;   // per column, the last row that added to it
+  std::vector<int> columns_;  // the current row's columns in the order they first appeared
+  int count_ = 0, row_ = 0;
+  std::vector<int> outer_, inner_;
   std::vector<double> value_;
 };
 
@@ -177,13 +238,14 @@ RowMatrix smoothed_prolongation(const SparseMatrix& a, const Eigen::VectorXd& in
     for (int k = outer[i]; k < outer[i + 1]; ++k) p.add(aggregate_of[inner[k]], -scale * value[k]);
     p.end_row();
   }
-  return p.finish(n_coarse, false);
+  return p.finish(n_coarse);
 }
 
 // The Galerkin coarse matrix P^T A P of a symmetric A (column i = row i), by rows: first the
 // rows of A P, then each coarse row I as the sum of the rows of A P at the fine rows where
-// column I of P is not zero. Symmetric; columns stored with sorted rows.
-SparseMatrix galerkin_product(const SparseMatrix& a, const RowMatrix& p) {
+// column I of P is not zero. Symmetric; columns stored with sorted rows. *restriction gets P^T
+// in rows (P's columns, which the product needs anyway).
+SparseMatrix galerkin_product(const SparseMatrix& a, const RowMatrix& p, RowMatrix* restriction) {
   const int n = static_cast<int>(a.cols()), nc = static_cast<int>(p.cols());
   const int* a_outer = a.outerIndexPtr();
   const int* a_inner = a.innerIndexPtr();
@@ -200,24 +262,27 @@ SparseMatrix galerkin_product(const SparseMatrix& a, const RowMatrix& p) {
     }
     ap_builder.end_row();
   }
-  const RowMatrix ap = ap_builder.finish(nc, false);
-  // P's columns: a counting sort of its entries by column.
-  std::vector<int> col_start(nc + 1, 0);
+  const int* ap_outer = ap_builder.outer().data();
+  const int* ap_inner = ap_builder.inner().data();
+  const double* ap_value = ap_builder.value().data();
+  // P's columns, the rows of the restriction P^T: a counting sort of P's entries by column.
+  RowMatrix& pt = *restriction;
+  pt.resize(nc, n);
+  pt.resizeNonZeros(p.nonZeros());
+  int* col_start = pt.outerIndexPtr();
+  std::fill(col_start, col_start + nc + 1, 0);
   for (Eigen::Index m = 0; m < p.nonZeros(); ++m) ++col_start[p_inner[m] + 1];
   for (int c = 0; c < nc; ++c) col_start[c + 1] += col_start[c];
-  std::vector<int> col_row(p.nonZeros());
-  std::vector<double> col_value(p.nonZeros());
+  int* col_row = pt.innerIndexPtr();
+  double* col_value = pt.valuePtr();
   {
-    std::vector<int> fill(col_start.begin(), col_start.end() - 1);
+    std::vector<int> fill(col_start, col_start + nc);
     for (int i = 0; i < n; ++i)
       for (int m = p_outer[i]; m < p_outer[i + 1]; ++m) {
         const int at = fill[p_inner[m]]++;
         col_row[at] = i, col_value[at] = p_value[m];
       }
   }
-  const int* ap_outer = ap.outerIndexPtr();
-  const int* ap_inner = ap.innerIndexPtr();
-  const double* ap_value = ap.valuePtr();
   RowBuilder ac(nc, nc, static_cast<size_t>(nc) * 20);
   for (int c = 0; c < nc; ++c) {
     for (int m = col_start[c]; m < col_start[c + 1]; ++m) {
@@ -228,9 +293,7 @@ SparseMatrix galerkin_product(const SparseMatrix& a, const RowMatrix& p) {
     ac.end_row();
   }
   // Symmetric: its rows are its columns.
-  const RowMatrix rows = ac.finish(nc, true);
-  return Eigen::Map<const SparseMatrix>(nc, nc, rows.nonZeros(), rows.outerIndexPtr(),
-                                        rows.innerIndexPtr(), rows.valuePtr());
+  return ac.sorted_rows_as_columns(nc);
 }
 
 }  // namespace
@@ -241,6 +304,7 @@ struct MultigridSolver::Hierarchy {
     Eigen::VectorXd inverse_diagonal;  // of a
     std::vector<int> diagonal;         // position of a_ii in a's column i
     RowMatrix p;                       // prolongation to this level from the next
+    RowMatrix restriction;             // p's transpose, in rows: the restriction gathers
     // The V-cycle's work vectors (one solve at a time).
     mutable Eigen::VectorXd residual, coarse_b, coarse_x;
   };
@@ -266,8 +330,11 @@ struct MultigridSolver::Hierarchy {
     x->setZero(b.size());
     for (int k = 0; k < sweeps; ++k)
       gauss_seidel(level.a, level.diagonal, level.inverse_diagonal, b, x, true, k == 0);
-    residual_of(level.a, b, *x, &level.residual);
-    level.coarse_b.noalias() = level.p.transpose() * level.residual;
+    if (sweeps == 1)
+      residual_after_forward_sweep(level.a, level.diagonal, *x, &level.residual);
+    else
+      residual_of(level.a, b, *x, &level.residual);
+    level.coarse_b.noalias() = level.restriction * level.residual;
     cycle(l + 1, level.coarse_b, &level.coarse_x);
     x->noalias() += level.p * level.coarse_x;
     for (int k = 0; k < sweeps; ++k)
@@ -343,7 +410,7 @@ Status MultigridSolver::compute(const SparseMatrix& a) {
       break;
     }
     level.p = smoothed_prolongation(level.a, level.inverse_diagonal, aggregate_of, n_coarse);
-    current = galerkin_product(level.a, level.p);
+    current = galerkin_product(level.a, level.p, &level.restriction);
     h->levels.push_back(std::move(level));
   }
   hierarchy_ = std::move(h);
@@ -373,17 +440,29 @@ Status MultigridSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) cons
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   const double* value = a.valuePtr();
+  const int n = static_cast<int>(a.cols());
+  double* xs = x->data();
+  double* rs = r.data();
+  const double* ps = p.data();
+  double* aps = ap.data();
   while (iterations_ < options_.max_iterations) {
     ++iterations_;
-    for (int i = 0; i < a.cols(); ++i) {
+    // ap = A p and p.ap in one pass; then x, r and |r|^2 in one pass.
+    double p_ap = 0;
+    for (int i = 0; i < n; ++i) {
       double sum = 0;
-      for (int k = outer[i]; k < outer[i + 1]; ++k) sum += value[k] * p[inner[k]];
-      ap[i] = sum;
+      for (int k = outer[i]; k < outer[i + 1]; ++k) sum += value[k] * ps[inner[k]];
+      aps[i] = sum;
+      p_ap += ps[i] * sum;
     }
-    const double alpha = rz / p.dot(ap);
-    *x += alpha * p;
-    r -= alpha * ap;
-    residual_ = r.norm() / b_norm;
+    const double alpha = rz / p_ap;
+    double r_squared = 0;
+    for (int i = 0; i < n; ++i) {
+      xs[i] += alpha * ps[i];
+      rs[i] -= alpha * aps[i];
+      r_squared += rs[i] * rs[i];
+    }
+    residual_ = std::sqrt(r_squared) / b_norm;
     if (!std::isfinite(residual_))
       return failed_precondition("multigrid: the iteration diverged (not finite)");
     if (residual_ <= options_.tolerance) return Status::ok();
