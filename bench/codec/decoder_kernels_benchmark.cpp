@@ -112,6 +112,32 @@ void BM_InverseResidual16x16Dense(benchmark::State& state) {
 }
 BENCHMARK(BM_InverseResidual16x16Dense)->Arg(0)->Arg(1)->ArgName("reference");
 
+// n x n level blocks (n = range(1): 4 or 8) at QP -10 (16-bit, qp' 38): n + n / 2 levels in the
+// low-frequency quarter.
+void BM_InverseResidualSmall(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(1));
+  std::mt19937 rng(4);
+  std::vector<std::array<int32_t, 64>> blocks(64);
+  for (auto& b : blocks) {
+    b.fill(0);
+    for (int k = 0; k < n + n / 2; ++k)
+      b[static_cast<size_t>((rng() % (n / 2)) * n + rng() % (n / 2))] =
+          static_cast<int32_t>(rng() % 17) - 8;
+  }
+  int32_t residual[64];
+  size_t i = 0;
+  for (auto _ : state) {
+    const int32_t* levels = blocks[i++ % blocks.size()].data();
+    if (reference(state))
+      inverse_residual_reference(n, levels, 38, residual);
+    else
+      inverse_residual(n, levels, 38, residual);
+    benchmark::DoNotOptimize(residual);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_InverseResidualSmall)->ArgsProduct({{0, 1}, {4, 8}})->ArgNames({"reference", "n"});
+
 // Quarter-sample prediction of a 16x16 block at every phase. The reference here is the plain
 // block-wise path's own reference, sample by sample (motion_compensation_benchmark compares the
 // two portable versions).

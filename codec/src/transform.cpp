@@ -259,6 +259,9 @@ void dequantize(int n, const int32_t* levels, int qp, int64_t* coeffs) {
     coeffs[k] = (static_cast<int64_t>(levels[k]) * 16 * v[k] * scale + 32) >> 6;
 }
 
+const int32_t* dequantization_factors8x8(int qp) { return quant_tables().v8[qp % 6]; }
+const int32_t* dequantization_factors4x4(int qp) { return quant_tables().v4[qp % 6]; }
+
 double quantizer_step(int qp) { return 0.625 * std::pow(2.0, qp / 6.0); }
 
 int64_t satd4x4(const int32_t* d, int stride) {

@@ -5,7 +5,9 @@
 // (dequantization + inverse transform) of sparse, dense, small and huge level blocks,
 // half-resolution upsampling and dequantization to millimetres.
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -98,6 +100,46 @@ TEST(DecoderKernels, InverseResidualEqualsTheReference) {
     ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * n * n))
         << "n " << n << ", qp " << qp << ", trial " << trial;
   }
+}
+
+// n x n blocks (n = 4, 8) around their 32-bit path's bound on L = sum |level| x 2^(qp'/6)
+// (inverse_residual.cpp: 29 L <= 2^24 for 4x4, 15 L + 64 <= 2^24 for 8x8): dense and sparse,
+// every sign, single huge levels and INT32_MIN, from tiny blocks to twice the bound.
+void check_inverse_residual_at_bound(int n, int64_t scale, int64_t offset, uint32_t seed) {
+  std::mt19937 rng(seed);
+  const int count = n * n;
+  const int64_t bound = int64_t{1} << 24, limit = (bound - offset) / scale;
+  int within = 0, beyond = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int qp = static_cast<int>(rng() % 100), per = qp / 6;
+    const int64_t target = std::max<int64_t>(
+        1, static_cast<int64_t>(static_cast<double>(limit) * (rng() % 2001) / 1000.0));
+    int64_t left = std::max<int64_t>(1, target >> per);
+    int32_t levels[64] = {};
+    const int nonzero = trial % 4 == 0 ? count : 1 + static_cast<int>(rng() % 12);
+    for (int i = 0; i < nonzero && left > 0; ++i) {
+      const int64_t m = i + 1 == nonzero ? left : 1 + static_cast<int64_t>(rng() % left);
+      const auto v = static_cast<int32_t>(std::min<int64_t>(m, int64_t{1} << 30));
+      levels[rng() % count] = rng() % 2 ? v : -v;
+      left -= m;
+    }
+    if (trial % 997 == 5) levels[rng() % count] = std::numeric_limits<int32_t>::min();
+    int64_t sum = 0;
+    for (int i = 0; i < count; ++i) sum += std::abs(static_cast<int64_t>(levels[i]));
+    (scale * (sum << per) + offset <= bound ? within : beyond) += 1;
+    int32_t fast[64], plain[64];
+    inverse_residual(n, levels, qp, fast);
+    inverse_residual_reference(n, levels, qp, plain);
+    ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * count))
+        << "n " << n << ", qp " << qp << ", trial " << trial;
+  }
+  EXPECT_GT(within, 5000) << n;
+  EXPECT_GT(beyond, 5000) << n;
+}
+
+TEST(DecoderKernels, InverseResidual4x4And8x8EqualTheReferenceAtTheirBound) {
+  check_inverse_residual_at_bound(4, 29, 0, 21);
+  check_inverse_residual_at_bound(8, 15, 64, 22);
 }
 
 TEST(DecoderKernels, PredictMotionBlockEqualsTheReference) {

@@ -20,6 +20,12 @@ void quantize(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 // for inter blocks): a wider dead zone, fewer isolated small levels.
 void quantize_inter(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
+// The 64 per-position factors of dequantize(8, ...) at qp_prime % 6 (raster order, 18..58): a
+// coefficient is (level x factor x 16 x 2^(qp_prime / 6) + 32) >> 6.
+const int32_t* dequantization_factors8x8(int qp_prime);
+// The 16 per-position factors of dequantize(4, ...) at qp_prime % 6 (raster order, 10..29): a
+// coefficient is level x factor x 2^(qp_prime / 6).
+const int32_t* dequantization_factors4x4(int qp_prime);
 // The numerators of quantize (n = 4 or 8): numer[k] = |coeffs[k]| x the quantizer multiplier of
 // position k; returns qbits. quantize's level is (numer + offset) >> qbits, and
 // numer / 2^qbits is the unrounded magnitude in quantizer steps (rate-distortion optimised
