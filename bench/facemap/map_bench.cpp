@@ -166,11 +166,6 @@ BENCHMARK(BM_HarmonicSolves)
     ->ArgNames({"face", "one_order"})
     ->Unit(benchmark::kMillisecond);
 
-// f's system (the annulus's Laplacian, floored weights, restricted to the free vertices) on each
-// sparse solver. range(1): 0 = Eigen SimplicialLDLT with its AMD order (what the direct path
-// factorizes), 1 = CHOLMOD supernodal LL' (reference BLAS), 2 = CHOLMOD simplicial LDL',
-// 3 = MultigridSolver (counters: setup and solve wall ms, iterations, levels, max_err = the
-// largest difference to the LDLT solution over its largest value).
 // f's Dirichlet system on a face's annulus (the free vertices' rows and columns of the floored
 // cotangent Laplacian; b = ones), or with neumann the whole Laplacian, which is singular (psi's
 // system; b = a vector summing to zero). Built once per face.
@@ -216,6 +211,11 @@ const DirichletSystem* dirichlet_system(int which, bool neumann) {
   return &*out;
 }
 
+// f's system (the annulus's Laplacian, floored weights, restricted to the free vertices) on each
+// sparse solver. range(1): 0 = Eigen SimplicialLDLT with its AMD order (what the direct path
+// factorizes), 1 = CHOLMOD supernodal LL' (reference BLAS), 2 = CHOLMOD simplicial LDL',
+// 3 = MultigridSolver (counters: setup and solve wall ms, iterations, levels, max_err = the
+// largest difference to the LDLT solution over its largest value).
 void BM_DirichletSolvers(benchmark::State& state) {
   const DirichletSystem* sys = dirichlet_system(static_cast<int>(state.range(0)), false);
   if (!sys) return state.SkipWithError("face absent or no annulus");
@@ -260,8 +260,6 @@ void BM_DirichletSolvers(benchmark::State& state) {
 }
 BENCHMARK(BM_DirichletSolvers)->ArgsProduct({{2, 3}, {0, 1, 2, 3}})->Unit(benchmark::kMillisecond);
 
-// The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
-
 // The multigrid's hierarchy alone (compute) and its solve alone, on f's Dirichlet system
 // (neumann:0) and on the whole singular Laplacian as psi's (neumann:1), CPU time per call.
 void BM_MultigridCompute(benchmark::State& state) {
@@ -305,6 +303,7 @@ BENCHMARK(BM_MultigridSolve)
     ->ArgNames({"face", "neumann"})
     ->Unit(benchmark::kMillisecond);
 
+// The whole map of one frame onto a prepared domain (cuts, fields, resampling, metrics).
 void BM_MapFaceEip(benchmark::State& state) {
   REQUIRE_FACE(state);
   const CanonicalDomain* d = domain(static_cast<int>(state.range(1)));
