@@ -131,11 +131,13 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
                            "another hole at one vertex)");
   const TriSurface& s = annulus.surface;
 
+  // Corner c's flow coordinates (s unwrapped per triangle).
+  const auto st_of_corner = [&](int c) {
+    return Eigen::Vector2d(flow.corner_s[c], flow.t[s.triangles[c / 3][c % 3]]);
+  };
   std::vector<Eigen::Vector2d> st_corners(3 * s.n_triangles());
-  for (int k = 0; k < s.n_triangles(); ++k)
-    for (int j = 0; j < 3; ++j)
-      st_corners[3 * k + j] = {flow.corner_s[3 * k + j], flow.t[s.triangles[k][j]]};
-  const TriangleLocator locator(st_corners);
+  for (int c = 0; c < 3 * s.n_triangles(); ++c) st_corners[c] = st_of_corner(c);
+  const TriangleLocator locator(std::move(st_corners));
 
   const cv::Size size = domain.size();
   GeometryImage& image = out.image;
@@ -212,7 +214,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
   for (int v : nearest_vertices(mesh, landmarks)) {
     const int c = v >= 0 ? corner_of_input[v] : -1;
     out.landmarks_px.push_back(c < 0 ? Eigen::Vector2d::Constant(NAN)
-                                     : domain.pixel_of(st_corners[c].x(), st_corners[c].y()));
+                                     : domain.pixel_of(st_of_corner(c).x(), st_of_corner(c).y()));
   }
 
   // Boundary key points: the flow coordinates of their vertex (at its first corner), located in
@@ -241,7 +243,7 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
           uv[c] = uv[first_corner[v]];
         } else {
           first_corner[v] = c;
-          uv[c] = domain.pixel_of(st_corners[c].x(), st_corners[c].y());
+          uv[c] = domain.pixel_of(st_of_corner(c).x(), st_of_corner(c).y());
         }
       }
     // Counter-clockwise seen from the front is clockwise in pixels (y down): negative area.

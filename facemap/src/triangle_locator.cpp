@@ -1,6 +1,7 @@
 #include "gvkit/facemap/triangle_locator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -14,7 +15,7 @@ TriangleLocator::TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_
   for (const auto& c : corners_) lo_ = lo_.cwiseMin(c), hi_ = hi_.cwiseMax(c);
   if (n == 0) return;
   const int side =
-      bins_per_side > 0 ? bins_per_side : std::max(1, static_cast<int>(std::sqrt(double(n))));
+      bins_per_side > 0 ? bins_per_side : std::max(1, static_cast<int>(std::sqrt(double(n)) / 2));
   nx_ = ny_ = side;
   const Eigen::Vector2d extent = (hi_ - lo_).cwiseMax(1e-300);
   auto bin_range = [&](int k, int& x0, int& x1, int& y0, int& y1) {
@@ -26,9 +27,11 @@ TriangleLocator::TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_
     y0 = std::clamp(static_cast<int>((a.y() - lo_.y()) / extent.y() * ny_), 0, ny_ - 1);
     y1 = std::clamp(static_cast<int>((b.y() - lo_.y()) / extent.y() * ny_), 0, ny_ - 1);
   };
+  // Each triangle's bin range once (the fill below reads it again).
+  std::vector<std::array<int, 4>> range(static_cast<size_t>(n));
   std::vector<int> count(nx_ * ny_ + 1, 0);
   for (int k = 0; k < n; ++k) {
-    int x0, x1, y0, y1;
+    auto& [x0, x1, y0, y1] = range[static_cast<size_t>(k)];
     bin_range(k, x0, x1, y0, y1);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) ++count[y * nx_ + x + 1];
@@ -37,8 +40,7 @@ TriangleLocator::TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_
   bin_start_ = count;
   bin_items_.resize(count.back());
   for (int k = 0; k < n; ++k) {
-    int x0, x1, y0, y1;
-    bin_range(k, x0, x1, y0, y1);
+    const auto& [x0, x1, y0, y1] = range[static_cast<size_t>(k)];
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) bin_items_[count[y * nx_ + x]++] = k;
   }
