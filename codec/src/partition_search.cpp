@@ -20,11 +20,15 @@ uint64_t BlockDistortionMemo::key_of(int ref, int x0, int y0, int mx, int my) {
          uint64_t(uint32_t(my) & 0x3fffu);
 }
 
+// Linear probing without removals: store() fills the first free slot of a key's chain, so a key
+// not found before a free slot is not stored.
 int64_t BlockDistortionMemo::find(int ref, int x0, int y0, int mx, int my) const {
   const uint64_t key = key_of(ref, x0, y0, mx, my);
   for (size_t i = (key * 0x9E3779B97F4A7C15ull) >> 54, n = 0; n < 8;
-       ++n, i = (i + 1) & (kSlots - 1))
-    if (slots_[i].generation == generation_ && slots_[i].key == key) return slots_[i].value;
+       ++n, i = (i + 1) & (kSlots - 1)) {
+    if (slots_[i].generation != generation_) return -1;
+    if (slots_[i].key == key) return slots_[i].value;
+  }
   return -1;
 }
 

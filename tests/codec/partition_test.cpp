@@ -3,8 +3,10 @@
 // with P and B frames and with the other tools on; content whose halves move differently is coded
 // with partitions, and costs less with them in the slow preset; corrupt partition syntax is
 // rejected with a message; the fast preset and intra-only streams never use them.
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -261,6 +263,47 @@ std::string with_header(const std::string& packet, uint8_t flags2) {
   header->flags2 = flags2;
   const size_t old_size = header->header_size;
   return format::write_packet_header(*header) + packet.substr(old_size);
+}
+
+// The search's memo of 8x8 distortions: what was stored is found with its value, also among
+// keys whose probe chains run into each other; what was not stored is not; nothing after
+// clear(); and a full table drops new values instead of returning wrong ones.
+TEST(Partitions, DistortionMemoFindsWhatWasStoredOnly) {
+  const auto key_of = [](int k) {
+    return std::array<int, 5>{k % 3, (k % 40) * 8, (k / 40) * 8, k % 17 - 8, -(k % 11)};
+  };
+  BlockDistortionMemo memo;
+  // A third of the table: every key finds a free slot within its probes.
+  for (int k = 0; k < 340; ++k) {
+    const auto key = key_of(k);
+    ASSERT_EQ(memo.find(key[0], key[1], key[2], key[3], key[4]), -1) << k;
+    memo.store(key[0], key[1], key[2], key[3], key[4], 1000 + k);
+  }
+  for (int k = 0; k < 340; ++k) {
+    const auto key = key_of(k);
+    EXPECT_EQ(memo.find(key[0], key[1], key[2], key[3], key[4]), 1000 + k) << k;
+  }
+  for (int k = 340; k < 400; ++k) {
+    const auto key = key_of(k);
+    EXPECT_EQ(memo.find(key[0], key[1], key[2], key[3], key[4]), -1) << k;
+  }
+  // Past its capacity: whatever is found is the value stored under that key.
+  for (int k = 340; k < 3000; ++k) {
+    const auto key = key_of(k);
+    memo.store(key[0], key[1], key[2], key[3], key[4], 1000 + k);
+  }
+  for (int k = 0; k < 3000; ++k) {
+    const auto key = key_of(k);
+    const int64_t value = memo.find(key[0], key[1], key[2], key[3], key[4]);
+    if (value >= 0) {
+      EXPECT_EQ(value, 1000 + k) << k;
+    }
+  }
+  memo.clear();
+  for (int k = 0; k < 3000; ++k) {
+    const auto key = key_of(k);
+    ASSERT_EQ(memo.find(key[0], key[1], key[2], key[3], key[4]), -1) << k;
+  }
 }
 
 TEST(Partitions, CorruptSyntaxIsRejected) {
