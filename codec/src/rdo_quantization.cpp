@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
 
 #include "gvkit/codec/transform.hpp"
 #include "gvkit/codec/transform16x16.hpp"
@@ -75,6 +76,43 @@ class LevelBits {
 
 }  // namespace
 
+int last_significant_position(int n, const int32_t* chosen, const double* chosen_cost,
+                              const double* last_extra, const double* after, double all_zero) {
+  // One forward pass, the prefix sum of the costs before each position as it goes; a later
+  // position of an equal total replaces an earlier one, the all-zero block only a lower total.
+  double before = 0, best_total = all_zero;
+  int best = -1;
+  for (int j = 0; j < n; ++j) {
+    if (chosen[j]) {
+      const double total = before + chosen_cost[j] + last_extra[j] + after[j];
+      if (total < best_total || (total == best_total && best >= 0)) {
+        best_total = total;
+        best = j;
+      }
+    }
+    before += chosen_cost[j];
+  }
+  return best;
+}
+
+int last_significant_position_reference(int n, const int32_t* chosen, const double* chosen_cost,
+                                        const double* last_extra, const double* after,
+                                        double all_zero) {
+  std::vector<double> before(static_cast<size_t>(n) + 1, 0.0);
+  for (int i = 0; i < n; ++i) before[i + 1] = before[i] + chosen_cost[i];
+  double best_total = all_zero;
+  int best = -1;
+  for (int j = n - 1; j >= 0; --j) {
+    if (!chosen[j]) continue;
+    const double total = before[j] + chosen_cost[j] + last_extra[j] + after[j];
+    if (total < best_total) {
+      best_total = total;
+      best = j;
+    }
+  }
+  return best;
+}
+
 void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const ContextSet& ctx,
                   int32_t* levels) {
   GVKIT_CHECK((n == 4 || n == 8 || n == 16) && !ctx.adaptive_levels);
@@ -94,7 +132,8 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
   const double unit = squared_step(qp);
 
   // Levels in coding order (reverse scan), each priced as if a later coefficient were the last.
-  double chosen_cost[256], zero_distortion[256], last_extra[256];
+  // after[i]: the distortion of leaving out every coefficient after i (summed as the loop goes).
+  double chosen_cost[256], after[256], last_extra[256];
   double all_zero = 0;  // the distortion of the block coded as all zero
   int32_t chosen[256];
   const auto& table = bit_cost_table();
@@ -104,7 +143,7 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
     const int64_t v = numer[scan.position[i]];
     const double q = static_cast<double>(v) * inv;
     const double d0 = q * q * unit;
-    zero_distortion[i] = d0;
+    after[i] = all_zero;
     all_zero += d0;
     // The last scan position codes no significance flags (it is implied when it is the last).
     const bool flags = i < count - 1;
@@ -146,22 +185,8 @@ void quantize_rdo(int n, const int32_t* coeffs, int qp, double lambda, const Con
 
   // The last significant position: coefficients before it cost what was decided, the one at it
   // codes last = 1, those after it are left out (their whole magnitude is the error).
-  double before[257];
-  before[0] = 0;
-  for (int i = 0; i <= last_nearest; ++i) before[i + 1] = before[i] + chosen_cost[i];
-  double after = 0;  // distortion of leaving out every coefficient after j
-  double best_total = all_zero;
-  int best_last = -1;
-  for (int j = last_nearest; j >= 0; --j) {
-    if (chosen[j]) {
-      const double total = before[j] + chosen_cost[j] + last_extra[j] + after;
-      if (total < best_total) {
-        best_total = total;
-        best_last = j;
-      }
-    }
-    after += zero_distortion[j];
-  }
+  const int best_last =
+      last_significant_position(last_nearest + 1, chosen, chosen_cost, last_extra, after, all_zero);
   for (int i = 0; i <= best_last; ++i) {
     const int r = scan.position[i];
     levels[r] = coeffs[r] < 0 ? -chosen[i] : chosen[i];

@@ -27,4 +27,17 @@ namespace gvkit::codec::detail {
 void quantize_rdo(int n, const int32_t* coeffs, int qp_prime, double lambda, const ContextSet& ctx,
                   int32_t* levels);
 
+// quantize_rdo's choice of the last significant position among n scan positions: of the j with
+// chosen[j] != 0, the one with the lowest total before(j) + chosen_cost[j] + last_extra[j] +
+// after[j], where before(j) is chosen_cost[0] + ... + chosen_cost[j - 1] summed in that order
+// (after[j]: the distortion of leaving out every coefficient after j); of equal totals the
+// latest; -1 when no total is below all_zero (the block coded as all zero). One forward pass.
+int last_significant_position(int n, const int32_t* chosen, const double* chosen_cost,
+                              const double* last_extra, const double* after, double all_zero);
+// The same by a pass of prefix sums and a backward search, the plain form it replaced (kept to
+// check it: the same position for any input).
+int last_significant_position_reference(int n, const int32_t* chosen, const double* chosen_cost,
+                                        const double* last_extra, const double* after,
+                                        double all_zero);
+
 }  // namespace gvkit::codec::detail

@@ -1,6 +1,7 @@
 // Rate-distortion optimised quantization (codec/src/rdo_quantization.hpp): what it returns for
-// lambda 0 and a huge lambda, the levels it may choose, and that it lowers the real SSD +
-// lambda x CABAC bits of coded blocks against the fixed-offset quantizers.
+// lambda 0 and a huge lambda, the levels it may choose, that it lowers the real SSD + lambda x
+// CABAC bits of coded blocks against the fixed-offset quantizers, and that its choice of the last
+// position equals the plain form's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -88,6 +89,41 @@ double total_cost(int n, int qp, double lambda, Quantizer quantizer, int blocks,
 }
 
 double lambda_of(int qp_prime) { return 0.85 * std::pow(2.0, (qp_prime - 12) / 3.0); }
+
+// The one-pass choice of the last significant position against the plain two-pass one, on
+// random costs: small whole numbers (many equal totals, also equal to the all-zero cost), and
+// fractions whose sums round.
+TEST(RdoQuantization, LastPositionEqualsThePlainChoice) {
+  std::mt19937 rng(7);
+  int none = 0, some = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = 1 + static_cast<int>(rng() % 256);
+    const bool whole = trial % 2 == 0;
+    const auto cost = [&] {
+      return whole ? static_cast<double>(rng() % 6)
+                   : std::ldexp(static_cast<double>(rng() % 100000), -10);
+    };
+    std::vector<int32_t> chosen(n);
+    std::vector<double> chosen_cost(n), last_extra(n), after(n);
+    double all_zero = 0;
+    for (int j = n - 1; j >= 0; --j) {
+      chosen[j] = rng() % 3 == 0 ? 0 : 1 + static_cast<int32_t>(rng() % 3);
+      chosen_cost[j] = cost();
+      last_extra[j] = cost();
+      after[j] = all_zero;
+      all_zero += cost();
+    }
+    if (trial % 5 == 0) all_zero = cost();
+    const int fast = last_significant_position(n, chosen.data(), chosen_cost.data(),
+                                               last_extra.data(), after.data(), all_zero);
+    const int plain = last_significant_position_reference(
+        n, chosen.data(), chosen_cost.data(), last_extra.data(), after.data(), all_zero);
+    ASSERT_EQ(fast, plain) << "trial " << trial << ", n " << n;
+    (fast < 0 ? none : some) += 1;
+  }
+  EXPECT_GT(none, 1000);
+  EXPECT_GT(some, 1000);
+}
 
 TEST(RdoQuantization, LambdaZeroRoundsToTheNearestLevel) {
   std::mt19937 rng(7);
