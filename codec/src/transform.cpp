@@ -224,9 +224,44 @@ void quantize_inter(int n, const int32_t* coeffs, int qp, int32_t* levels) {
   quantize_with_rounding(n, coeffs, qp, 6, levels);
 }
 
+namespace {
+
+// absolute_products with factors[k], or with `factor` everywhere when factors is null.
+void absolute_products_of(const int32_t* values, const int32_t* factors, int32_t factor, int count,
+                          int64_t* out) {
+  int k = 0;
+#if defined(__SSE2__)
+  // |v| as unsigned 32 bits (INT32_MIN: 2^31), the even and the odd lanes' unsigned 32 x 32 ->
+  // 64-bit products, put back in order.
+  const __m128i one_factor = _mm_set1_epi32(factor);
+  for (; k + 4 <= count; k += 4) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + k));
+    const __m128i sign = _mm_srai_epi32(v, 31);
+    const __m128i a = _mm_sub_epi32(_mm_xor_si128(v, sign), sign);
+    const __m128i m =
+        factors ? _mm_loadu_si128(reinterpret_cast<const __m128i*>(factors + k)) : one_factor;
+    const __m128i even = _mm_mul_epu32(a, m);
+    const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(m, 32));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), _mm_unpacklo_epi64(even, odd));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k + 2), _mm_unpackhi_epi64(even, odd));
+  }
+#endif
+  for (; k < count; ++k) out[k] = std::llabs(int64_t{values[k]}) * (factors ? factors[k] : factor);
+}
+
+}  // namespace
+
+void absolute_products(const int32_t* values, const int32_t* factors, int count, int64_t* out) {
+  absolute_products_of(values, factors, 0, count, out);
+}
+
+void absolute_products(const int32_t* values, int32_t factor, int count, int64_t* out) {
+  absolute_products_of(values, nullptr, factor, count, out);
+}
+
 int quantization_numerators(int n, const int32_t* coeffs, int qp, int64_t* numer) {
   const int32_t* mf = n == 4 ? quant_tables().mf4[qp % 6] : quant_tables().mf8[qp % 6];
-  for (int k = 0; k < n * n; ++k) numer[k] = std::llabs(int64_t{coeffs[k]}) * mf[k];
+  absolute_products(coeffs, mf, n * n, numer);
   return (n == 4 ? 15 : 16) + qp / 6;
 }
 

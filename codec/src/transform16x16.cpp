@@ -199,8 +199,7 @@ void quantize16x16(const int32_t* coeffs, int qp, bool inter_dead_zone, int32_t*
 }
 
 int quantization_numerators16x16(const int32_t* coeffs, int qp, int64_t* numer) {
-  const int64_t mf = kMf16[qp % 6];
-  for (int k = 0; k < 256; ++k) numer[k] = std::llabs(int64_t{coeffs[k]}) * mf;
+  absolute_products(coeffs, kMf16[qp % 6], 256, numer);
   return kQuantShift + qp / 6;
 }
 

@@ -1,13 +1,16 @@
 // The encoder's optimised kernels return exactly what their plain reference versions return: SAD
-// and SATD (SSE2, and AVX2 where the processor has it), table-driven quantization, and
-// quarter-sample prediction from precomputed half-sample planes (inside the margin and beyond it,
-// at every phase, at 8 and 16 bits), and a geometry image's quantization into coded planes.
+// and SATD (SSE2, and AVX2 where the processor has it), table-driven quantization and its
+// numerators, quarter-sample prediction from precomputed half-sample planes (inside the margin
+// and beyond it, at every phase, at 8 and 16 bits), and a geometry image's quantization into
+// coded planes.
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <vector>
 
 #include "gvkit/codec/block_distortion.hpp"
 #include "gvkit/codec/geometry_planes.hpp"
@@ -90,6 +93,31 @@ TEST(EncoderKernels, QuantizationEqualsTheReference) {
       dequantize_reference(n, fast, qp, dq_ref);
       for (int i = 0; i < n * n; ++i) ASSERT_EQ(dq_fast[i], dq_ref[i]) << "qp " << qp;
     }
+}
+
+// The numerators of quantization: |value| x factor in 64 bits, for every count (the vector part
+// and the tail), the extreme values (INT32_MIN, INT32_MAX) and factors up to 2^31 - 1.
+TEST(EncoderKernels, AbsoluteProductsEqualThePlainProducts) {
+  std::mt19937 rng(12);
+  const int32_t extremes[] = {std::numeric_limits<int32_t>::min(),
+                              std::numeric_limits<int32_t>::max(), 0, 1, -1};
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int count = trial % 70;
+    std::vector<int32_t> values(count), factors(count);
+    for (int k = 0; k < count; ++k) {
+      values[k] = rng() % 8 == 0 ? extremes[rng() % 5] : static_cast<int32_t>(rng());
+      factors[k] = static_cast<int32_t>(rng() % (trial % 3 == 0 ? 0x80000000u : 20973u));
+    }
+    const int32_t one = factors.empty() ? 7 : factors[0];
+    std::vector<int64_t> by_position(count), by_one(count);
+    absolute_products(values.data(), factors.data(), count, by_position.data());
+    absolute_products(values.data(), one, count, by_one.data());
+    for (int k = 0; k < count; ++k) {
+      const int64_t magnitude = std::llabs(int64_t{values[k]});
+      ASSERT_EQ(by_position[k], magnitude * factors[k]) << trial << " " << k;
+      ASSERT_EQ(by_one[k], magnitude * one) << trial << " " << k;
+    }
+  }
 }
 
 TEST(EncoderKernels, InterpolatedReferenceEqualsTheSampleBySamplePrediction) {

@@ -31,6 +31,10 @@ const int32_t* dequantization_factors4x4(int qp_prime);
 // numer / 2^qbits is the unrounded magnitude in quantizer steps (rate-distortion optimised
 // quantization, rdo_quantization.hpp).
 int quantization_numerators(int n, const int32_t* coeffs, int qp_prime, int64_t* numer);
+// out[k] = |values[k]| x factors[k] (0 <= factors[k] < 2^31) as 64-bit products, k < count,
+// four at a time where SSE2 is (the numerators of quantization); the same with one factor.
+void absolute_products(const int32_t* values, const int32_t* factors, int count, int64_t* out);
+void absolute_products(const int32_t* values, int32_t factor, int count, int64_t* out);
 // The plain per-position formulas of the same (kept to check the table-driven versions).
 void quantize_reference(int n, const int32_t* coeffs, int qp_prime, int32_t* levels);
 void dequantize_reference(int n, const int32_t* levels, int qp_prime, int64_t* coeffs);
