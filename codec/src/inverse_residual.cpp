@@ -194,25 +194,37 @@ GVKIT_TARGET_AVX2 inline void transpose4x4(__m128i* r) {
   r[3] = _mm_unpackhi_epi64(t1, t3);
 }
 
+// The sum of |levels[k]| over count levels (a multiple of 8), or -1 when one is 2^23 or more
+// (INT32_MIN included): the first test of the 4x4 and 8x8 paths' bound.
+GVKIT_TARGET_AVX2 int64_t level_magnitude_sum(const int32_t* levels, int count) {
+  __m256i max_abs = _mm256_setzero_si256(), abs_sum = max_abs;
+  for (int k = 0; k < count; k += 8) {
+    // INT32_MIN reads as 2^31 (unsigned); 64 x 2^23 < 2^31 once max_abs < 2^23.
+    const __m256i a =
+        _mm256_abs_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(levels + k)));
+    max_abs = _mm256_max_epu32(max_abs, a);
+    abs_sum = _mm256_add_epi32(abs_sum, a);
+  }
+  alignas(32) uint32_t lanes[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), max_abs);
+  uint32_t largest = 0;
+  for (const uint32_t v : lanes) largest = v > largest ? v : largest;
+  if (largest >= (1u << 23)) return -1;
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), abs_sum);
+  int64_t sum = 0;
+  for (const uint32_t v : lanes) sum += v;
+  return sum;
+}
+
 // False (nothing written) when the block is outside the 32-bit bound.
 GVKIT_TARGET_AVX2 bool inverse_residual4x4_avx2(const int32_t* levels, int qp_prime,
                                                 int32_t* residual) {
+  const int64_t level_sum = level_magnitude_sum(levels, 16);
+  const int per = qp_prime / 6;
+  if (level_sum < 0 || 29 * (level_sum << per) > kMaxCoefficientSum) return false;
   const __m128i* in = reinterpret_cast<const __m128i*>(levels);
   __m128i row[4];
-  __m128i max_abs = _mm_setzero_si128(), abs_sum = max_abs;
-  for (int i = 0; i < 4; ++i) {
-    row[i] = _mm_loadu_si128(in + i);
-    const __m128i a = _mm_abs_epi32(row[i]);  // INT32_MIN reads as 2^31 (unsigned)
-    max_abs = _mm_max_epu32(max_abs, a);
-    abs_sum = _mm_add_epi32(abs_sum, a);  // 16 x 2^23 < 2^31 once max_abs < 2^23
-  }
-  alignas(16) uint32_t lanes[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), max_abs);
-  if ((lanes[0] | lanes[1] | lanes[2] | lanes[3]) >= (1u << 23)) return false;
-  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), abs_sum);
-  const int64_t level_sum = int64_t{lanes[0]} + lanes[1] + lanes[2] + lanes[3];
-  const int per = qp_prime / 6;
-  if (29 * (level_sum << per) > kMaxCoefficientSum) return false;
+  for (int i = 0; i < 4; ++i) row[i] = _mm_loadu_si128(in + i);
   const __m128i* factor = reinterpret_cast<const __m128i*>(dequantization_factors4x4(qp_prime));
   const __m128i shift = _mm_cvtsi32_si128(per);
   for (int i = 0; i < 4; ++i)
@@ -231,25 +243,12 @@ GVKIT_TARGET_AVX2 bool inverse_residual4x4_avx2(const int32_t* levels, int qp_pr
 // False (nothing written) when the block is outside the 32-bit bound.
 GVKIT_TARGET_AVX2 bool inverse_residual8x8_avx2(const int32_t* levels, int qp_prime,
                                                 int32_t* residual) {
+  const int64_t level_sum = level_magnitude_sum(levels, 64);
+  const int per = qp_prime / 6;
+  if (level_sum < 0 || 15 * (level_sum << per) + 64 > kMaxCoefficientSum) return false;
   const __m256i* in = reinterpret_cast<const __m256i*>(levels);
   __m256i row[8];
-  __m256i max_abs = _mm256_setzero_si256(), abs_sum = max_abs;
-  for (int i = 0; i < 8; ++i) {
-    row[i] = _mm256_loadu_si256(in + i);
-    const __m256i a = _mm256_abs_epi32(row[i]);  // INT32_MIN reads as 2^31 (unsigned)
-    max_abs = _mm256_max_epu32(max_abs, a);
-    abs_sum = _mm256_add_epi32(abs_sum, a);  // 64 x 2^23 < 2^31 once max_abs < 2^23
-  }
-  alignas(32) uint32_t lanes[8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), max_abs);
-  uint32_t largest = 0;
-  for (const uint32_t v : lanes) largest = v > largest ? v : largest;
-  if (largest >= (1u << 23)) return false;
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), abs_sum);
-  int64_t level_sum = 0;
-  for (const uint32_t v : lanes) level_sum += v;
-  const int per = qp_prime / 6;
-  if (15 * (level_sum << per) + 64 > kMaxCoefficientSum) return false;
+  for (int i = 0; i < 8; ++i) row[i] = _mm256_loadu_si256(in + i);
   // Dequantization: (level x factor) << (4 + per), + 32, >> 6.
   const __m256i* factor = reinterpret_cast<const __m256i*>(dequantization_factors8x8(qp_prime));
   const __m128i shift = _mm_cvtsi32_si128(4 + per);

@@ -213,8 +213,12 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
     }
   for (int v : nearest_vertices(mesh, landmarks)) {
     const int c = v >= 0 ? corner_of_input[v] : -1;
-    out.landmarks_px.push_back(c < 0 ? Eigen::Vector2d::Constant(NAN)
-                                     : domain.pixel_of(st_of_corner(c).x(), st_of_corner(c).y()));
+    if (c < 0) {
+      out.landmarks_px.push_back(Eigen::Vector2d::Constant(NAN));
+      continue;
+    }
+    const Eigen::Vector2d st = st_of_corner(c);
+    out.landmarks_px.push_back(domain.pixel_of(st.x(), st.y()));
   }
 
   // Boundary key points: the flow coordinates of their vertex (at its first corner), located in
@@ -243,7 +247,8 @@ Result<MappedFace> map_face_eip(const Mesh& mesh, const FaceLandmarks& landmarks
           uv[c] = uv[first_corner[v]];
         } else {
           first_corner[v] = c;
-          uv[c] = domain.pixel_of(st_of_corner(c).x(), st_of_corner(c).y());
+          const Eigen::Vector2d st = st_of_corner(c);
+          uv[c] = domain.pixel_of(st.x(), st.y());
         }
       }
     // Counter-clockwise seen from the front is clockwise in pixels (y down): negative area.

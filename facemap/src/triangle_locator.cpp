@@ -1,7 +1,6 @@
 #include "gvkit/facemap/triangle_locator.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
@@ -27,11 +26,9 @@ TriangleLocator::TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_
     y0 = std::clamp(static_cast<int>((a.y() - lo_.y()) / extent.y() * ny_), 0, ny_ - 1);
     y1 = std::clamp(static_cast<int>((b.y() - lo_.y()) / extent.y() * ny_), 0, ny_ - 1);
   };
-  // Each triangle's bin range once (the fill below reads it again).
-  std::vector<std::array<int, 4>> range(static_cast<size_t>(n));
   std::vector<int> count(nx_ * ny_ + 1, 0);
   for (int k = 0; k < n; ++k) {
-    auto& [x0, x1, y0, y1] = range[static_cast<size_t>(k)];
+    int x0, x1, y0, y1;
     bin_range(k, x0, x1, y0, y1);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) ++count[y * nx_ + x + 1];
@@ -40,7 +37,8 @@ TriangleLocator::TriangleLocator(std::vector<Eigen::Vector2d> corners, int bins_
   bin_start_ = count;
   bin_items_.resize(count.back());
   for (int k = 0; k < n; ++k) {
-    const auto& [x0, x1, y0, y1] = range[static_cast<size_t>(k)];
+    int x0, x1, y0, y1;
+    bin_range(k, x0, x1, y0, y1);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) bin_items_[count[y * nx_ + x]++] = k;
   }

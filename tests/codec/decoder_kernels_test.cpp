@@ -104,7 +104,8 @@ TEST(DecoderKernels, InverseResidualEqualsTheReference) {
 
 // n x n blocks (n = 4, 8) around their 32-bit path's bound on L = sum |level| x 2^(qp'/6)
 // (inverse_residual.cpp: 29 L <= 2^24 for 4x4, 15 L + 64 <= 2^24 for 8x8): dense and sparse,
-// every sign, single huge levels and INT32_MIN, from tiny blocks to twice the bound.
+// every sign, single huge levels and INT32_MIN, from tiny blocks to twice the bound, and huge
+// levels whose 32-bit magnitude sum wraps.
 void check_inverse_residual_at_bound(int n, int64_t scale, int64_t offset, uint32_t seed) {
   std::mt19937 rng(seed);
   const int count = n * n;
@@ -135,6 +136,22 @@ void check_inverse_residual_at_bound(int n, int64_t scale, int64_t offset, uint3
   }
   EXPECT_GT(within, 5000) << n;
   EXPECT_GT(beyond, 5000) << n;
+  // Huge levels whose magnitudes wrap a 32-bit sum to a small one (eight lanes apart, as a
+  // vector adds them): the bound must still send them to the reference.
+  const int32_t wrap_pairs[][2] = {
+      {std::numeric_limits<int32_t>::min(), std::numeric_limits<int32_t>::min()},
+      {std::numeric_limits<int32_t>::max(), -(1 << 30) - 1}};
+  for (const auto& pair : wrap_pairs)
+    for (int qp : {0, 37, 99}) {
+      int32_t levels[64] = {};
+      levels[0] = pair[0];
+      levels[8] = pair[1];
+      levels[count - 1] = 1;
+      int32_t fast[64], plain[64];
+      inverse_residual(n, levels, qp, fast);
+      inverse_residual_reference(n, levels, qp, plain);
+      ASSERT_EQ(0, std::memcmp(fast, plain, sizeof(int32_t) * count)) << "n " << n << ", qp " << qp;
+    }
 }
 
 TEST(DecoderKernels, InverseResidual4x4And8x8EqualTheReferenceAtTheirBound) {
