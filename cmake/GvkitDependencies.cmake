@@ -10,6 +10,7 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenMesh REQUIRED)            # provides the OpenMeshCore target
 find_package(OpenEXR REQUIRED)             # OpenEXR::OpenEXR
 find_package(ZLIB REQUIRED)                # ZLIB::ZLIB (the codec's CRC-32)
+pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # EXR ZIP chunks (core)
 find_package(TBB REQUIRED)                 # TBB::tbb
 find_package(nlohmann_json 3 REQUIRED)
 find_package(spdlog REQUIRED)

@@ -5,11 +5,18 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <openexr.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
+#include <string>
+#include <vector>
 
+#include "exr_zip_chunk.hpp"
 #include "gvkit/core/atomic_file.hpp"
 
 namespace gvkit {
@@ -64,6 +71,127 @@ Imf::Compression openexr_compression(ExrCompression compression) {
   return Imf::ZIP_COMPRESSION;
 }
 
+// Whether the file's pixels are chunks that read_zip_chunks decodes: ZIP or ZIPS compression,
+// every channel 32-bit float and unsampled, on a little-endian machine (as EXR stores floats).
+bool zip_float_channels(const Imf::Header& header) {
+  if (std::endian::native != std::endian::little) return false;
+  if (header.compression() != Imf::ZIP_COMPRESSION && header.compression() != Imf::ZIPS_COMPRESSION)
+    return false;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+    if (it.channel().type != Imf::FLOAT || it.channel().xSampling != 1 ||
+        it.channel().ySampling != 1)
+      return false;
+  return true;
+}
+
+// The pixels of a file that zip_float_channels accepts, chunk by chunk: the stored chunk as
+// OpenEXR reads it (rawPixelData: the offset table, the chunk's header), decoded by
+// ExrZipChunkCoder, and its lines (each channel's row of floats in the channel list's order)
+// copied into the planes.
+Status read_zip_chunks(Imf::InputFile& file, ExrChannels& planes, const fs::path& path) {
+  const Imath::Box2i window = file.header().dataWindow();
+  const int width = window.max.x - window.min.x + 1;
+  const int lines = file.header().compression() == Imf::ZIP_COMPRESSION ? 16 : 1;
+  std::vector<cv::Mat*> order;  // planes in the file's channel order
+  for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
+    order.push_back(&planes.at(it.name()));
+  const size_t row_bytes = static_cast<size_t>(width) * sizeof(float);
+  const size_t line_bytes = row_bytes * order.size();
+  std::vector<uint8_t> chunk(line_bytes * lines);
+  detail::ExrZipChunkCoder coder;
+  for (int y0 = window.min.y; y0 <= window.max.y; y0 += lines) {
+    const int n = std::min(lines, window.max.y - y0 + 1);
+    const char* packed = nullptr;
+    int packed_size = 0;
+    file.rawPixelData(y0, packed, packed_size);
+    if (packed_size < 0 ||
+        !coder.unpack(reinterpret_cast<const uint8_t*>(packed), static_cast<size_t>(packed_size),
+                      chunk.data(), line_bytes * n))
+      return corrupt_data(path.string() + ": EXR chunk at line " + std::to_string(y0) +
+                          " does not decompress to its size");
+    const uint8_t* from = chunk.data();
+    for (int y = y0 - window.min.y; y < y0 - window.min.y + n; ++y)
+      for (cv::Mat* plane : order) {
+        std::memcpy(plane->ptr(y), from, row_bytes);
+        from += row_bytes;
+      }
+  }
+  return Status::ok();
+}
+
+// The last message of OpenEXR's C API on this thread (its contexts report errors through a
+// callback).
+thread_local std::string exr_core_message;
+
+// A write context of OpenEXR's C API, finished (and its file closed) when it goes out of scope.
+struct ExrWriteContext {
+  exr_context_t context = nullptr;
+  ~ExrWriteContext() {
+    if (context) exr_finish(&context);
+  }
+};
+
+// Writes the planes (CV_32F, one size) to file as a ZIP-compressed scanline EXR through OpenEXR's
+// C API (the header, the chunk offset table), each chunk of 16 lines packed by ExrZipChunkCoder:
+// the same file layout as Imf::OutputFile writes, with libdeflate's zlib streams. Errors name
+// path.
+Status write_zip_chunks(const fs::path& file, const ExrChannels& planes, const fs::path& path) {
+  const cv::Size size = planes.begin()->second.size();
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.error_handler_fn = [](exr_const_context_t, exr_result_t, const char* message) {
+    exr_core_message = message ? message : "";
+  };
+  exr_core_message.clear();
+  const auto failed = [&](exr_result_t code) {
+    return io_error(
+        path.string() + ": cannot write EXR: " +
+        (exr_core_message.empty() ? exr_get_default_error_message(code) : exr_core_message));
+  };
+  ExrWriteContext out;
+  exr_result_t r = exr_start_write(&out.context, file.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
+  int part = 0;
+  if (r != EXR_ERR_SUCCESS ||
+      (r = exr_add_part(out.context, nullptr, EXR_STORAGE_SCANLINE, &part)) != EXR_ERR_SUCCESS ||
+      (r = exr_initialize_required_attr_simple(out.context, part, size.width, size.height,
+                                               EXR_COMPRESSION_ZIP)) != EXR_ERR_SUCCESS)
+    return failed(r);
+  for (const auto& [name, plane] : planes)
+    if ((r = exr_add_channel(out.context, part, name.c_str(), EXR_PIXEL_FLOAT,
+                             EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1)) != EXR_ERR_SUCCESS)
+      return failed(r);
+  // The lines hold the channels in the file's channel list order (sorted by name).
+  const exr_attr_chlist_t* list = nullptr;
+  if ((r = exr_write_header(out.context)) != EXR_ERR_SUCCESS ||
+      (r = exr_get_channels(out.context, part, &list)) != EXR_ERR_SUCCESS)
+    return failed(r);
+  std::vector<const cv::Mat*> order;
+  for (int c = 0; c < list->num_channels; ++c)
+    order.push_back(
+        &planes.at(std::string(list->entries[c].name.str, list->entries[c].name.length)));
+  constexpr int kLines = 16;  // per ZIP chunk
+  const size_t row_bytes = static_cast<size_t>(size.width) * sizeof(float);
+  const size_t line_bytes = row_bytes * order.size();
+  std::vector<uint8_t> chunk(line_bytes * kLines);
+  detail::ExrZipChunkCoder coder;
+  for (int y0 = 0; y0 < size.height; y0 += kLines) {
+    const int n = std::min(kLines, size.height - y0);
+    uint8_t* to = chunk.data();
+    for (int y = y0; y < y0 + n; ++y)
+      for (const cv::Mat* plane : order) {
+        std::memcpy(to, plane->ptr(y), row_bytes);
+        to += row_bytes;
+      }
+    const std::vector<uint8_t>& packed = coder.pack(chunk.data(), line_bytes * n);
+    if ((r = exr_write_scanline_chunk(out.context, part, y0, packed.data(), packed.size())) !=
+        EXR_ERR_SUCCESS)
+      return failed(r);
+  }
+  // The chunk offset table is written here.
+  r = exr_finish(&out.context);
+  out.context = nullptr;
+  return r == EXR_ERR_SUCCESS ? Status::ok() : failed(r);
+}
+
 constexpr ExrCompression kExrCompressions[] = {ExrCompression::kZip, ExrCompression::kRle,
                                                ExrCompression::kNone};
 
@@ -99,6 +227,8 @@ Status write_exr(const fs::path& path, const ExrChannels& channels, ExrCompressi
   }
   return write_via_temp_file(path, [&](const fs::path& temp) -> Status {
     try {
+      if (compression == ExrCompression::kZip && std::endian::native == std::endian::little)
+        return write_zip_chunks(temp, channels, path);
       Imf::Header header(size.width, size.height);
       header.compression() = openexr_compression(compression);
       Imf::FrameBuffer frame_buffer;
@@ -145,7 +275,11 @@ Result<ExrChannels> read_exr(const fs::path& path) {
     if (channels.empty()) return corrupt_data(path.string() + ": EXR has no channels");
     file.setFrameBuffer(frame_buffer);
     if (!file.isComplete()) return corrupt_data(path.string() + ": EXR is truncated");
-    file.readPixels(window.min.y, window.max.y);
+    if (zip_float_channels(file.header())) {
+      GVKIT_RETURN_IF_ERROR(read_zip_chunks(file, channels, path));
+    } else {
+      file.readPixels(window.min.y, window.max.y);
+    }
     return channels;
   } catch (const std::exception& e) {
     return corrupt_data(path.string() + ": not a readable EXR: " + e.what());

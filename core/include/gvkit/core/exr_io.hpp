@@ -19,13 +19,16 @@ namespace gvkit {
 using ExrChannels = std::map<std::string, cv::Mat>;
 
 // The lossless compression of written EXR files (all read back to the same floats):
-//   kZip   OpenEXR's ZIP (zlib over blocks of 16 scanlines): the smallest files and the slowest;
-//   kRle   run lengths: several times faster, larger files where values vary from pixel to pixel;
+//   kZip   OpenEXR's ZIP (zlib over blocks of 16 scanlines): the smallest files, the slowest to
+//          write;
+//   kRle   run lengths: faster to write, larger files where values vary from pixel to pixel;
 //   kNone  uncompressed: the fastest, the largest files.
-// A 320x320 geometry image (X, Y, Z, T, M) on one core (docs/benchmarks.md, "EXR compression"):
-// ZIP about 55-75 ms to write, 20 ms to read, 1.5 MB; RLE 10-15 / 9-11 ms, 1.8 MB; none
-// 3-6 / 7-8 ms, 2.1 MB. The X, Y, Z, T, M channels of a 640x480 range scan with holes: ZIP
-// 1.1 MB, RLE 3.7 MB, none 5.3 MB.
+// ZIP and ZIPS files of 32-bit float channels are read, and ZIP files written, chunk by chunk
+// with libdeflate (core/src/exr_zip_chunk.hpp) around OpenEXR's file structure; other files go
+// through OpenEXR's own decoding. A 320x320 geometry image (X, Y, Z, T, M) on one core
+// (docs/benchmarks.md, "EXR ZIP chunks by libdeflate"): ZIP about 24-28 ms to write, 7-8 ms to
+// read, 1.5 MB; RLE 8 / 10 ms, 1.8 MB; none 3 / 8 ms, 2.1 MB. The X, Y, Z, T, M channels of a
+// 640x480 range scan with holes: ZIP 1.1 MB (13 ms to read), RLE 3.7 MB, none 5.3 MB.
 enum class ExrCompression { kZip, kRle, kNone };
 const char* exr_compression_name(ExrCompression compression);  // "zip", "rle", "none"
 // Fails naming the text when it is none of the names.
