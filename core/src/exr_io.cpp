@@ -260,12 +260,16 @@ Result<ExrChannels> read_exr(const fs::path& path) {
     const int height = window.max.y - window.min.y + 1;
     if (width <= 0 || height <= 0 || static_cast<int64_t>(width) * height > (1LL << 28))
       return corrupt_data(path.string() + ": implausible data window");
+    // Chunk by chunk every sample is written; OpenEXR's decoding leaves NaN where it writes none.
+    const bool by_chunks = zip_float_channels(file.header());
     ExrChannels channels;
     Imf::FrameBuffer frame_buffer;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
         return unsupported(path.string() + ": subsampled channel " + it.name());
-      cv::Mat plane(height, width, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+      cv::Mat plane = by_chunks ? cv::Mat(height, width, CV_32F)
+                                : cv::Mat(height, width, CV_32F,
+                                          cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
       char* origin = reinterpret_cast<char*>(plane.data) -
                      (static_cast<ptrdiff_t>(window.min.x) * sizeof(float) +
                       static_cast<ptrdiff_t>(window.min.y) * plane.step[0]);
@@ -275,7 +279,7 @@ Result<ExrChannels> read_exr(const fs::path& path) {
     if (channels.empty()) return corrupt_data(path.string() + ": EXR has no channels");
     file.setFrameBuffer(frame_buffer);
     if (!file.isComplete()) return corrupt_data(path.string() + ": EXR is truncated");
-    if (zip_float_channels(file.header())) {
+    if (by_chunks) {
       GVKIT_RETURN_IF_ERROR(read_zip_chunks(file, channels, path));
     } else {
       file.readPixels(window.min.y, window.max.y);
