@@ -56,8 +56,10 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
   return differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
 }
 
-// The strengths of every edge on the plane's 8x8 grid.
-inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
+// The strengths of every edge on the plane's 8x8 grid, edge by edge (the plain form, kept to
+// check deblocking_strengths: the same strengths for any state).
+inline void deblocking_strengths_reference(const PlaneState& st, bool quarter_pel,
+                                           DeblockingStrengths& out) {
   const int w4 = st.w4(), h4 = st.mbs_y * 4;
   out.reset(w4, h4);
   for (int gy = 0; gy < h4; ++gy) {
@@ -69,6 +71,59 @@ inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, Deblock
     for (int gx = 0; gx < w4; ++gx)
       horizontal[gx] = static_cast<uint8_t>(edge_strength(st, quarter_pel, gx, gy - 1, gx, gy));
   }
+}
+
+// The strengths of every edge on the plane's 8x8 grid, macroblock by macroblock: its left and
+// top edges and its two inner ones. Where an intra or TD-predicted macroblock is on either side
+// (most macroblocks of a geometry video) the strength follows from the macroblock's type,
+// transform and coded-block flags alone (edge_strength's first case); the other edges are
+// edge_strength's.
+inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
+  const int w4 = st.w4(), h4 = st.mbs_y * 4;
+  out.reset(w4, h4);
+  const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
+  for (int my = 0; my < st.mbs_y; ++my)
+    for (int mx = 0; mx < st.mbs_x; ++mx) {
+      const size_t m = static_cast<size_t>(my) * st.mbs_x + mx;
+      const bool intra = intra_like(m);
+      const bool left_intra = mx > 0 && intra_like(m - 1);
+      const bool top_intra = my > 0 && intra_like(m - st.mbs_x);
+      // Inside an intra-like macroblock: 0 within a 16x16 transform; I16x16 only where a side
+      // has coded levels; else 2.
+      const bool inner_zero = st.transform[m] == 2;
+      const bool inner_coded_only = st.mb_type[m] == kMbI16x16;
+      const auto inner = [&](int ax, int ay, int bx, int by) -> uint8_t {
+        if (inner_zero) return 0;
+        if (!inner_coded_only) return 2;
+        return st.cbf4[static_cast<size_t>(ay) * w4 + ax] ||
+                       st.cbf4[static_cast<size_t>(by) * w4 + bx]
+                   ? 2
+                   : 0;
+      };
+      const int gx0 = mx * 4, gy0 = my * 4;
+      for (int gy = gy0; gy < gy0 + 4; ++gy) {
+        uint8_t* vertical = &out.vertical[static_cast<size_t>(gy) * w4];
+        if (mx > 0)
+          vertical[gx0] =
+              intra || left_intra
+                  ? 2
+                  : static_cast<uint8_t>(edge_strength(st, quarter_pel, gx0 - 1, gy, gx0, gy));
+        vertical[gx0 + 2] =
+            intra ? inner(gx0 + 1, gy, gx0 + 2, gy)
+                  : static_cast<uint8_t>(edge_strength(st, quarter_pel, gx0 + 1, gy, gx0 + 2, gy));
+      }
+      for (int gy = my > 0 ? gy0 : gy0 + 2; gy < gy0 + 4; gy += 2) {
+        uint8_t* horizontal = &out.horizontal[static_cast<size_t>(gy) * w4];
+        const bool edge = gy == gy0;
+        for (int gx = gx0; gx < gx0 + 4; ++gx)
+          horizontal[gx] = edge ? (intra || top_intra ? 2
+                                                      : static_cast<uint8_t>(edge_strength(
+                                                            st, quarter_pel, gx, gy - 1, gx, gy)))
+                                : (intra ? inner(gx, gy - 1, gx, gy)
+                                         : static_cast<uint8_t>(
+                                               edge_strength(st, quarter_pel, gx, gy - 1, gx, gy)));
+      }
+    }
 }
 
 // The deblocking of a coded plane after its last macroblock (encoder and decoder), when

@@ -6,12 +6,14 @@
 // packet that asks for it in a lossless frame or lacks its parameters is rejected.
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "codec_round_trip.hpp"
+#include "deblocking_strengths.hpp"
 #include "geometry_video_material.hpp"
 #include "gvkit/codec/deblocking.hpp"
 #include "gvkit/codec/frame_coding.hpp"
@@ -213,6 +215,57 @@ TEST(Deblocking, RejectsTheFlagInALosslessFrameAndMissingParameters) {
   ASSERT_FALSE(truncated.is_ok());
   EXPECT_NE(truncated.status().message().find("deblocking parameters missing"), std::string::npos)
       << truncated.status().message();
+}
+
+// deblocking_strengths (macroblock by macroblock, with the intra-like shortcut) against the
+// edge-by-edge reference on random plane states of every kind: P planes with and without
+// partitions, B planes, whole-sample and quarter-sample vectors; intra, TD and inter
+// macroblocks with every transform, coded-block flags and vectors that differ by less and more
+// than a sample.
+TEST(DeblockingStrengths, MacroblockWiseEqualsEdgeWise) {
+  std::mt19937 rng(7);
+  const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  int differing = 0, intra_edges = 0, other_edges = 0;
+  for (int round = 0; round < 60; ++round) {
+    detail::PlaneState st(16 * (1 + pick(6)), 16 * (1 + pick(5)));
+    st.bidirectional = round % 3 == 1;
+    if (round % 3 == 2) st.enable_partitions();
+    for (size_t m = 0; m < st.mb_type.size(); ++m) {
+      st.mb_type[m] = static_cast<uint8_t>(pick(3) ? detail::kMbInter : pick(3));
+      st.td[m] = st.mb_type[m] == detail::kMbInter && pick(2);
+      st.transform[m] = static_cast<uint8_t>(pick(3));
+      st.skip[m] = st.mb_type[m] == detail::kMbInter && !st.td[m] && pick(3) == 0;
+      st.mv_x[m] = static_cast<int16_t>(pick(9) - 4);
+      st.mv_y[m] = static_cast<int16_t>(pick(9) - 4);
+      st.mv_x1[m] = static_cast<int16_t>(pick(9) - 4);
+      st.mv_y1[m] = static_cast<int16_t>(pick(9) - 4);
+      st.ref_idx[m] = static_cast<uint8_t>(pick(4) == 0);
+      st.lists[m] = static_cast<uint8_t>(1 + pick(3));
+    }
+    for (auto& f : st.cbf4) f = static_cast<uint8_t>(pick(3) == 0);
+    if (st.partitions)
+      for (size_t i = 0; i < st.grid.ref.size(); ++i) {
+        st.grid.ref[i] = static_cast<int8_t>(pick(3) == 0);
+        st.grid.mv_x[i] = static_cast<int16_t>(pick(9) - 4);
+        st.grid.mv_y[i] = static_cast<int16_t>(pick(9) - 4);
+      }
+    for (const bool quarter_pel : {false, true}) {
+      DeblockingStrengths fast, plain;
+      detail::deblocking_strengths(st, quarter_pel, fast);
+      detail::deblocking_strengths_reference(st, quarter_pel, plain);
+      ASSERT_EQ(fast.blocks_x, plain.blocks_x);
+      ASSERT_EQ(fast.blocks_y, plain.blocks_y);
+      for (size_t i = 0; i < plain.vertical.size(); ++i) {
+        differing += fast.vertical[i] != plain.vertical[i];
+        differing += fast.horizontal[i] != plain.horizontal[i];
+        (plain.vertical[i] == 2 ? intra_edges : other_edges) += 1;
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0);
+  // Both kinds of edges were checked many times.
+  EXPECT_GT(intra_edges, 1000);
+  EXPECT_GT(other_edges, 1000);
 }
 
 }  // namespace
