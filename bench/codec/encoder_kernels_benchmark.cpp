@@ -2,7 +2,8 @@
 // blocks, SATD of a 16x16 and a 4x4 block against a prediction, 4x4 quantization, a block's
 // quantization with fixed offsets against the rate-distortion optimised one, and the
 // quarter-sample prediction of a 16x16 block (all 16 phases) from the precomputed half-sample
-// planes against the block-wise interpolation; plus building those planes for a 320x320 plane,
+// planes against the block-wise interpolation, the sub-sample search's SATD from those planes
+// against that of the formed prediction; plus building those planes for a 320x320 plane,
 // and a 320x320 geometry image's quantization into its coded planes (quantize_geometry).
 #include <cmath>
 #include <random>
@@ -152,6 +153,30 @@ void BM_QuarterSample16x16AllPhases(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 16);
 }
 BENCHMARK(BM_QuarterSample16x16AllPhases)->Arg(0)->Arg(1)->ArgName("block_wise");
+
+// The sub-sample motion search's cost of a 16x16 block at each of the 16 phases: SATD straight
+// from the stored half-sample rows (satd16x16_of_average) against forming the prediction and
+// taking its SATD, as the search did before.
+void BM_SubsampleSatd16x16AllPhases(benchmark::State& state) {
+  const SamplePlane ref = random_plane(64), src = random_plane(64);
+  const InterpolatedReference interp(ref, 16, 12);
+  const bool formed = state.range(0) != 0;
+  const uint16_t* block = &src.samples[16 * 64 + 16];
+  int32_t pred[256];
+  for (auto _ : state)
+    for (int phase = 0; phase < 16; ++phase) {
+      const int mv_x = 20 + (phase & 3), mv_y = -12 + (phase >> 2);
+      const uint16_t *first = nullptr, *second = nullptr;
+      if (formed || !interp.quarter_block_rows(16, 16, 16, 16, mv_x, mv_y, &first, &second)) {
+        interp.predict(16, 16, 16, 16, mv_x, mv_y, true, pred);
+        benchmark::DoNotOptimize(satd_block(16, block, 64, pred));
+      } else {
+        benchmark::DoNotOptimize(satd16x16_of_average(block, 64, first, second, interp.stride()));
+      }
+    }
+  state.SetItemsProcessed(state.iterations() * 16);
+}
+BENCHMARK(BM_SubsampleSatd16x16AllPhases)->Arg(0)->Arg(1)->ArgName("formed");
 
 void BM_InterpolatedReference320(benchmark::State& state) {
   const SamplePlane ref = random_plane(320);

@@ -24,6 +24,18 @@ int64_t sad16x16_reference(const uint16_t* a, ptrdiff_t a_stride, const uint16_t
   return sum;
 }
 
+int64_t satd16x16_of_average_reference(const uint16_t* src, ptrdiff_t src_stride,
+                                       const uint16_t* first, const uint16_t* second,
+                                       ptrdiff_t pred_stride) {
+  int32_t pred[256];
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const int32_t a = first[y * pred_stride + x];
+      pred[y * 16 + x] = second ? (a + second[y * pred_stride + x] + 1) >> 1 : a;
+    }
+  return satd_block(16, src, src_stride, pred);
+}
+
 int64_t satd_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride,
                              const int32_t* pred) {
   int32_t diff[256];
@@ -212,6 +224,35 @@ GVKIT_TARGET_AVX2 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t 
   return lane_sum(v) / 2;
 }
 
+// src - the prediction's 8 samples at first (and second: their rounded average, pavgw).
+GVKIT_TARGET_AVX2 inline __m256i diff8_of_average(const uint16_t* src, const uint16_t* first,
+                                                  const uint16_t* second) {
+  __m128i p = _mm_loadu_si128(reinterpret_cast<const __m128i*>(first));
+  if (second) p = _mm_avg_epu16(p, _mm_loadu_si128(reinterpret_cast<const __m128i*>(second)));
+  return _mm256_sub_epi32(
+      _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(src))),
+      _mm256_cvtepu16_epi32(p));
+}
+
+GVKIT_TARGET_AVX2 int64_t satd16x16_of_average_avx2(const uint16_t* src, ptrdiff_t src_stride,
+                                                    const uint16_t* first, const uint16_t* second,
+                                                    ptrdiff_t pred_stride) {
+  // As satd_block_avx2 (n = 16): per lane < 2^28.
+  __m256i acc = _mm256_setzero_si256();
+  for (int by = 0; by < 16; by += 4)
+    for (int bx = 0; bx < 16; bx += 8) {
+      __m256i d[4];
+      for (int r = 0; r < 4; ++r) {
+        const ptrdiff_t at = (by + r) * pred_stride + bx;
+        d[r] = diff8_of_average(src + (by + r) * src_stride + bx, first + at,
+                                second ? second + at : nullptr);
+      }
+      acc = _mm256_add_epi32(acc, satd_pair(d[0], d[1], d[2], d[3]));
+    }
+  const __m128i v = _mm_add_epi32(_mm256_castsi256_si128(acc), _mm256_extracti128_si256(acc, 1));
+  return lane_sum(v) / 2;
+}
+
 GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const __m128i (&rows)[4],
                                            const int32_t (*preds)[16], int count, int64_t* out) {
   if (sad) return distortions4x4_sse2(sad, rows, preds, count, out);
@@ -249,6 +290,15 @@ void distortions4x4_avx2(bool sad, const __m128i (&rows)[4], const int32_t (*pre
 int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   return gvkit::detail::cpu_has_avx2() ? satd_block_avx2(n, src, src_stride, pred)
                                        : satd_block_sse2(n, src, src_stride, pred);
+}
+
+int64_t satd16x16_of_average(const uint16_t* src, ptrdiff_t src_stride, const uint16_t* first,
+                             const uint16_t* second, ptrdiff_t pred_stride) {
+#if defined(GVKIT_X86_SIMD)
+  if (gvkit::detail::cpu_has_avx2())
+    return satd16x16_of_average_avx2(src, src_stride, first, second, pred_stride);
+#endif
+  return satd16x16_of_average_reference(src, src_stride, first, second, pred_stride);
 }
 
 void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
@@ -300,6 +350,11 @@ int64_t sad16x16(const uint16_t* a, ptrdiff_t a_stride, const uint16_t* b, ptrdi
 
 int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   return satd_block_reference(n, src, src_stride, pred);
+}
+
+int64_t satd16x16_of_average(const uint16_t* src, ptrdiff_t src_stride, const uint16_t* first,
+                             const uint16_t* second, ptrdiff_t pred_stride) {
+  return satd16x16_of_average_reference(src, src_stride, first, second, pred_stride);
 }
 
 int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {

@@ -463,6 +463,18 @@ int32_t InterpolatedReference::sample(int x, int y, int mv_x, int mv_y, bool qua
   return (v1 + storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)] + 1) >> 1;
 }
 
+bool InterpolatedReference::quarter_block_rows(int x0, int y0, int w, int h, int mv_x, int mv_y,
+                                               const uint16_t** first,
+                                               const uint16_t** second) const {
+  const int xi = x0 + (mv_x >> 2), yi = y0 + (mv_y >> 2);
+  if (!inside(xi, yi, w + 1, h + 1)) return false;
+  const PhaseTaps& t = kPhaseTaps[(mv_y & 3) * 4 + (mv_x & 3)];
+  *first = &storage_[t.plane1 * plane_size_ + index(xi + t.dx1, yi + t.dy1)];
+  *second =
+      t.plane2 < 0 ? nullptr : &storage_[t.plane2 * plane_size_ + index(xi + t.dx2, yi + t.dy2)];
+  return true;
+}
+
 const uint16_t* InterpolatedReference::whole_block(int x, int y, int w, int h) const {
   return inside(x, y, w, h) ? &storage_[index(x, y)] : nullptr;
 }

@@ -113,13 +113,20 @@ MotionSearchResult search_motion_16x16(const SamplePlane& src, const Interpolate
   const auto distortion = [&](const uint16_t* b, ptrdiff_t s, const int32_t* p) {
     return params.lossless ? sad_block(16, b, s, p) : satd_block(16, b, s, p);
   };
+  // A plane's distortion at (mx, my): SATD straight from the stored interpolated rows where
+  // the block lies within their margin (the same value), else from the formed prediction.
+  const auto plane_distortion = [&](const InterpolatedReference& r, const uint16_t* b, ptrdiff_t s,
+                                    int mx, int my) {
+    const uint16_t *first = nullptr, *second = nullptr;
+    if (!params.lossless && r.quarter_block_rows(x0, y0, 16, 16, mx, my, &first, &second))
+      return satd16x16_of_average(b, s, first, second, r.stride());
+    r.predict(x0, y0, 16, 16, mx, my, true, pred);
+    return distortion(b, s, pred);
+  };
   const auto cost_of = [&](int mx, int my) {
-    ref.predict(x0, y0, 16, 16, mx, my, true, pred);
-    int64_t d = distortion(block, stride, pred);
-    for (const JointMotionPlane& j : params.joint) {
-      j.reference->predict(x0, y0, 16, 16, mx, my, true, pred);
-      d += distortion(joint_block(j), j.source->width, pred);
-    }
+    int64_t d = plane_distortion(ref, block, stride, mx, my);
+    for (const JointMotionPlane& j : params.joint)
+      d += plane_distortion(*j.reference, joint_block(j), j.source->width, mx, my);
     return static_cast<double>(d) + lambda * motion_vector_bits(mx, my, px, py, params);
   };
   best = cost_of(best_x, best_y);

@@ -59,6 +59,12 @@ class InterpolatedReference {
   // The whole-sample plane at (x, y), edge-extended, when the w x h block there lies within the
   // margin (else nullptr); rows are stride() samples apart.
   const uint16_t* whole_block(int x, int y, int w, int h) const;
+  // The stored rows that predict()'s w x h block at (x0, y0) with quarter-sample vector
+  // (mv_x, mv_y) is made of, when they lie within the margin (else false): *first alone
+  // (*second null) or the rounded average (a + b + 1) >> 1 of *first and *second; rows are
+  // stride() samples apart.
+  bool quarter_block_rows(int x0, int y0, int w, int h, int mv_x, int mv_y, const uint16_t** first,
+                          const uint16_t** second) const;
   ptrdiff_t stride() const { return stride_; }
   const SamplePlane& plane() const { return ref_; }
   int bit_depth() const { return bit_depth_; }
