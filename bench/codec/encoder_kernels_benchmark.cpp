@@ -155,7 +155,7 @@ void BM_QuarterSample16x16AllPhases(benchmark::State& state) {
 BENCHMARK(BM_QuarterSample16x16AllPhases)->Arg(0)->Arg(1)->ArgName("block_wise");
 
 // The sub-sample motion search's cost of a 16x16 block at each of the 16 phases: SATD straight
-// from the stored half-sample rows (satd16x16_of_average) against forming the prediction and
+// from the stored half-sample rows (satd_block_of_average) against forming the prediction and
 // taking its SATD, as the search did before.
 void BM_SubsampleSatd16x16AllPhases(benchmark::State& state) {
   const SamplePlane ref = random_plane(64), src = random_plane(64);
@@ -171,7 +171,8 @@ void BM_SubsampleSatd16x16AllPhases(benchmark::State& state) {
         interp.predict(16, 16, 16, 16, mv_x, mv_y, true, pred);
         benchmark::DoNotOptimize(satd_block(16, block, 64, pred));
       } else {
-        benchmark::DoNotOptimize(satd16x16_of_average(block, 64, first, second, interp.stride()));
+        benchmark::DoNotOptimize(
+            satd_block_of_average(16, block, 64, first, second, interp.stride()));
       }
     }
   state.SetItemsProcessed(state.iterations() * 16);

@@ -24,16 +24,16 @@ int64_t sad16x16_reference(const uint16_t* a, ptrdiff_t a_stride, const uint16_t
   return sum;
 }
 
-int64_t satd16x16_of_average_reference(const uint16_t* src, ptrdiff_t src_stride,
-                                       const uint16_t* first, const uint16_t* second,
-                                       ptrdiff_t pred_stride) {
+int64_t satd_block_of_average_reference(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                        const uint16_t* first, const uint16_t* second,
+                                        ptrdiff_t pred_stride) {
   int32_t pred[256];
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x) {
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
       const int32_t a = first[y * pred_stride + x];
-      pred[y * 16 + x] = second ? (a + second[y * pred_stride + x] + 1) >> 1 : a;
+      pred[y * n + x] = second ? (a + second[y * pred_stride + x] + 1) >> 1 : a;
     }
-  return satd_block(16, src, src_stride, pred);
+  return satd_block(n, src, src_stride, pred);
 }
 
 int64_t satd_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride,
@@ -234,13 +234,14 @@ GVKIT_TARGET_AVX2 inline __m256i diff8_of_average(const uint16_t* src, const uin
       _mm256_cvtepu16_epi32(p));
 }
 
-GVKIT_TARGET_AVX2 int64_t satd16x16_of_average_avx2(const uint16_t* src, ptrdiff_t src_stride,
-                                                    const uint16_t* first, const uint16_t* second,
-                                                    ptrdiff_t pred_stride) {
-  // As satd_block_avx2 (n = 16): per lane < 2^28.
+GVKIT_TARGET_AVX2 int64_t satd_block_of_average_avx2(int n, const uint16_t* src,
+                                                     ptrdiff_t src_stride, const uint16_t* first,
+                                                     const uint16_t* second,
+                                                     ptrdiff_t pred_stride) {
+  // As satd_block_avx2: per lane < 2^28.
   __m256i acc = _mm256_setzero_si256();
-  for (int by = 0; by < 16; by += 4)
-    for (int bx = 0; bx < 16; bx += 8) {
+  for (int by = 0; by < n; by += 4)
+    for (int bx = 0; bx < n; bx += 8) {
       __m256i d[4];
       for (int r = 0; r < 4; ++r) {
         const ptrdiff_t at = (by + r) * pred_stride + bx;
@@ -292,13 +293,14 @@ int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32
                                        : satd_block_sse2(n, src, src_stride, pred);
 }
 
-int64_t satd16x16_of_average(const uint16_t* src, ptrdiff_t src_stride, const uint16_t* first,
-                             const uint16_t* second, ptrdiff_t pred_stride) {
+int64_t satd_block_of_average(int n, const uint16_t* src, ptrdiff_t src_stride,
+                              const uint16_t* first, const uint16_t* second,
+                              ptrdiff_t pred_stride) {
 #if defined(GVKIT_X86_SIMD)
   if (gvkit::detail::cpu_has_avx2())
-    return satd16x16_of_average_avx2(src, src_stride, first, second, pred_stride);
+    return satd_block_of_average_avx2(n, src, src_stride, first, second, pred_stride);
 #endif
-  return satd16x16_of_average_reference(src, src_stride, first, second, pred_stride);
+  return satd_block_of_average_reference(n, src, src_stride, first, second, pred_stride);
 }
 
 void distortions4x4(bool sad, const uint16_t* src, ptrdiff_t src_stride, const int32_t (*preds)[16],
@@ -352,9 +354,10 @@ int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32
   return satd_block_reference(n, src, src_stride, pred);
 }
 
-int64_t satd16x16_of_average(const uint16_t* src, ptrdiff_t src_stride, const uint16_t* first,
-                             const uint16_t* second, ptrdiff_t pred_stride) {
-  return satd16x16_of_average_reference(src, src_stride, first, second, pred_stride);
+int64_t satd_block_of_average(int n, const uint16_t* src, ptrdiff_t src_stride,
+                              const uint16_t* first, const uint16_t* second,
+                              ptrdiff_t pred_stride) {
+  return satd_block_of_average_reference(n, src, src_stride, first, second, pred_stride);
 }
 
 int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {

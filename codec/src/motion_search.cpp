@@ -119,7 +119,7 @@ MotionSearchResult search_motion_16x16(const SamplePlane& src, const Interpolate
                                     int mx, int my) {
     const uint16_t *first = nullptr, *second = nullptr;
     if (!params.lossless && r.quarter_block_rows(x0, y0, 16, 16, mx, my, &first, &second))
-      return satd16x16_of_average(b, s, first, second, r.stride());
+      return satd_block_of_average(16, b, s, first, second, r.stride());
     r.predict(x0, y0, 16, 16, mx, my, true, pred);
     return distortion(b, s, pred);
   };

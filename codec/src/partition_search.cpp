@@ -62,10 +62,18 @@ PartitionVector search_partition_motion(const SamplePlane& src, const Interpolat
           d += known;
           continue;
         }
-        ref.predict(x0 + bx, y0 + by, 8, 8, mx, my, qpel, pred);
         const uint16_t* s = &src.samples[static_cast<size_t>(y0 + by) * src.width + x0 + bx];
-        const int64_t block =
-            params.lossless ? sad_block(8, s, src.width, pred) : satd_block(8, s, src.width, pred);
+        // SATD straight from the stored interpolated rows where they hold the block.
+        const uint16_t *first = nullptr, *second = nullptr;
+        int64_t block = 0;
+        if (qpel && !params.lossless &&
+            ref.quarter_block_rows(x0 + bx, y0 + by, 8, 8, mx, my, &first, &second)) {
+          block = satd_block_of_average(8, s, src.width, first, second, ref.stride());
+        } else {
+          ref.predict(x0 + bx, y0 + by, 8, 8, mx, my, qpel, pred);
+          block = params.lossless ? sad_block(8, s, src.width, pred)
+                                  : satd_block(8, s, src.width, pred);
+        }
         if (memo) memo->store(ref_id, x0 + bx, y0 + by, mx, my, block);
         d += block;
       }

@@ -156,8 +156,9 @@ TEST(EncoderKernels, InterpolatedReferenceEqualsTheSampleBySamplePrediction) {
 
 // The sub-sample search's cost straight from the stored half-sample rows: at every phase, where
 // quarter_block_rows finds the block within the margin, the rows' (averaged) samples are
-// predict()'s and satd16x16_of_average is satd_block of that prediction (and its plain
-// version's), at 8 and 16 bits with sources at the range's ends; beyond the margin it declines.
+// predict()'s and satd_block_of_average is satd_block of that prediction (and its plain
+// version's), for 8x8 and 16x16 blocks at 8 and 16 bits with sources at the range's ends; beyond
+// the margin it declines.
 TEST(EncoderKernels, SubsampleSatdFromStoredRowsEqualsThatOfThePrediction) {
   std::mt19937 rng(9);
   int inside = 0, outside = 0, averaged = 0;
@@ -167,21 +168,23 @@ TEST(EncoderKernels, SubsampleSatdFromStoredRowsEqualsThatOfThePrediction) {
     const SamplePlane src = random_plane(48, 48, top, rng);
     const InterpolatedReference interp(ref, bit_depth, 6);
     for (int trial = 0; trial < 400; ++trial) {
-      const int x0 = 16 * static_cast<int>(rng() % 3), y0 = 16 * static_cast<int>(rng() % 3);
+      const int n = trial % 3 == 1 ? 8 : 16;
+      const int x0 = n * static_cast<int>(rng() % (48 / n)),
+                y0 = n * static_cast<int>(rng() % (48 / n));
       const int reach = trial % 4 == 0 ? 120 : 28;
       const int mv_x = static_cast<int>(rng() % (2 * reach + 1)) - reach;
       const int mv_y = static_cast<int>(rng() % (2 * reach + 1)) - reach;
       const uint16_t *first = nullptr, *second = nullptr;
-      if (!interp.quarter_block_rows(x0, y0, 16, 16, mv_x, mv_y, &first, &second)) {
+      if (!interp.quarter_block_rows(x0, y0, n, n, mv_x, mv_y, &first, &second)) {
         ++outside;
         continue;
       }
       ++inside;
       averaged += second != nullptr;
       int32_t pred[256];
-      interp.predict(x0, y0, 16, 16, mv_x, mv_y, true, pred);
-      for (int i = 0; i < 256; ++i) {
-        const ptrdiff_t at = (i / 16) * interp.stride() + i % 16;
+      interp.predict(x0, y0, n, n, mv_x, mv_y, true, pred);
+      for (int i = 0; i < n * n; ++i) {
+        const ptrdiff_t at = (i / n) * interp.stride() + i % n;
         ASSERT_EQ(second ? (first[at] + second[at] + 1) >> 1 : first[at], pred[i])
             << "vector (" << mv_x << ", " << mv_y << ") sample " << i;
       }
@@ -189,9 +192,10 @@ TEST(EncoderKernels, SubsampleSatdFromStoredRowsEqualsThatOfThePrediction) {
       std::vector<uint16_t> extreme(256, trial % 2 ? top : 0);
       const uint16_t* s = trial % 3 == 0 ? extreme.data() : &src.samples[y0 * 48 + x0];
       const ptrdiff_t s_stride = trial % 3 == 0 ? 16 : 48;
-      const int64_t expected = satd_block(16, s, s_stride, pred);
-      ASSERT_EQ(satd16x16_of_average(s, s_stride, first, second, interp.stride()), expected);
-      ASSERT_EQ(satd16x16_of_average_reference(s, s_stride, first, second, interp.stride()),
+      const int64_t expected = satd_block(n, s, s_stride, pred);
+      ASSERT_EQ(satd_block_of_average(n, s, s_stride, first, second, interp.stride()), expected)
+          << n;
+      ASSERT_EQ(satd_block_of_average_reference(n, s, s_stride, first, second, interp.stride()),
                 expected);
     }
   }

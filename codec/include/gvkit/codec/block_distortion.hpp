@@ -19,15 +19,16 @@ int64_t sad16x16_reference(const uint16_t* a, ptrdiff_t a_stride, const uint16_t
 int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred);
 int64_t satd_block_reference(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred);
 
-// satd_block(16, src, src_stride, pred) of the 16x16 prediction `first` (second null) or the
-// rounded average (a + b + 1) >> 1 of `first` and `second`, whose rows are pred_stride samples
-// apart: the sub-sample motion search's cost of a vector, without forming pred.
-int64_t satd16x16_of_average(const uint16_t* src, ptrdiff_t src_stride, const uint16_t* first,
-                             const uint16_t* second, ptrdiff_t pred_stride);
+// satd_block(n, src, src_stride, pred) (n = 8 or 16) of the n x n prediction `first` (second
+// null) or the rounded average (a + b + 1) >> 1 of `first` and `second`, whose rows are
+// pred_stride samples apart: the sub-sample motion searches' cost of a vector, without forming
+// pred.
+int64_t satd_block_of_average(int n, const uint16_t* src, ptrdiff_t src_stride,
+                              const uint16_t* first, const uint16_t* second, ptrdiff_t pred_stride);
 // The same by forming pred and calling satd_block (kept to check it).
-int64_t satd16x16_of_average_reference(const uint16_t* src, ptrdiff_t src_stride,
-                                       const uint16_t* first, const uint16_t* second,
-                                       ptrdiff_t pred_stride);
+int64_t satd_block_of_average_reference(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                        const uint16_t* first, const uint16_t* second,
+                                        ptrdiff_t pred_stride);
 
 // Sum over the n x n block of |src - pred| (same layout as satd_block).
 int64_t sad_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred);
