@@ -9,6 +9,27 @@
 
 namespace gvkit::codec::detail {
 
+// Strength of an edge between inter macroblocks ma != mb (neither intra nor TD-predicted) of a
+// plane without inter partitions (or a B plane), where neither 4x4 block has coded levels: 1
+// where either macroblock is not a skip or their motion differs (reference, lists, or a vector
+// component by a whole sample or more), else 0. The same for all four blocks along the edge.
+inline int inter_edge_strength(const PlaneState& st, bool quarter_pel, size_t ma, size_t mb) {
+  if (!st.skip[ma] || !st.skip[mb]) return 1;
+  const int unit = quarter_pel ? 4 : 1;  // a whole sample
+  const auto differs = [&](int x0, int y0, int x1, int y1) {
+    return std::abs(x0 - x1) >= unit || std::abs(y0 - y1) >= unit;
+  };
+  if (st.bidirectional) {
+    if (st.lists[ma] != st.lists[mb]) return 1;
+    if ((st.lists[ma] & 1) && differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb])) return 1;
+    if ((st.lists[ma] & 2) && differs(st.mv_x1[ma], st.mv_y1[ma], st.mv_x1[mb], st.mv_y1[mb]))
+      return 1;
+    return 0;
+  }
+  if (st.ref_idx[ma] != st.ref_idx[mb]) return 1;
+  return differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
+}
+
 // Strength of the edge between 4x4 blocks a and b (block coordinates; a left of or above b) of
 // a plane whose vectors are in quarter samples when quarter_pel:
 // - 2 at a macroblock edge where either side is intra or TD-predicted, and inside such a
@@ -33,27 +54,18 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
     return st.mb_type[ma] == kMbI16x16 && !coded ? 0 : 2;
   }
   if (transform_edge && coded) return 1;
-  if (!internal && (!st.skip[ma] || !st.skip[mb])) return 1;
-  const int unit = quarter_pel ? 4 : 1;  // a whole sample
-  const auto differs = [&](int x0, int y0, int x1, int y1) {
-    return std::abs(x0 - x1) >= unit || std::abs(y0 - y1) >= unit;
-  };
-  if (st.bidirectional) {
-    if (internal) return 0;
-    if (st.lists[ma] != st.lists[mb]) return 1;
-    if ((st.lists[ma] & 1) && differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb])) return 1;
-    if ((st.lists[ma] & 2) && differs(st.mv_x1[ma], st.mv_y1[ma], st.mv_x1[mb], st.mv_y1[mb]))
-      return 1;
-    return 0;
-  }
-  if (st.partitions) {  // format 1.7: motion per 8x8 block
+  if (st.partitions && !st.bidirectional) {  // format 1.7: motion per 8x8 block
+    if (!internal && (!st.skip[ma] || !st.skip[mb])) return 1;
+    const int unit = quarter_pel ? 4 : 1;
     const size_t ga = st.grid.index(ax >> 1, ay >> 1), gb = st.grid.index(bx >> 1, by >> 1);
     if (st.grid.ref[ga] != st.grid.ref[gb]) return 1;
-    return differs(st.grid.mv_x[ga], st.grid.mv_y[ga], st.grid.mv_x[gb], st.grid.mv_y[gb]) ? 1 : 0;
+    return std::abs(st.grid.mv_x[ga] - st.grid.mv_x[gb]) >= unit ||
+                   std::abs(st.grid.mv_y[ga] - st.grid.mv_y[gb]) >= unit
+               ? 1
+               : 0;
   }
   if (internal) return 0;
-  if (st.ref_idx[ma] != st.ref_idx[mb]) return 1;
-  return differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
+  return inter_edge_strength(st, quarter_pel, ma, mb);
 }
 
 // The strengths of every edge on the plane's 8x8 grid, edge by edge (the plain form, kept to
@@ -76,52 +88,54 @@ inline void deblocking_strengths_reference(const PlaneState& st, bool quarter_pe
 // The strengths of every edge on the plane's 8x8 grid, macroblock by macroblock: its left and
 // top edges and its two inner ones. Where an intra or TD-predicted macroblock is on either side
 // (most macroblocks of a geometry video) the strength follows from the macroblock's type,
-// transform and coded-block flags alone (edge_strength's first case); the other edges are
-// edge_strength's.
+// transform and coded-block flags alone (edge_strength's first case); between inter macroblocks
+// without partitions from the coded-block flags and one inter_edge_strength per macroblock
+// edge; the edges of partitioned planes are edge_strength's.
 inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
   const int w4 = st.w4(), h4 = st.mbs_y * 4;
   out.reset(w4, h4);
   const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
+  const auto coded = [&](int ax, int ay, int bx, int by) {
+    return st.cbf4[static_cast<size_t>(ay) * w4 + ax] || st.cbf4[static_cast<size_t>(by) * w4 + bx];
+  };
+  const bool per_block_motion = st.partitions && !st.bidirectional;
   for (int my = 0; my < st.mbs_y; ++my)
     for (int mx = 0; mx < st.mbs_x; ++mx) {
       const size_t m = static_cast<size_t>(my) * st.mbs_x + mx;
       const bool intra = intra_like(m);
-      const bool left_intra = mx > 0 && intra_like(m - 1);
-      const bool top_intra = my > 0 && intra_like(m - st.mbs_x);
-      // Inside an intra-like macroblock: 0 within a 16x16 transform; I16x16 only where a side
-      // has coded levels; else 2.
-      const bool inner_zero = st.transform[m] == 2;
-      const bool inner_coded_only = st.mb_type[m] == kMbI16x16;
+      const bool generic = !intra && per_block_motion;
+      // An edge with the macroblock on the left (n = m - 1) or above (n = m - mbs_x): 2 next to
+      // an intra-like one, else 1 where coded, else the pair's inter strength.
+      const auto outer = [&](size_t n) {
+        return intra || intra_like(n) ? -2
+               : generic              ? -1
+                                      : inter_edge_strength(st, quarter_pel, n, m);
+      };
+      // Inside: intra-like macroblocks 0 within a 16x16 transform, I16x16 only where coded,
+      // else 2; inter ones (no partitions) 1 where coded at a transform edge, else 0.
+      const bool inner_none = st.transform[m] == 2;
       const auto inner = [&](int ax, int ay, int bx, int by) -> uint8_t {
-        if (inner_zero) return 0;
-        if (!inner_coded_only) return 2;
-        return st.cbf4[static_cast<size_t>(ay) * w4 + ax] ||
-                       st.cbf4[static_cast<size_t>(by) * w4 + bx]
-                   ? 2
-                   : 0;
+        if (generic) return static_cast<uint8_t>(edge_strength(st, quarter_pel, ax, ay, bx, by));
+        if (inner_none) return 0;
+        if (intra && st.mb_type[m] != kMbI16x16) return 2;
+        return coded(ax, ay, bx, by) ? (intra ? 2 : 1) : 0;
+      };
+      const auto across = [&](int pair, int ax, int ay, int bx, int by) -> uint8_t {
+        if (pair == -2) return 2;
+        if (pair == -1) return static_cast<uint8_t>(edge_strength(st, quarter_pel, ax, ay, bx, by));
+        return coded(ax, ay, bx, by) ? 1 : static_cast<uint8_t>(pair);
       };
       const int gx0 = mx * 4, gy0 = my * 4;
+      const int left = mx > 0 ? outer(m - 1) : 0, top = my > 0 ? outer(m - st.mbs_x) : 0;
       for (int gy = gy0; gy < gy0 + 4; ++gy) {
         uint8_t* vertical = &out.vertical[static_cast<size_t>(gy) * w4];
-        if (mx > 0)
-          vertical[gx0] =
-              intra || left_intra
-                  ? 2
-                  : static_cast<uint8_t>(edge_strength(st, quarter_pel, gx0 - 1, gy, gx0, gy));
-        vertical[gx0 + 2] =
-            intra ? inner(gx0 + 1, gy, gx0 + 2, gy)
-                  : static_cast<uint8_t>(edge_strength(st, quarter_pel, gx0 + 1, gy, gx0 + 2, gy));
+        if (mx > 0) vertical[gx0] = across(left, gx0 - 1, gy, gx0, gy);
+        vertical[gx0 + 2] = inner(gx0 + 1, gy, gx0 + 2, gy);
       }
       for (int gy = my > 0 ? gy0 : gy0 + 2; gy < gy0 + 4; gy += 2) {
         uint8_t* horizontal = &out.horizontal[static_cast<size_t>(gy) * w4];
-        const bool edge = gy == gy0;
         for (int gx = gx0; gx < gx0 + 4; ++gx)
-          horizontal[gx] = edge ? (intra || top_intra ? 2
-                                                      : static_cast<uint8_t>(edge_strength(
-                                                            st, quarter_pel, gx, gy - 1, gx, gy)))
-                                : (intra ? inner(gx, gy - 1, gx, gy)
-                                         : static_cast<uint8_t>(
-                                               edge_strength(st, quarter_pel, gx, gy - 1, gx, gy)));
+          horizontal[gx] = gy == gy0 ? across(top, gx, gy - 1, gx, gy) : inner(gx, gy - 1, gx, gy);
       }
     }
 }

@@ -217,30 +217,35 @@ TEST(Deblocking, RejectsTheFlagInALosslessFrameAndMissingParameters) {
       << truncated.status().message();
 }
 
-// deblocking_strengths (macroblock by macroblock, with the intra-like shortcut) against the
-// edge-by-edge reference on random plane states of every kind: P planes with and without
-// partitions, B planes, whole-sample and quarter-sample vectors; intra, TD and inter
+// deblocking_strengths (macroblock by macroblock, with its intra-like and inter-pair shortcuts)
+// against the edge-by-edge reference on random plane states of every kind: P planes with and
+// without partitions, B planes, whole-sample and quarter-sample vectors; intra, TD and inter
 // macroblocks with every transform, coded-block flags and vectors that differ by less and more
 // than a sample.
 TEST(DeblockingStrengths, MacroblockWiseEqualsEdgeWise) {
   std::mt19937 rng(7);
   const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
-  int differing = 0, intra_edges = 0, other_edges = 0;
-  for (int round = 0; round < 60; ++round) {
+  int differing = 0, intra_edges = 0, other_edges = 0, zero_edges = 0;
+  for (int round = 0; round < 240; ++round) {
     detail::PlaneState st(16 * (1 + pick(6)), 16 * (1 + pick(5)));
     st.bidirectional = round % 3 == 1;
     if (round % 3 == 2) st.enable_partitions();
+    // Every other round mostly skips with nearly equal vectors (edges of strength 0 between
+    // inter macroblocks), else vectors that often differ.
+    const bool calm = round % 2 == 0;
+    const int spread = calm ? 3 : 9;
+    const auto vector = [&] { return static_cast<int16_t>(pick(spread) - spread / 2); };
     for (size_t m = 0; m < st.mb_type.size(); ++m) {
-      st.mb_type[m] = static_cast<uint8_t>(pick(3) ? detail::kMbInter : pick(3));
-      st.td[m] = st.mb_type[m] == detail::kMbInter && pick(2);
+      st.mb_type[m] = static_cast<uint8_t>(pick(calm ? 6 : 3) ? detail::kMbInter : pick(3));
+      st.td[m] = st.mb_type[m] == detail::kMbInter && pick(calm ? 6 : 2) == 0;
       st.transform[m] = static_cast<uint8_t>(pick(3));
-      st.skip[m] = st.mb_type[m] == detail::kMbInter && !st.td[m] && pick(3) == 0;
-      st.mv_x[m] = static_cast<int16_t>(pick(9) - 4);
-      st.mv_y[m] = static_cast<int16_t>(pick(9) - 4);
-      st.mv_x1[m] = static_cast<int16_t>(pick(9) - 4);
-      st.mv_y1[m] = static_cast<int16_t>(pick(9) - 4);
-      st.ref_idx[m] = static_cast<uint8_t>(pick(4) == 0);
-      st.lists[m] = static_cast<uint8_t>(1 + pick(3));
+      st.skip[m] = st.mb_type[m] == detail::kMbInter && !st.td[m] && pick(calm ? 4 : 3) != 0;
+      st.mv_x[m] = vector();
+      st.mv_y[m] = vector();
+      st.mv_x1[m] = vector();
+      st.mv_y1[m] = vector();
+      st.ref_idx[m] = static_cast<uint8_t>(pick(calm ? 8 : 4) == 0);
+      st.lists[m] = static_cast<uint8_t>(calm ? 3 : 1 + pick(3));
     }
     for (auto& f : st.cbf4) f = static_cast<uint8_t>(pick(3) == 0);
     if (st.partitions)
@@ -259,6 +264,7 @@ TEST(DeblockingStrengths, MacroblockWiseEqualsEdgeWise) {
         differing += fast.vertical[i] != plain.vertical[i];
         differing += fast.horizontal[i] != plain.horizontal[i];
         (plain.vertical[i] == 2 ? intra_edges : other_edges) += 1;
+        zero_edges += plain.vertical[i] == 0;
       }
     }
   }
@@ -266,6 +272,7 @@ TEST(DeblockingStrengths, MacroblockWiseEqualsEdgeWise) {
   // Both kinds of edges were checked many times.
   EXPECT_GT(intra_edges, 1000);
   EXPECT_GT(other_edges, 1000);
+  EXPECT_GT(zero_edges, 1000);
 }
 
 }  // namespace
