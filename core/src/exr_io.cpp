@@ -5,6 +5,8 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfPartType.h>
+#include <ImfVersion.h>
 #include <openexr.h>
 
 #include <algorithm>
@@ -71,10 +73,13 @@ Imf::Compression openexr_compression(ExrCompression compression) {
   return Imf::ZIP_COMPRESSION;
 }
 
-// Whether the file's pixels are chunks that read_zip_chunks decodes: ZIP or ZIPS compression,
-// every channel 32-bit float and unsampled, on a little-endian machine (as EXR stores floats).
+// Whether the pixels of a single-part file are chunks that read_zip_chunks decodes: scanlines
+// (not tiles) in ZIP or ZIPS compression, every channel 32-bit float and unsampled, on a
+// little-endian machine (as EXR stores floats).
 bool zip_float_channels(const Imf::Header& header) {
-  if (std::endian::native != std::endian::little) return false;
+  if (std::endian::native != std::endian::little || header.hasTileDescription() ||
+      (header.hasType() && header.type() != Imf::SCANLINEIMAGE))
+    return false;
   if (header.compression() != Imf::ZIP_COMPRESSION && header.compression() != Imf::ZIPS_COMPRESSION)
     return false;
   for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
@@ -261,7 +266,7 @@ Result<ExrChannels> read_exr(const fs::path& path) {
     if (width <= 0 || height <= 0 || static_cast<int64_t>(width) * height > (1LL << 28))
       return corrupt_data(path.string() + ": implausible data window");
     // Chunk by chunk every sample is written; OpenEXR's decoding leaves NaN where it writes none.
-    const bool by_chunks = zip_float_channels(file.header());
+    const bool by_chunks = !Imf::isMultiPart(file.version()) && zip_float_channels(file.header());
     ExrChannels channels;
     Imf::FrameBuffer frame_buffer;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {

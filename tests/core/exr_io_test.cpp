@@ -10,6 +10,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfTiledOutputFile.h>
 #include <gtest/gtest.h>
 
 #include "exr_zip_chunk.hpp"
@@ -207,6 +208,30 @@ TEST(ExrIo, ZipChunksMatchOpenExrsOwnCoding) {
         EXPECT_TRUE(same_bits(read->at(name), plane)) << name << " " << size << " " << compression;
     }
   }
+}
+
+// A tiled ZIP file of float channels is not read chunk by chunk but through OpenEXR's decoding:
+// the same floats.
+TEST(ExrIo, TiledZipFileReadsThroughOpenExr) {
+  TempDir dir;
+  const ExrChannels planes = mixed_planes({37, 23});
+  Imf::Header header(37, 23);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  header.setTileDescription(Imf::TileDescription(16, 16, Imf::ONE_LEVEL));
+  Imf::FrameBuffer frame_buffer;
+  for (const auto& [name, plane] : planes) {
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    frame_buffer.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data),
+                                         sizeof(float), plane.step[0]));
+  }
+  {
+    Imf::TiledOutputFile file((dir / "tiled.exr").c_str(), header);
+    file.setFrameBuffer(frame_buffer);
+    file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
+  }
+  auto read = read_exr(dir / "tiled.exr");
+  ASSERT_TRUE(read.is_ok()) << read.status().message();
+  for (const auto& [name, plane] : planes) EXPECT_TRUE(same_bits(read->at(name), plane)) << name;
 }
 
 // The chunk coder on sizes the SIMD passes split unevenly (odd, below and above 16 and 32
