@@ -173,8 +173,8 @@ ExrChannels read_with_openexr(const fs::path& path) {
 
 // write_exr's ZIP files (chunks deflated by libdeflate) read back through OpenEXR's own
 // decoder, and OpenEXR's own ZIP and ZIPS files (chunks of 16 and of 1 line, a data window not
-// at the origin) read through read_exr's chunk decoding, bit for bit; heights that are not a
-// multiple of 16 end in a shorter chunk.
+// at the origin, chunks stored top down and bottom up) read through read_exr's chunk decoding,
+// bit for bit; heights that are not a multiple of 16 end in a shorter chunk.
 TEST(ExrIo, ZipChunksMatchOpenExrsOwnCoding) {
   TempDir dir;
   for (const cv::Size size : {cv::Size(37, 23), cv::Size(320, 32), cv::Size(1, 1)}) {
@@ -185,28 +185,31 @@ TEST(ExrIo, ZipChunksMatchOpenExrsOwnCoding) {
     for (const auto& [name, plane] : planes)
       EXPECT_TRUE(same_bits(back.at(name), plane)) << name << " " << size;
 
-    for (const Imf::Compression compression : {Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION}) {
-      const Imath::Box2i window({5, -3}, {5 + size.width - 1, -3 + size.height - 1});
-      Imf::Header header(window, window);
-      header.compression() = compression;
-      Imf::FrameBuffer frame_buffer;
-      for (const auto& [name, plane] : planes) {
-        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-        frame_buffer.insert(name, Imf::Slice(Imf::FLOAT,
-                                             reinterpret_cast<char*>(plane.data) -
-                                                 5 * sizeof(float) + 3 * plane.step[0],
-                                             sizeof(float), plane.step[0]));
+    for (const Imf::Compression compression : {Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION})
+      for (const Imf::LineOrder order : {Imf::INCREASING_Y, Imf::DECREASING_Y}) {
+        const Imath::Box2i window({5, -3}, {5 + size.width - 1, -3 + size.height - 1});
+        Imf::Header header(window, window);
+        header.compression() = compression;
+        header.lineOrder() = order;
+        Imf::FrameBuffer frame_buffer;
+        for (const auto& [name, plane] : planes) {
+          header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+          frame_buffer.insert(name, Imf::Slice(Imf::FLOAT,
+                                               reinterpret_cast<char*>(plane.data) -
+                                                   5 * sizeof(float) + 3 * plane.step[0],
+                                               sizeof(float), plane.step[0]));
+        }
+        {
+          Imf::OutputFile file((dir / "theirs.exr").c_str(), header);
+          file.setFrameBuffer(frame_buffer);
+          file.writePixels(size.height);
+        }
+        auto read = read_exr(dir / "theirs.exr");
+        ASSERT_TRUE(read.is_ok()) << read.status().message();
+        for (const auto& [name, plane] : planes)
+          EXPECT_TRUE(same_bits(read->at(name), plane))
+              << name << " " << size << " " << compression << " " << order;
       }
-      {
-        Imf::OutputFile file((dir / "theirs.exr").c_str(), header);
-        file.setFrameBuffer(frame_buffer);
-        file.writePixels(size.height);
-      }
-      auto read = read_exr(dir / "theirs.exr");
-      ASSERT_TRUE(read.is_ok()) << read.status().message();
-      for (const auto& [name, plane] : planes)
-        EXPECT_TRUE(same_bits(read->at(name), plane)) << name << " " << size << " " << compression;
-    }
   }
 }
 
