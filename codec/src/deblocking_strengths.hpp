@@ -9,6 +9,17 @@
 
 namespace gvkit::codec::detail {
 
+// Whether macroblock m is intra or TD-predicted (2 at its macroblock edges).
+inline bool intra_like(const PlaneState& st, size_t m) {
+  return st.mb_type[m] != kMbInter || st.td[m];
+}
+
+// Whether two vectors differ by `unit` (a whole sample in the vectors' units) or more in a
+// component.
+inline bool vectors_differ(int unit, int x0, int y0, int x1, int y1) {
+  return std::abs(x0 - x1) >= unit || std::abs(y0 - y1) >= unit;
+}
+
 // Strength of an edge between inter macroblocks ma != mb (neither intra nor TD-predicted) of a
 // plane without inter partitions (or a B plane), where neither 4x4 block has coded levels: 1
 // where either macroblock is not a skip or their motion differs (reference, lists, or a vector
@@ -16,18 +27,18 @@ namespace gvkit::codec::detail {
 inline int inter_edge_strength(const PlaneState& st, bool quarter_pel, size_t ma, size_t mb) {
   if (!st.skip[ma] || !st.skip[mb]) return 1;
   const int unit = quarter_pel ? 4 : 1;  // a whole sample
-  const auto differs = [&](int x0, int y0, int x1, int y1) {
-    return std::abs(x0 - x1) >= unit || std::abs(y0 - y1) >= unit;
-  };
   if (st.bidirectional) {
     if (st.lists[ma] != st.lists[mb]) return 1;
-    if ((st.lists[ma] & 1) && differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb])) return 1;
-    if ((st.lists[ma] & 2) && differs(st.mv_x1[ma], st.mv_y1[ma], st.mv_x1[mb], st.mv_y1[mb]))
+    if ((st.lists[ma] & 1) &&
+        vectors_differ(unit, st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]))
+      return 1;
+    if ((st.lists[ma] & 2) &&
+        vectors_differ(unit, st.mv_x1[ma], st.mv_y1[ma], st.mv_x1[mb], st.mv_y1[mb]))
       return 1;
     return 0;
   }
   if (st.ref_idx[ma] != st.ref_idx[mb]) return 1;
-  return differs(st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
+  return vectors_differ(unit, st.mv_x[ma], st.mv_y[ma], st.mv_x[mb], st.mv_y[mb]) ? 1 : 0;
 }
 
 // Strength of the edge between 4x4 blocks a and b (block coordinates; a left of or above b) of
@@ -47,8 +58,7 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
   const int w4 = st.w4();
   const bool coded =
       st.cbf4[static_cast<size_t>(ay) * w4 + ax] || st.cbf4[static_cast<size_t>(by) * w4 + bx];
-  const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
-  if (intra_like(ma) || intra_like(mb)) {
+  if (intra_like(st, ma) || intra_like(st, mb)) {
     if (!internal) return 2;
     if (!transform_edge) return 0;
     return st.mb_type[ma] == kMbI16x16 && !coded ? 0 : 2;
@@ -56,11 +66,10 @@ inline int edge_strength(const PlaneState& st, bool quarter_pel, int ax, int ay,
   if (transform_edge && coded) return 1;
   if (st.partitions && !st.bidirectional) {  // format 1.7: motion per 8x8 block
     if (!internal && (!st.skip[ma] || !st.skip[mb])) return 1;
-    const int unit = quarter_pel ? 4 : 1;
     const size_t ga = st.grid.index(ax >> 1, ay >> 1), gb = st.grid.index(bx >> 1, by >> 1);
     if (st.grid.ref[ga] != st.grid.ref[gb]) return 1;
-    return std::abs(st.grid.mv_x[ga] - st.grid.mv_x[gb]) >= unit ||
-                   std::abs(st.grid.mv_y[ga] - st.grid.mv_y[gb]) >= unit
+    return vectors_differ(quarter_pel ? 4 : 1, st.grid.mv_x[ga], st.grid.mv_y[ga], st.grid.mv_x[gb],
+                          st.grid.mv_y[gb])
                ? 1
                : 0;
   }
@@ -94,7 +103,6 @@ inline void deblocking_strengths_reference(const PlaneState& st, bool quarter_pe
 inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, DeblockingStrengths& out) {
   const int w4 = st.w4(), h4 = st.mbs_y * 4;
   out.reset(w4, h4);
-  const auto intra_like = [&](size_t m) { return st.mb_type[m] != kMbInter || st.td[m]; };
   const auto coded = [&](int ax, int ay, int bx, int by) {
     return st.cbf4[static_cast<size_t>(ay) * w4 + ax] || st.cbf4[static_cast<size_t>(by) * w4 + bx];
   };
@@ -102,14 +110,16 @@ inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, Deblock
   for (int my = 0; my < st.mbs_y; ++my)
     for (int mx = 0; mx < st.mbs_x; ++mx) {
       const size_t m = static_cast<size_t>(my) * st.mbs_x + mx;
-      const bool intra = intra_like(m);
+      const bool intra = intra_like(st, m);
       const bool generic = !intra && per_block_motion;
       // An edge with the macroblock on the left (n = m - 1) or above (n = m - mbs_x): 2 next to
-      // an intra-like one, else 1 where coded, else the pair's inter strength.
+      // an intra-like one (kNextToIntra), edge_strength per block with partitions (kPerBlock),
+      // else 1 where coded and otherwise the pair's inter strength (returned here).
+      constexpr int kNextToIntra = -2, kPerBlock = -1;
       const auto outer = [&](size_t n) {
-        return intra || intra_like(n) ? -2
-               : generic              ? -1
-                                      : inter_edge_strength(st, quarter_pel, n, m);
+        return intra || intra_like(st, n) ? kNextToIntra
+               : generic                  ? kPerBlock
+                                          : inter_edge_strength(st, quarter_pel, n, m);
       };
       // Inside: intra-like macroblocks 0 within a 16x16 transform, I16x16 only where coded,
       // else 2; inter ones (no partitions) 1 where coded at a transform edge, else 0.
@@ -121,8 +131,9 @@ inline void deblocking_strengths(const PlaneState& st, bool quarter_pel, Deblock
         return coded(ax, ay, bx, by) ? (intra ? 2 : 1) : 0;
       };
       const auto across = [&](int pair, int ax, int ay, int bx, int by) -> uint8_t {
-        if (pair == -2) return 2;
-        if (pair == -1) return static_cast<uint8_t>(edge_strength(st, quarter_pel, ax, ay, bx, by));
+        if (pair == kNextToIntra) return 2;
+        if (pair == kPerBlock)
+          return static_cast<uint8_t>(edge_strength(st, quarter_pel, ax, ay, bx, by));
         return coded(ax, ay, bx, by) ? 1 : static_cast<uint8_t>(pair);
       };
       const int gx0 = mx * 4, gy0 = my * 4;

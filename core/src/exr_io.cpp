@@ -73,6 +73,9 @@ Imf::Compression openexr_compression(ExrCompression compression) {
   return Imf::ZIP_COMPRESSION;
 }
 
+// Scanlines per chunk of OpenEXR's ZIP compression (ZIPS: one).
+constexpr int kZipChunkLines = 16;
+
 // Whether the pixels of a single-part file are chunks that read_zip_chunks decodes: scanlines
 // (not tiles) in ZIP or ZIPS compression, every channel 32-bit float and unsampled, on a
 // little-endian machine (as EXR stores floats).
@@ -96,7 +99,7 @@ bool zip_float_channels(const Imf::Header& header) {
 Status read_zip_chunks(Imf::InputFile& file, ExrChannels& planes, const fs::path& path) {
   const Imath::Box2i window = file.header().dataWindow();
   const int width = window.max.x - window.min.x + 1;
-  const int lines = file.header().compression() == Imf::ZIP_COMPRESSION ? 16 : 1;
+  const int lines = file.header().compression() == Imf::ZIP_COMPRESSION ? kZipChunkLines : 1;
   std::vector<cv::Mat*> order;  // planes in the file's channel order
   for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
     order.push_back(&planes.at(it.name()));
@@ -173,13 +176,12 @@ Status write_zip_chunks(const fs::path& file, const ExrChannels& planes, const f
   for (int c = 0; c < list->num_channels; ++c)
     order.push_back(
         &planes.at(std::string(list->entries[c].name.str, list->entries[c].name.length)));
-  constexpr int kLines = 16;  // per ZIP chunk
   const size_t row_bytes = static_cast<size_t>(size.width) * sizeof(float);
   const size_t line_bytes = row_bytes * order.size();
-  std::vector<uint8_t> chunk(line_bytes * kLines);
+  std::vector<uint8_t> chunk(line_bytes * kZipChunkLines);
   detail::ExrZipChunkCoder coder;
-  for (int y0 = 0; y0 < size.height; y0 += kLines) {
-    const int n = std::min(kLines, size.height - y0);
+  for (int y0 = 0; y0 < size.height; y0 += kZipChunkLines) {
+    const int n = std::min(kZipChunkLines, size.height - y0);
     uint8_t* to = chunk.data();
     for (int y = y0; y < y0 + n; ++y)
       for (const cv::Mat* plane : order) {
@@ -224,7 +226,6 @@ Status write_exr(const fs::path& path, const ExrChannels& channels, ExrCompressi
   if (channels.empty()) return invalid_argument(path.string() + ": no channels to write");
   const cv::Size size = channels.begin()->second.size();
   if (size.area() == 0) return invalid_argument(path.string() + ": empty image");
-  std::vector<cv::Mat> continuous;
   for (const auto& [name, plane] : channels) {
     if (plane.type() != CV_32F || plane.size() != size)
       return invalid_argument(path.string() + ": channel " + name +
@@ -265,28 +266,29 @@ Result<ExrChannels> read_exr(const fs::path& path) {
     const int height = window.max.y - window.min.y + 1;
     if (width <= 0 || height <= 0 || static_cast<int64_t>(width) * height > (1LL << 28))
       return corrupt_data(path.string() + ": implausible data window");
-    // Chunk by chunk every sample is written; OpenEXR's decoding leaves NaN where it writes none.
+    // Chunk by chunk every sample is written; OpenEXR's decoding (into a frame buffer over the
+    // planes) leaves NaN where it writes none.
     const bool by_chunks = !Imf::isMultiPart(file.version()) && zip_float_channels(file.header());
     ExrChannels channels;
     Imf::FrameBuffer frame_buffer;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
       if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
         return unsupported(path.string() + ": subsampled channel " + it.name());
-      cv::Mat plane = by_chunks ? cv::Mat(height, width, CV_32F)
-                                : cv::Mat(height, width, CV_32F,
-                                          cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+      cv::Mat& plane = channels[it.name()];
+      plane.create(height, width, CV_32F);
+      if (by_chunks) continue;
+      plane.setTo(std::numeric_limits<float>::quiet_NaN());
       char* origin = reinterpret_cast<char*>(plane.data) -
                      (static_cast<ptrdiff_t>(window.min.x) * sizeof(float) +
                       static_cast<ptrdiff_t>(window.min.y) * plane.step[0]);
       frame_buffer.insert(it.name(), Imf::Slice(Imf::FLOAT, origin, sizeof(float), plane.step[0]));
-      channels[it.name()] = plane;
     }
     if (channels.empty()) return corrupt_data(path.string() + ": EXR has no channels");
-    file.setFrameBuffer(frame_buffer);
     if (!file.isComplete()) return corrupt_data(path.string() + ": EXR is truncated");
     if (by_chunks) {
       GVKIT_RETURN_IF_ERROR(read_zip_chunks(file, channels, path));
     } else {
+      file.setFrameBuffer(frame_buffer);
       file.readPixels(window.min.y, window.max.y);
     }
     return channels;
