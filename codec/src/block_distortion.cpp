@@ -276,6 +276,93 @@ GVKIT_TARGET_AVX2 void distortions4x4_avx2(bool sad, const __m128i (&rows)[4],
   }
 }
 
+// AVX-512: four 4x4 blocks at once, one per 128-bit lane, as the AVX2 forms pair two. (GCC 12's
+// avx512fintrin.h fills unused operands with a self-initialised _mm512_undefined_epi32, which
+// its own -Wuninitialized reports.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+GVKIT_TARGET_AVX512 inline void hadamard4_avx512(__m512i& a, __m512i& b, __m512i& c, __m512i& d) {
+  const __m512i a0 = _mm512_add_epi32(a, b), a1 = _mm512_sub_epi32(a, b);
+  const __m512i a2 = _mm512_add_epi32(c, d), a3 = _mm512_sub_epi32(c, d);
+  a = _mm512_add_epi32(a0, a2);
+  b = _mm512_add_epi32(a1, a3);
+  c = _mm512_sub_epi32(a0, a2);
+  d = _mm512_sub_epi32(a1, a3);
+}
+
+// Sum of |coefficients| of the four blocks whose rows are r0..r3, per lane.
+GVKIT_TARGET_AVX512 inline __m512i satd_quad(__m512i r0, __m512i r1, __m512i r2, __m512i r3) {
+  hadamard4_avx512(r0, r1, r2, r3);
+  const __m512i t0 = _mm512_unpacklo_epi32(r0, r1), t1 = _mm512_unpacklo_epi32(r2, r3);
+  const __m512i t2 = _mm512_unpackhi_epi32(r0, r1), t3 = _mm512_unpackhi_epi32(r2, r3);
+  r0 = _mm512_unpacklo_epi64(t0, t1);
+  r1 = _mm512_unpackhi_epi64(t0, t1);
+  r2 = _mm512_unpacklo_epi64(t2, t3);
+  r3 = _mm512_unpackhi_epi64(t2, t3);
+  hadamard4_avx512(r0, r1, r2, r3);
+  return _mm512_add_epi32(_mm512_add_epi32(_mm512_abs_epi32(r0), _mm512_abs_epi32(r1)),
+                          _mm512_add_epi32(_mm512_abs_epi32(r2), _mm512_abs_epi32(r3)));
+}
+
+// Sixteen samples: 16 in a row (n = 16), or 8 of row `a` then 8 of row `b` (n = 8, b = a + 4
+// rows: widened, the lower two lanes hold rows 0-3 of the block pair, the upper two rows 4-7).
+GVKIT_TARGET_AVX512 inline __m256i samples16(const uint16_t* a, const uint16_t* b, int n) {
+  return n == 16 ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(a))
+                 : _mm256_inserti128_si256(
+                       _mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a))),
+                       _mm_loadu_si128(reinterpret_cast<const __m128i*>(b)), 1);
+}
+GVKIT_TARGET_AVX512 inline __m512i widen16(const uint16_t* a, const uint16_t* b, int n) {
+  return _mm512_cvtepu16_epi32(samples16(a, b, n));
+}
+GVKIT_TARGET_AVX512 inline __m512i load16(const int32_t* a, const int32_t* b, int n) {
+  return n == 16
+             ? _mm512_loadu_si512(a)
+             : _mm512_inserti64x4(
+                   _mm512_castsi256_si512(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(a))),
+                   _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b)), 1);
+}
+
+// n = 8 or 16: satd_block_avx2's sums. Per lane at most 4 blocks x 16 coefficients < 2^21 each.
+GVKIT_TARGET_AVX512 int64_t satd_block_avx512(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                              const int32_t* pred) {
+  __m512i acc = _mm512_setzero_si512();
+  // Rows by..by+3, and for n = 8 also by+4..by+7.
+  for (int by = 0; by < n; by += n == 16 ? 4 : 8) {
+    __m512i d[4];
+    for (int r = 0; r < 4; ++r) {
+      const uint16_t* s = src + (by + r) * src_stride;
+      const int32_t* p = pred + (by + r) * n;
+      d[r] = _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), load16(p, p + 4 * n, n));
+    }
+    acc = _mm512_add_epi32(acc, satd_quad(d[0], d[1], d[2], d[3]));
+  }
+  return _mm512_reduce_add_epi32(acc) / 2;
+}
+
+GVKIT_TARGET_AVX512 int64_t satd_block_of_average_avx512(int n, const uint16_t* src,
+                                                         ptrdiff_t src_stride,
+                                                         const uint16_t* first,
+                                                         const uint16_t* second,
+                                                         ptrdiff_t pred_stride) {
+  __m512i acc = _mm512_setzero_si512();
+  for (int by = 0; by < n; by += n == 16 ? 4 : 8) {
+    __m512i d[4];
+    for (int r = 0; r < 4; ++r) {
+      const uint16_t* s = src + (by + r) * src_stride;
+      const ptrdiff_t at = (by + r) * pred_stride;
+      __m256i p = samples16(first + at, first + at + 4 * pred_stride, n);
+      if (second)  // the rounded average (pavgw), as the AVX2 form
+        p = _mm256_avg_epu16(p, samples16(second + at, second + at + 4 * pred_stride, n));
+      d[r] = _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), _mm512_cvtepu16_epi32(p));
+    }
+    acc = _mm512_add_epi32(acc, satd_quad(d[0], d[1], d[2], d[3]));
+  }
+  return _mm512_reduce_add_epi32(acc) / 2;
+}
+#pragma GCC diagnostic pop
+
 #else
 int64_t satd_block_avx2(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
   return satd_block_sse2(n, src, src_stride, pred);
@@ -289,6 +376,9 @@ void distortions4x4_avx2(bool sad, const __m128i (&rows)[4], const int32_t (*pre
 }  // namespace
 
 int64_t satd_block(int n, const uint16_t* src, ptrdiff_t src_stride, const int32_t* pred) {
+#if defined(GVKIT_X86_SIMD)
+  if (n != 4 && gvkit::detail::cpu_has_avx512()) return satd_block_avx512(n, src, src_stride, pred);
+#endif
   return gvkit::detail::cpu_has_avx2() ? satd_block_avx2(n, src, src_stride, pred)
                                        : satd_block_sse2(n, src, src_stride, pred);
 }
@@ -297,6 +387,8 @@ int64_t satd_block_of_average(int n, const uint16_t* src, ptrdiff_t src_stride,
                               const uint16_t* first, const uint16_t* second,
                               ptrdiff_t pred_stride) {
 #if defined(GVKIT_X86_SIMD)
+  if (gvkit::detail::cpu_has_avx512())
+    return satd_block_of_average_avx512(n, src, src_stride, first, second, pred_stride);
   if (gvkit::detail::cpu_has_avx2())
     return satd_block_of_average_avx2(n, src, src_stride, first, second, pred_stride);
 #endif

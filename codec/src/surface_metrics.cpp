@@ -138,8 +138,22 @@ bool on_outline(const cv::Mat& valid, int x, int y) {
 void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::Mat& valid,
                         int window, double& max_mm, SurfaceError& e, cv::Mat* map = nullptr) {
   const VertexArrays vertices = to.vertices();
-  // Candidates of the outer quads: at most 2 triangles for each of (2 window)^2 quads.
+  // Candidate triangles: at most 2 for each of (2 window)^2 quads.
   std::vector<int32_t> ca(8 * window * window), cb(ca.size()), cc(ca.size());
+  int n = 0;
+  // Adds the triangles of quads (qx0..qx1, qy) to the candidates.
+  const auto take = [&](int qx0, int qx1, int qy) {
+    for (int i = to.first(qx0, qy), end = i + to.count(qx0, qx1, qy); i < end; ++i, ++n) {
+      ca[n] = to.a(i);
+      cb[n] = to.b(i);
+      cc[n] = to.c(i);
+    }
+  };
+  const auto nearest = [&](const Vec3& p, double bound) {
+    return n > 0 ? nearest_triangle_distance2(p, vertices, {ca.data(), cb.data(), cc.data()}, n,
+                                              bound)
+                 : bound;
+  };
   for (int y = 0; y < from.rows; ++y)
     for (int x = 0; x < from.cols; ++x) {
       if (!valid.at<uint8_t>(y, x)) continue;
@@ -150,17 +164,18 @@ void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::
       const int qx0 = std::max(0, x - window),
                 qx1 = std::min(to.quad_columns() - 1, x + window - 1);
       const int qy0 = std::max(0, y - window), qy1 = std::min(to.quad_rows() - 1, y + window - 1);
-      // The (up to) four quads that have the pixel as a corner.
+      // The (up to) four quads that have the pixel as a corner, their (up to) eight triangles in
+      // one call.
       const int nx0 = std::max(qx0, x - 1), nx1 = std::min(qx1, x);
       const int ny0 = std::max(qy0, y - 1), ny1 = std::min(qy1, y);
+      n = 0;
       if (nx0 <= nx1)
-        for (int qy = ny0; qy <= ny1; ++qy)
-          best2 = nearest_triangle_distance2(p, vertices, to.triangles(to.first(nx0, qy)),
-                                             to.count(nx0, nx1, qy), best2);
+        for (int qy = ny0; qy <= ny1; ++qy) take(nx0, nx1, qy);
+      best2 = nearest(p, best2);
       // A triangle can only come closer than `best` when p lies within radius + best of its
       // quad's centre.
       const double best = std::sqrt(best2);
-      int n = 0;
+      n = 0;
       // The quads around the pixel, already searched, as bits of a window row.
       const uint32_t near = nx0 <= nx1 ? ((2u << (nx1 - qx0)) - 1) & ~((1u << (nx0 - qx0)) - 1) : 0;
       for (int qy = qy0; qy <= qy1; ++qy) {
@@ -168,16 +183,10 @@ void directed_distances(const cv::Mat& from, const GridTriangles& to, const cv::
         if (qy >= ny0 && qy <= ny1) bits &= ~near;
         for (; bits; bits &= bits - 1) {
           const int qx = qx0 + std::countr_zero(bits);
-          for (int i = to.first(qx, qy), end = i + to.count(qx, qx, qy); i < end; ++i, ++n) {
-            ca[n] = to.a(i);
-            cb[n] = to.b(i);
-            cc[n] = to.c(i);
-          }
+          take(qx, qx, qy);
         }
       }
-      if (n > 0)
-        best2 =
-            nearest_triangle_distance2(p, vertices, {ca.data(), cb.data(), cc.data()}, n, best2);
+      best2 = nearest(p, best2);
       const double d = std::sqrt(best2);
       if (map) map->at<float>(y, x) = static_cast<float>(d);
       max_mm = std::max(max_mm, d);

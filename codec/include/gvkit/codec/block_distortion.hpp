@@ -1,8 +1,9 @@
 #pragma once
 // Distortion measures of the encoder's decisions on blocks of B-bit samples (B <= 16): SAD of
 // two sample blocks (whole-sample motion search) and SATD / SAD of a source block against an
-// integer prediction (mode decisions, sub-sample refinement). The SSE2 versions return exactly
-// the values of the plain *_reference versions, which are kept to check them.
+// integer prediction (mode decisions, sub-sample refinement). The SSE2, AVX2 and AVX-512 versions
+// (chosen at run time, core/cpu_features.hpp) return exactly the values of the plain *_reference
+// versions, which are kept to check them.
 
 #include <cstddef>
 #include <cstdint>

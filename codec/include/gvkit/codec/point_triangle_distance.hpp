@@ -7,10 +7,11 @@
 //
 // The search prunes triangles with bounding spheres (spheres_within_reach).
 //
-// nearest_triangle_distance2 and spheres_within_reach take AVX2 where the processor has it, four
-// triangles or spheres per step, and return the same values bit for bit as their *_reference
-// versions (the same operations in the same order, no fused multiply-add);
-// tests/codec/surface_metrics_test.cpp compares them on random and degenerate input.
+// nearest_triangle_distance2 and spheres_within_reach take AVX-512 where the processor has it
+// (eight triangles or spheres per step), else AVX2 (four), and return the same values bit for bit
+// as their *_reference versions (the same operations in the same order, no fused multiply-add:
+// the file is compiled with -ffp-contract=off); tests/codec/surface_metrics_test.cpp compares them
+// on random and degenerate input, once more with GVKIT_SIMD=avx2 (core/cpu_features.hpp).
 
 #include <cstdint>
 
