@@ -1,10 +1,11 @@
 // Frame-level threads of SequenceEncoder: with options.threads > 1 the B frames between two
-// anchors are coded on a second thread while the next anchor is coded. The stream must be the
-// same byte for byte as with one thread, in every configuration that uses B frames, and the
-// frames must leave in decode order (each anchor, then the B frames before it). Within a frame,
-// the planes are coded in parallel where they do not depend on each other.
+// anchors are coded on a thread of their own while the next anchors are coded. The stream must
+// be the same byte for byte as with one thread, in every configuration that uses B frames, and
+// the frames must leave in decode order (each anchor, then the B frames before it). Within a
+// frame, the planes are coded in parallel where they do not depend on each other.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -144,6 +145,46 @@ TEST(FrameThreads, FramesLeaveInDecodeOrderWithTheSamePackets) {
   // leaves after them).
   const uint32_t expected[] = {0, 3, 1, 2, 6, 4, 5, 9, 7, 8, 10, 11};
   for (size_t i = 0; i < two.size(); ++i) EXPECT_EQ(two[i].number, expected[i]) << i;
+}
+
+// A B-frame candidate that fails only when it is coded (a non-finite domain pixel): with one
+// thread the push of the anchor after it reports the failure; with background B frames a later
+// push or flush() does, naming the frame, and the encoder still ends cleanly.
+TEST(FrameThreads, ABackgroundBFrameFailureReachesTheCaller) {
+  auto frames = video(32, 12);
+  const cv::Point inside = [&] {
+    for (int y = 0; y < frames[4].domain_mask.rows; ++y)
+      for (int x = 0; x < frames[4].domain_mask.cols; ++x)
+        if (frames[4].domain_mask.at<uint8_t>(y, x)) return cv::Point(x, y);
+    return cv::Point(-1, -1);
+  }();
+  ASSERT_GE(inside.x, 0);
+  const SequenceInfo info = info_for(frames);
+  frames[4].xyz_mm.at<cv::Vec3f>(inside)[1] = std::numeric_limits<float>::quiet_NaN();
+  for (const int threads : {1, 2}) {
+    EncoderOptions o;
+    o.qp = 6;
+    o.bframes = 2;  // anchors 0, 3, 6, 9; frames 4 and 5 are B frames
+    o.preset = Preset::kFast;
+    o.threads = threads;
+    auto encoder = SequenceEncoder::create(info, o);
+    ASSERT_TRUE(encoder.is_ok());
+    Status failure = Status::ok();
+    size_t failed_at = frames.size();
+    for (size_t i = 0; i < frames.size() && failure.is_ok(); ++i) {
+      auto done = (*encoder)->push(frames[i]);
+      if (!done.is_ok()) failure = done.status(), failed_at = i;
+    }
+    if (failure.is_ok()) {
+      auto rest = (*encoder)->flush();
+      if (!rest.is_ok()) failure = rest.status();
+    }
+    ASSERT_FALSE(failure.is_ok()) << threads << " threads";
+    EXPECT_NE(failure.message().find("frame 4"), std::string::npos) << failure.message();
+    if (threads == 1) {
+      EXPECT_EQ(failed_at, 6u);
+    }
+  }
 }
 
 TEST(FrameThreads, RateControlKeepsOneFrameAtATime) {

@@ -7,9 +7,12 @@
 // frames by flush(). With bframes = 0 every frame is coded when it arrives, as in format 1.4.
 //
 // Frame-level threads (options.threads > 1, constant QP, B frames on): the B frames between two
-// anchors depend on those anchors only, so they are coded on a second thread while this one codes
-// the next anchor; they then leave with that anchor's push (before it, in decode order). The
-// stream is the same byte for byte as with one thread; only the frames leave one push later.
+// anchors depend on those anchors only, so they are coded on a thread of their own (a batch),
+// at a lower scheduling priority, while this one codes the next anchors: the anchors' chain is
+// the encode's critical path, and the B frames fill the cores it leaves idle. A batch may run on
+// while the next two anchors are coded (at most two batches at once); frames leave once every
+// frame before them in decode order is done. The stream is the same byte for byte as with one
+// thread; only the frames leave one or two pushes later.
 
 #include <cstdint>
 #include <deque>
@@ -50,10 +53,11 @@ class SequenceEncoder {
   ~SequenceEncoder();  // waits for the background B frames
 
   // Takes the next frame in display order; returns the frames this completes, in decode order
-  // (none while it waits as a B-frame candidate; with frame threads, an anchor's B frames leave
-  // with the next anchor or flush()). Fails naming the frame on bad input.
+  // (none while it waits as a B-frame candidate; with frame threads, an anchor and its B frames
+  // leave with a later push or flush()). Fails naming the frame on bad input.
   Result<std::vector<SequenceFrame>> push(const GeometryImage& frame);
-  // Codes the frames still waiting, as P frames, in display order.
+  // Codes the frames still waiting, as P frames, in display order; returns every frame not
+  // returned yet, in decode order.
   Result<std::vector<SequenceFrame>> flush();
 
   // Frames pushed so far.
@@ -72,10 +76,12 @@ class SequenceEncoder {
   Result<SequenceFrame> code(const GeometryImage& frame, uint32_t number, bool intra,
                              const Planes* reference, const Planes* reference1,
                              const EncoderOptions& options, Planes* planes_out);
-  // Whether B frames are coded on a second thread while the next anchor is coded.
+  // Whether B frames are coded on threads of their own while the next anchors are coded.
   bool frame_threads() const;
-  // The frames the background B-frame batch coded (none when there is none); waits for it.
-  Result<std::vector<SequenceFrame>> collect_b_frames();
+  // Moves the frames of outgoing_ that can leave to *done, front first: anchors, and B-frame
+  // batches that are done, or that are waited for while more than `batches_left` batches
+  // remain (0: every frame leaves). The first failed batch's error, after every batch ended.
+  Status release(std::vector<SequenceFrame>* done, int batches_left);
 
   SequenceInfo info_;
   EncoderOptions options_;
@@ -95,8 +101,14 @@ class SequenceEncoder {
     GeometryImage frame;
   };
   std::vector<Pending> pending_;  // B-frame candidates after the last anchor, display order
-  // With frame threads: the B frames between the last two anchors, being coded.
-  std::future<Result<std::vector<SequenceFrame>>> b_frames_;
+  // With frame threads: the coded frames not returned yet, in decode order; an anchor's frame,
+  // or a batch of B frames (in display order) being coded in the background.
+  struct Outgoing {
+    std::vector<SequenceFrame> frames;  // the anchor (when batch is not valid)
+    std::future<Result<std::vector<SequenceFrame>>> batch;
+  };
+  std::deque<Outgoing> outgoing_;
+  int batches_ = 0;  // batches in outgoing_
   uint32_t next_number_ = 0;
 };
 
