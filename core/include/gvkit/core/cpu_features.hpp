@@ -23,8 +23,9 @@ namespace gvkit::detail {
 
 #if defined(GVKIT_X86_SIMD)
 // The widest kernels allowed by the environment variable GVKIT_SIMD ("avx512", the default;
-// "avx2"; "none": neither, only the x86-64 baseline's code), so that a run can pin a narrower
-// path, for comparison and for the tests of the narrower kernels. Read once.
+// "avx2"; "none": neither, only the x86-64 baseline's code; any other value: the default), so
+// that a run can pin a narrower path, for comparison and for the tests of the narrower kernels.
+// Read once.
 inline int simd_allowed() {
   static const int level = [] {
     const char* v = std::getenv("GVKIT_SIMD");
