@@ -159,6 +159,24 @@ TEST(DecoderKernels, InverseResidual4x4And8x8EqualTheReferenceAtTheirBound) {
   check_inverse_residual_at_bound(8, 15, 64, 22);
 }
 
+// 16x16 blocks with huge levels stacked in one column, so that a 32-bit sum of magnitudes per
+// column (lane) wraps to a small number: the fast paths must still leave them to the reference.
+TEST(DecoderKernels, InverseResidual16x16HugeLevelsTakeTheReference) {
+  for (const int32_t magnitude : {1 << 29, 1 << 28, (1 << 30) + 12345}) {
+    for (const int rows_used : {8, 16}) {
+      for (const int qp : {0, 3, 40}) {
+        int32_t levels[256] = {};
+        for (int l = 0; l < rows_used; ++l) levels[16 * l + 3] = l % 3 ? magnitude : -magnitude;
+        int32_t fast[256], plain[256];
+        inverse_residual(16, levels, qp, fast);
+        inverse_residual_reference(16, levels, qp, plain);
+        ASSERT_EQ(0, std::memcmp(fast, plain, sizeof fast))
+            << "magnitude " << magnitude << ", rows " << rows_used << ", qp " << qp;
+      }
+    }
+  }
+}
+
 TEST(DecoderKernels, PredictMotionBlockEqualsTheReference) {
   std::mt19937 rng(14);
   const int sizes[][2] = {{16, 16}, {16, 8}, {8, 16}, {8, 8}, {6, 16},

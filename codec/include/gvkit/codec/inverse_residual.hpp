@@ -6,8 +6,9 @@
 // inverse_residual returns the values of inverse_residual_reference bit for bit for any levels
 // and qp_prime (0..99). Decoded blocks are mostly sparse and small: every size then works in 32
 // bits with AVX2 (where the processor has it): the 16x16 path over the rows and columns that
-// hold levels only, the 8x8 and 4x4 paths as butterflies on a row or column per vector; each
-// falls back to the 64-bit transform when the levels are too large for 32 bits to be exact.
+// hold levels only (with AVX-512 a whole row per vector), the 8x8 and 4x4 paths as butterflies
+// on a row or column per vector; each falls back to the 64-bit transform when the levels are too
+// large for 32 bits to be exact.
 
 #include <cstdint>
 
