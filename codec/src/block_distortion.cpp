@@ -324,21 +324,26 @@ GVKIT_TARGET_AVX512 inline __m512i load16(const int32_t* a, const int32_t* b, in
                    _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b)), 1);
 }
 
-// n = 8 or 16: satd_block_avx2's sums. Per lane at most 4 blocks x 16 coefficients < 2^21 each.
-GVKIT_TARGET_AVX512 int64_t satd_block_avx512(int n, const uint16_t* src, ptrdiff_t src_stride,
-                                              const int32_t* pred) {
+// n = 8 or 16: the SATD sum of the n x n differences, diff(y) giving row y's sixteen (n = 16) or
+// rows y and y + 4 side by side (n = 8). Per lane at most 4 blocks x 16 coefficients < 2^21 each.
+template <class RowDifference>
+GVKIT_TARGET_AVX512 inline int64_t satd_avx512(int n, const RowDifference& diff) {
   __m512i acc = _mm512_setzero_si512();
   // Rows by..by+3, and for n = 8 also by+4..by+7.
   for (int by = 0; by < n; by += n == 16 ? 4 : 8) {
-    __m512i d[4];
-    for (int r = 0; r < 4; ++r) {
-      const uint16_t* s = src + (by + r) * src_stride;
-      const int32_t* p = pred + (by + r) * n;
-      d[r] = _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), load16(p, p + 4 * n, n));
-    }
-    acc = _mm512_add_epi32(acc, satd_quad(d[0], d[1], d[2], d[3]));
+    const __m512i d0 = diff(by), d1 = diff(by + 1), d2 = diff(by + 2), d3 = diff(by + 3);
+    acc = _mm512_add_epi32(acc, satd_quad(d0, d1, d2, d3));
   }
   return _mm512_reduce_add_epi32(acc) / 2;
+}
+
+GVKIT_TARGET_AVX512 int64_t satd_block_avx512(int n, const uint16_t* src, ptrdiff_t src_stride,
+                                              const int32_t* pred) {
+  return satd_avx512(n, [&](int y) GVKIT_TARGET_AVX512 {
+    const uint16_t* s = src + y * src_stride;
+    const int32_t* p = pred + y * n;
+    return _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), load16(p, p + 4 * n, n));
+  });
 }
 
 GVKIT_TARGET_AVX512 int64_t satd_block_of_average_avx512(int n, const uint16_t* src,
@@ -346,20 +351,14 @@ GVKIT_TARGET_AVX512 int64_t satd_block_of_average_avx512(int n, const uint16_t* 
                                                          const uint16_t* first,
                                                          const uint16_t* second,
                                                          ptrdiff_t pred_stride) {
-  __m512i acc = _mm512_setzero_si512();
-  for (int by = 0; by < n; by += n == 16 ? 4 : 8) {
-    __m512i d[4];
-    for (int r = 0; r < 4; ++r) {
-      const uint16_t* s = src + (by + r) * src_stride;
-      const ptrdiff_t at = (by + r) * pred_stride;
-      __m256i p = samples16(first + at, first + at + 4 * pred_stride, n);
-      if (second)  // the rounded average (pavgw), as the AVX2 form
-        p = _mm256_avg_epu16(p, samples16(second + at, second + at + 4 * pred_stride, n));
-      d[r] = _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), _mm512_cvtepu16_epi32(p));
-    }
-    acc = _mm512_add_epi32(acc, satd_quad(d[0], d[1], d[2], d[3]));
-  }
-  return _mm512_reduce_add_epi32(acc) / 2;
+  return satd_avx512(n, [&](int y) GVKIT_TARGET_AVX512 {
+    const uint16_t* s = src + y * src_stride;
+    const ptrdiff_t at = y * pred_stride;
+    __m256i p = samples16(first + at, first + at + 4 * pred_stride, n);
+    if (second)  // the rounded average (pavgw), as the AVX2 form
+      p = _mm256_avg_epu16(p, samples16(second + at, second + at + 4 * pred_stride, n));
+    return _mm512_sub_epi32(widen16(s, s + 4 * src_stride, n), _mm512_cvtepu16_epi32(p));
+  });
 }
 #pragma GCC diagnostic pop
 
